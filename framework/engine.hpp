@@ -1,0 +1,85 @@
+// The DSMC step loop. Knows particles, cells, clocks and random streams; all physics lives in
+// the plugins it calls.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gdsmc/moments.hpp>
+#include <gdsmc/plugin.hpp>
+
+#include "output.hpp"
+#include "particle_store.hpp"
+#include "pipeline.hpp"
+
+namespace gdsmc::host {
+
+// Progress of a run, handed to the reporter about every `interval` seconds.
+struct Progress {
+  double fraction = 0;          // of the stop condition reached, in [0, 1]
+  double time_tau0 = 0;
+  double collisions_per_particle = 0;
+  double temperature_over_T0 = 0;
+  double elapsed_seconds = 0;
+  double remaining_seconds = -1;  // estimate; < 0 when unknown
+  std::uint64_t steps = 0;
+};
+
+class Engine {
+ public:
+  // Builds every plugin object, allocates and fills the particles, lets diagnostics declare
+  // their output. Throws std::runtime_error naming the plugin on any failure.
+  explicit Engine(const Pipeline& pipeline, std::uint32_t realization = 0);
+
+  // Steps until the stop condition (or until *interrupt becomes true, then throws Interrupted).
+  void run(const std::function<void(const Progress&)>& report = {}, double report_interval_seconds = 1.0,
+           const std::atomic<bool>* interrupt = nullptr);
+  // One step (exposed for tests and benchmarks).
+  void step();
+
+  RunOutput output() const;
+  const std::vector<std::string>& summary() const { return summary_; }
+  const std::vector<DiagnosticOutput>& diagnostics() const { return outputs_; }
+  ParticleSpan particles() { return store_.span(); }
+  const StepContext& context() const { return ctx_; }
+  const SystemInfo& system() const { return system_; }
+  double wall_seconds() const { return wall_seconds_; }
+
+  struct Interrupted : std::runtime_error {
+    Interrupted() : std::runtime_error("interrupted") {}
+  };
+
+ private:
+  struct DiagnosticSlot {
+    Diagnostic* object;
+    const PluginUse* use;
+    double time_sum = 0, s_sum = 0;
+    std::uint64_t samples = 0;
+    std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
+  };
+  void update_moments();
+  void sample_and_record(bool force_record);
+  bool finished() const;
+  double stop_fraction() const;
+
+  const Pipeline& pipeline_;
+  SystemInfo system_;
+  ParticleStore store_;
+  QuantityBoard board_;
+  StepContext ctx_;
+  CellMoments global_;
+  std::vector<std::shared_ptr<PluginObject>> objects_;  // keeps every plugin object (and library) alive
+  InitialState* initial_state_ = nullptr;
+  CollisionRule* collision_ = nullptr;
+  std::vector<std::pair<Forcing*, std::uint32_t>> forcings_before_, forcings_after_;
+  std::vector<DiagnosticSlot> slots_;
+  std::vector<DiagnosticOutput> outputs_;
+  std::vector<std::string> summary_;
+  double majorant_ratio_;      // w / sqrt(T/m) in the (single) cell, raised when exceeded
+  double candidate_remainder_ = 0;
+  double wall_seconds_ = 0;
+};
+
+}  // namespace gdsmc::host

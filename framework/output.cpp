@@ -1,0 +1,180 @@
+#include "output.hpp"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace gdsmc::host {
+
+namespace fs = std::filesystem;
+
+void DiagnosticOutput::check_name(const std::string& name) const {
+  if (name.empty() || name.find('/') != std::string::npos || name == "time" || name == "collisions_per_particle")
+    throw std::runtime_error("diagnostic '" + group_ + "' used an invalid output name '" + name +
+                             "' (non-empty, no '/', not 'time' or 'collisions_per_particle')");
+  auto taken = [&](const auto& v) { return std::any_of(v.begin(), v.end(), [&](const auto& e) { return e.name == name; }); };
+  if (taken(columns) || taken(arrays) || taken(histograms) || taken(scalars))
+    throw std::runtime_error("diagnostic '" + group_ + "' wrote '" + name + "' twice");
+}
+
+std::size_t DiagnosticOutput::series(const std::string& name, const std::string& unit, const std::string& doc) {
+  check_name(name);
+  columns.push_back(Column{name, unit, doc, {}});
+  return columns.size() - 1;
+}
+void DiagnosticOutput::append(std::size_t id, double value) {
+  if (id >= columns.size()) throw std::runtime_error("diagnostic '" + group_ + "' appended to an undeclared series");
+  columns[id].values.push_back(value);
+}
+void DiagnosticOutput::array(const std::string& name, const std::vector<double>& data, const std::vector<std::size_t>& shape,
+                             const std::string& unit, const std::string& doc) {
+  check_name(name);
+  std::size_t n = 1;
+  for (auto s : shape) n *= s;
+  if (n != data.size()) throw std::runtime_error("diagnostic '" + group_ + "': array '" + name + "' shape does not match its data");
+  arrays.push_back(Array{name, unit, doc, data, shape});
+}
+void DiagnosticOutput::histogram(const std::string& name, const std::vector<double>& edges, const std::vector<double>& values,
+                                 const std::string& edge_unit, const std::string& value_unit, const std::string& doc) {
+  check_name(name);
+  if (edges.size() != values.size() + 1)
+    throw std::runtime_error("diagnostic '" + group_ + "': histogram '" + name + "' needs one more edge than values");
+  histograms.push_back(Histogram{name, edge_unit, value_unit, doc, edges, values});
+}
+void DiagnosticOutput::scalar(const std::string& name, double value, const std::string& unit, const std::string& doc) {
+  check_name(name);
+  scalars.push_back(Scalar{name, unit, doc, value});
+}
+void DiagnosticOutput::attribute(const std::string& name, const std::string& value) { attributes[name] = value; }
+void DiagnosticOutput::summary(const std::string& line) { summary_->push_back(line); }
+
+void DiagnosticOutput::begin_record(double time_tau0, double s) {
+  time.push_back(time_tau0);
+  collisions_per_particle.push_back(s);
+}
+void DiagnosticOutput::check_record(const std::string& plugin) const {
+  for (const auto& c : columns)
+    if (c.values.size() != time.size())
+      throw std::runtime_error("diagnostic plugin '" + plugin + "' (group '" + group_ + "') appended " +
+                               std::to_string(c.values.size()) + " values to series '" + c.name + "' after " +
+                               std::to_string(time.size()) + " records: exactly one per record is expected");
+}
+
+namespace {
+
+// Minimal RAII over HDF5 identifiers.
+struct Id {
+  hid_t id = -1;
+  herr_t (*close)(hid_t) = nullptr;
+  Id(hid_t i, herr_t (*c)(hid_t), const std::string& what) : id(i), close(c) {
+    if (id < 0) throw std::runtime_error("HDF5: cannot " + what);
+  }
+  Id(const Id&) = delete;
+  ~Id() {
+    if (id >= 0) close(id);
+  }
+  operator hid_t() const { return id; }
+};
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5: cannot " + what);
+}
+
+void attr_string(hid_t obj, const std::string& name, const std::string& value) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
+  check(H5Tset_size(type, H5T_VARIABLE), "set string size");
+  check(H5Tset_cset(type, H5T_CSET_UTF8), "set string charset");
+  Id space(H5Screate(H5S_SCALAR), H5Sclose, "create scalar space");
+  Id attr(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, "create attribute " + name);
+  const char* p = value.c_str();
+  check(H5Awrite(attr, type, &p), "write attribute " + name);
+}
+
+void attr_double(hid_t obj, const std::string& name, double value) {
+  Id space(H5Screate(H5S_SCALAR), H5Sclose, "create scalar space");
+  Id attr(H5Acreate2(obj, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+          "create attribute " + name);
+  check(H5Awrite(attr, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+}
+
+void dataset(hid_t group, const std::string& name, const std::vector<double>& data, std::vector<hsize_t> shape,
+             const std::string& unit, const std::string& doc) {
+  Id space(shape.empty() ? H5Screate(H5S_SCALAR) : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
+           H5Sclose, "create dataspace for " + name);
+  Id set(H5Dcreate2(group, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+         "create dataset " + name);
+  if (!data.empty()) check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + name);
+  attr_string(set, "unit", unit);
+  attr_string(set, "description", doc);
+}
+
+Id group(hid_t parent, const std::string& name) {
+  return Id(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create group " + name);
+}
+
+void write_file(const fs::path& path, const RunOutput& out) {
+  Id file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path.string());
+  for (const auto& [k, v] : out.root_attributes) attr_string(file, k, v);
+  for (const auto& [k, v] : out.root_numbers) attr_double(file, k, v);
+  {
+    Id g = group(file, "system");
+    for (const auto& [k, v] : out.system) attr_double(g, k, v);
+  }
+  {
+    Id g = group(file, "run");
+    for (const auto& [k, v] : out.run) attr_double(g, k, v);
+  }
+  {
+    Id plugins = group(file, "plugins");
+    for (const auto& p : out.plugins) {
+      Id g = group(plugins, p.role);
+      attr_string(g, "plugin", p.plugin);
+      attr_string(g, "version", p.version);
+      attr_string(g, "instance", p.instance);
+      attr_string(g, "library", p.file);
+      for (const auto& [k, v] : p.parameters) attr_string(g, "param." + k, v);
+    }
+  }
+  Id diags = group(file, "diagnostics");
+  for (const auto& d : *out.diagnostics) {
+    Id g = group(diags, d.group());
+    for (const auto& [k, v] : d.attributes) attr_string(g, k, v);
+    const hsize_t n = d.time.size();
+    dataset(g, "time", d.time, {n}, "tau0", "time t / tau0 (mean over the samples of each record)");
+    dataset(g, "collisions_per_particle", d.collisions_per_particle, {n}, "1",
+            "s(t): accepted collisions / N (mean over the samples of each record)");
+    for (const auto& c : d.columns) dataset(g, c.name, c.values, {c.values.size()}, c.unit, c.doc);
+    for (const auto& a : d.arrays) {
+      std::vector<hsize_t> shape(a.shape.begin(), a.shape.end());
+      dataset(g, a.name, a.data, shape, a.unit, a.doc);
+    }
+    for (const auto& s : d.scalars) dataset(g, s.name, {s.value}, {}, s.unit, s.doc);
+    for (const auto& h : d.histograms) {
+      Id hg = group(g, h.name);
+      attr_string(hg, "description", h.doc);
+      dataset(hg, "edges", h.edges, {h.edges.size()}, h.edge_unit, "bin edges");
+      dataset(hg, "values", h.values, {h.values.size()}, h.value_unit, h.doc);
+    }
+  }
+  check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush " + path.string());
+}
+
+}  // namespace
+
+void write_hdf5(const fs::path& file, const RunOutput& out) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions, not printed
+  fs::path tmp = file;
+  tmp += ".partial-" + std::to_string(::getpid());
+  try {
+    write_file(tmp, out);
+    fs::rename(tmp, file);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
+}  // namespace gdsmc::host

@@ -1,0 +1,52 @@
+// The host's particle storage: structure of arrays, plus the extra attributes plugins declare.
+#pragma once
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gdsmc/particles.hpp>
+
+namespace gdsmc::host {
+
+class ParticleStore {
+ public:
+  // Allocate n particles and the declared attributes (names must be unique).
+  void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes) {
+    n_ = n;
+    for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->assign(n, 0.0);
+    specs_ = attributes;
+    for (std::size_t a = 0; a < specs_.size(); ++a) {
+      if (specs_[a].components < 1) throw std::runtime_error("attribute '" + specs_[a].name + "' declares no components");
+      for (std::size_t b = 0; b < a; ++b)
+        if (specs_[a].name == specs_[b].name)
+          throw std::runtime_error("two plugins declare the per-particle attribute '" + specs_[a].name + "'");
+    }
+    data_.assign(specs_.size(), {});
+    pointers_.assign(specs_.size(), nullptr);
+    for (std::size_t a = 0; a < specs_.size(); ++a) {
+      data_[a].assign(n * static_cast<std::size_t>(specs_[a].components), 0.0);
+      pointers_[a] = data_[a].data();
+    }
+  }
+  ParticleSpan span() {
+    ParticleSpan s;
+    s.count = n_;
+    s.x = x_.data(); s.y = y_.data(); s.z = z_.data();
+    s.vx = vx_.data(); s.vy = vy_.data(); s.vz = vz_.data();
+    s.attribute_count = specs_.size();
+    s.attribute_specs = specs_.data();
+    s.attribute_data = pointers_.data();
+    return s;
+  }
+  std::size_t size() const { return n_; }
+  const std::vector<AttributeSpec>& attribute_specs() const { return specs_; }
+
+ private:
+  std::size_t n_ = 0;
+  std::vector<double> x_, y_, z_, vx_, vy_, vz_;
+  std::vector<AttributeSpec> specs_;
+  std::vector<std::vector<double>> data_;
+  std::vector<double*> pointers_;
+};
+
+}  // namespace gdsmc::host

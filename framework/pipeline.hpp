@@ -1,0 +1,87 @@
+// The YAML pipeline: parsed once, checked against every plugin's schema, converted to reduced
+// units. Every error is collected (file:line:column, the key path, what would be valid) before
+// the pipeline is refused.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gdsmc/context.hpp>
+#include <gdsmc/params.hpp>
+
+#include "loader.hpp"
+
+namespace gdsmc::host {
+
+class PipelineError : public std::runtime_error {
+ public:
+  explicit PipelineError(std::vector<std::string> messages);
+  const std::vector<std::string>& messages() const { return messages_; }
+
+ private:
+  std::vector<std::string> messages_;
+};
+
+// One plugin as the pipeline uses it.
+struct PluginUse {
+  std::string path;           // key path in the pipeline, e.g. "diagnostics[1]"
+  std::string instance_name;  // output group name (the plugin name unless `name:` is given)
+  const LoadedPlugin* plugin = nullptr;
+  Params params;              // validated, defaults filled, reduced units
+  SourceLocation where;
+  std::uint64_t sample_every = 1;  // diagnostics only (steps)
+  std::uint64_t record_every = 1;  // diagnostics only (steps)
+};
+
+struct Pipeline {
+  std::filesystem::path file;
+  std::string source_text;    // the file as read
+  std::string resolved_text;  // after --set, as YAML
+  std::vector<std::string> overrides;
+
+  // run
+  std::uint64_t seed = 1;
+  std::size_t particles = 0;
+  double time_step_tau0 = 0;       // c in dt = c tau0 [sqrt(T0/T)]
+  bool time_step_follows_temperature = false;
+  std::optional<double> stop_collisions_per_particle;
+  std::optional<double> stop_time_tau0;
+  std::uint64_t sample_every = 1, record_every = 1, moments_every = 4;
+
+  // system (reduced units)
+  double number_density = 0;
+  double sigma = 1;
+  double temperature = 1;
+  Geometry geometry = Geometry::homogeneous;
+
+  PluginUse initial_state;
+  PluginUse collision;
+  std::vector<PluginUse> forcings;
+  std::vector<PluginUse> boundaries;
+  std::vector<PluginUse> diagnostics;
+
+  std::filesystem::path output_file;
+  std::shared_ptr<PluginRegistry> registry;
+
+  double mean_free_path0() const;  // lambda0 = 1 / (sqrt(2) pi n sigma^2)
+  double time_unit0() const;       // tau0 = lambda0 / sqrt(2 T0 / m)
+};
+
+// Read, check and resolve a pipeline. `overrides` are "key.path=value" strings (--set); `extra_plugin_paths` come first in the search path.
+// Throws PipelineError with every problem found.
+Pipeline load_pipeline(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                       const std::vector<std::filesystem::path>& extra_plugin_paths = {});
+
+// Closest names to `word` among `candidates` (edit distance), best first, at most 3.
+std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& candidates);
+
+// Convert a value given in `unit` for a parameter of dimension `d` into reduced units.
+// Returns nullopt (and sets `valid` to the accepted units) for an unknown unit.
+std::optional<double> to_reduced(double value, const std::string& unit, Dimension d, double lambda0, double tau0,
+                                 double T0, double sigma, std::string& valid);
+
+}  // namespace gdsmc::host

@@ -1,0 +1,48 @@
+// Kinetic pressure tensor of a homogeneous system.
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+class PressureTensor final : public gdsmc::Diagnostic {
+ public:
+  static constexpr const char* name = "pressure_tensor";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n T0) of the whole system";
+  static constexpr const char* documentation =
+      "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
+      "relative to the mean (paper 000, Eq. 4.16). Series P_xx, P_yy, P_zz, P_xy, P_xz, P_yz in\n"
+      "units of n T0, plus the reduced forms P_xy/(nT) and (P_xx - P_yy)/(nT), (P_zz - P_yy)/(nT)\n"
+      "with the current temperature T, as the papers plot them.";
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit PressureTensor(const gdsmc::Params&) {}
+
+  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
+    t0_ = sys.initial_temperature;
+    window_.declare(out, {{"P_xx", "n T0", "xx element of the kinetic pressure tensor (000 Eq. 4.16)"},
+                          {"P_yy", "n T0", "yy element"},
+                          {"P_zz", "n T0", "zz element"},
+                          {"P_xy", "n T0", "xy element"},
+                          {"P_xz", "n T0", "xz element"},
+                          {"P_yz", "n T0", "yz element"},
+                          {"P_xy_over_nT", "1", "reduced shear stress P_xy / (n T)"},
+                          {"N1_over_nT", "1", "reduced normal stress difference (P_xx - P_yy) / (n T)"},
+                          {"N2_over_nT", "1", "reduced normal stress difference (P_zz - P_yy) / (n T)"}});
+  }
+  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
+    const auto m = gdsmc::velocity_moments(p);
+    // P / n = m <V V> with m = 1; divided by T0 or by T.
+    const double (&s)[3][3] = m.second;
+    const double T = m.temperature;
+    window_.add({s[0][0] / t0_, s[1][1] / t0_, s[2][2] / t0_, s[0][1] / t0_, s[0][2] / t0_, s[1][2] / t0_,
+                 s[0][1] / T, (s[0][0] - s[1][1]) / T, (s[2][2] - s[1][1]) / T});
+  }
+  void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
+
+ private:
+  gdsmc::WindowAverage window_;
+  double t0_ = 1;
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(PressureTensor)

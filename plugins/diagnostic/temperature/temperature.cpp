@@ -1,0 +1,39 @@
+// Granular temperature of the whole system.
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+class Temperature final : public gdsmc::Diagnostic {
+ public:
+  static constexpr const char* name = "temperature";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
+  static constexpr const char* documentation =
+      "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the mean (paper 000, Eq. 4.15).\n"
+      "Series: temperature [T0], mean_velocity_x/y/z [sqrt(2 T0 / m)]. Each record is the mean\n"
+      "of the samples taken since the previous record.";
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit Temperature(const gdsmc::Params&) {}
+
+  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
+    t0_ = sys.initial_temperature;
+    v0_ = std::sqrt(2.0 * sys.initial_temperature / sys.mass);
+    window_.declare(out, {{"temperature", "T0", "granular temperature T / T0 (000 Eq. 4.15)"},
+                          {"mean_velocity_x", "sqrt(2 T0/m)", "x component of the mean velocity"},
+                          {"mean_velocity_y", "sqrt(2 T0/m)", "y component of the mean velocity"},
+                          {"mean_velocity_z", "sqrt(2 T0/m)", "z component of the mean velocity"}});
+  }
+  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
+    const auto m = gdsmc::velocity_moments(p);
+    window_.add({m.temperature / t0_, m.mean[0] / v0_, m.mean[1] / v0_, m.mean[2] / v0_});
+  }
+  void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
+
+ private:
+  gdsmc::WindowAverage window_;
+  double t0_ = 1, v0_ = 1;
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(Temperature)

@@ -1,0 +1,168 @@
+// gdsmc SDK: collision rules written as a small struct; the SDK instantiates the per-cell DSMC
+// loop (candidate count from the majorant, acceptance, the rule's update) inside the plugin, so
+// the physics is inlined and the host makes one call per cell.
+//
+// A rule struct provides:
+//   static constexpr const char* name, version, summary, documentation;
+//   static std::vector<gdsmc::ParamSpec> parameters();
+//   explicit Rule(const gdsmc::Params&);
+//   // Post-collision velocities for impact direction sigma_hat (g . sigma_hat > 0 for the
+//   // hard-sphere kernel); returns the kinetic-energy change it declares (m = 1).
+//   double collide(gdsmc::Vec3& v1, gdsmc::Vec3& v2, const gdsmc::Vec3& sigma_hat,
+//                  gdsmc::PairContext& pair) const;
+// and, optionally:
+//   double rate_scale() const;  // hard-sphere kernel B = rate_scale * Theta(g.s)(g.s)  (default 1)
+//   double rate(const gdsmc::Vec3& g, const gdsmc::Vec3& sigma_hat) const;
+//                               // a general kernel B(g, s) instead of the hard-sphere one
+//   void publish(gdsmc::QuantityBoard&) const;
+//   std::vector<gdsmc::AttributeSpec> attributes() const;
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "gdsmc/plugin.hpp"
+
+namespace gdsmc {
+
+// What a rule's collide() may use besides the two velocities: the pair's indices (to read or
+// update extra attributes) and a random stream.
+struct PairContext {
+  const ParticleSpan& particles;
+  std::uint32_t i, j;
+  Rng& rng;
+};
+
+namespace detail {
+template <class R>
+concept HasGeneralKernel = requires(const R& r, const Vec3& g) {
+  { r.rate(g, g) } -> std::convertible_to<double>;
+};
+template <class R>
+concept HasRateScale = requires(const R& r) {
+  { r.rate_scale() } -> std::convertible_to<double>;
+};
+template <class R>
+concept HasPublish = requires(const R& r, QuantityBoard& b) { r.publish(b); };
+template <class R>
+concept HasAttributes = requires(const R& r) {
+  { r.attributes() } -> std::convertible_to<std::vector<AttributeSpec>>;
+};
+}  // namespace detail
+
+// Impact direction for the hard-sphere kernel Theta(g.s)(g.s): density proportional to the
+// cosine of the angle to g on the forward hemisphere, drawn as normalize(g_hat + u) with u
+// uniform on the unit sphere. Requires |g| = gnorm > 0.
+inline Vec3 hard_sphere_impact_direction(const Vec3& g, double gnorm, Rng& rng) {
+  const Vec3 s = (1.0 / gnorm) * g + rng.unit_vector();
+  const double len = norm(s);
+  if (len < 1e-300) return (1.0 / gnorm) * g;  // measure-zero event: u = -g_hat
+  return (1.0 / len) * s;
+}
+
+template <class Rule>
+class CollisionRuleAdapter final : public CollisionRule {
+ public:
+  explicit CollisionRuleAdapter(Rule rule) : rule_(std::move(rule)) {}
+
+  const Rule& rule() const { return rule_; }
+
+  std::vector<AttributeSpec> attributes() const override {
+    if constexpr (detail::HasAttributes<Rule>) return rule_.attributes();
+    else return {};
+  }
+  void publish(QuantityBoard& board) const override {
+    if constexpr (detail::HasPublish<Rule>) rule_.publish(board);
+  }
+
+  double pair_rate(const Vec3& g, const Vec3& s) const override {
+    if constexpr (detail::HasGeneralKernel<Rule>) {
+      return rule_.rate(g, s);
+    } else {
+      const double gs = dot(g, s);
+      return gs > 0 ? scale() * gs : 0.0;
+    }
+  }
+
+  double collide_pair(const ParticleSpan& p, std::uint32_t i, std::uint32_t j, const Vec3& s,
+                      Rng& rng) override {
+    Vec3 v1 = p.velocity(i), v2 = p.velocity(j);
+    PairContext pair{p, i, j, rng};
+    const double de = rule_.collide(v1, v2, s, pair);
+    p.set_velocity(i, v1);
+    p.set_velocity(j, v2);
+    return de;
+  }
+
+  // Majorant-frequency scheme (000 Eqs. 4.13, 4.23): N_c^2 sigma^2 Omega_B w dt / (2 V_c)
+  // candidate pairs, each accepted with probability rate / w. For the hard-sphere kernel the
+  // sigma_hat-integrated rate pi |g| is used for acceptance (Omega_B = pi) and sigma_hat is then
+  // drawn from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly (Omega_B = 4 pi).
+  void collide_cell(CellCollision& c) override {
+    if (c.count < 2 || c.majorant <= 0) {
+      c.remainder = 0;
+      return;
+    }
+    constexpr bool general = detail::HasGeneralKernel<Rule>;
+    const double solid_angle = general ? 4.0 * M_PI : M_PI;
+    const double w = c.majorant;
+    const double n = static_cast<double>(c.count);
+    const double expected = 0.5 * n * n * c.sigma * c.sigma * solid_angle * (general ? 1.0 : scale()) *
+                                w * c.dt / c.volume + c.remainder;
+    const auto candidates = static_cast<std::uint64_t>(expected);
+    c.remainder = expected - static_cast<double>(candidates);
+
+    const ParticleSpan& p = c.particles;
+    const std::uint32_t* members = c.members;
+    Rng& rng = *c.rng;
+    double* const vx = p.vx;
+    double* const vy = p.vy;
+    double* const vz = p.vz;
+    std::uint64_t accepted = 0, exceeded = 0;
+    double max_rate = c.max_rate, energy = 0;
+    for (std::uint64_t k = 0; k < candidates; ++k) {
+      std::uint32_t a = rng.below(c.count);
+      std::uint32_t b = rng.below(c.count - 1);
+      b += (b >= a);
+      const std::uint32_t i = members ? members[a] : a;
+      const std::uint32_t j = members ? members[b] : b;
+      Vec3 v1{vx[i], vy[i], vz[i]}, v2{vx[j], vy[j], vz[j]};
+      const Vec3 g = v1 - v2;
+      double rate;
+      Vec3 s;
+      if constexpr (general) {
+        s = rng.unit_vector();
+        rate = rule_.rate(g, s);
+      } else {
+        rate = norm(g);
+      }
+      const double u = rng.uniform();
+      if (rate > w) {
+        ++exceeded;
+        max_rate = std::max(max_rate, rate);
+      } else if (u * w >= rate) {
+        continue;
+      }
+      if constexpr (!general) s = hard_sphere_impact_direction(g, rate, rng);
+      PairContext pair{p, i, j, rng};
+      energy += rule_.collide(v1, v2, s, pair);
+      vx[i] = v1.x; vy[i] = v1.y; vz[i] = v1.z;
+      vx[j] = v2.x; vy[j] = v2.y; vz[j] = v2.z;
+      ++accepted;
+    }
+    c.candidates += candidates;
+    c.accepted += accepted;
+    c.majorant_exceeded += exceeded;
+    c.max_rate = max_rate;
+    c.energy_change += energy;
+  }
+
+ private:
+  double scale() const {
+    if constexpr (detail::HasRateScale<Rule>) return rule_.rate_scale();
+    else return 1.0;
+  }
+  Rule rule_;
+};
+
+}  // namespace gdsmc

@@ -1,0 +1,36 @@
+// gdsmc SDK: how plugins write results. The host owns the HDF5 file; a diagnostic writes into its
+// own group through this sink and never links HDF5.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gdsmc/version.hpp"
+
+namespace gdsmc {
+
+class GDSMC_API OutputSink {
+ public:
+  virtual ~OutputSink() = default;
+
+  // Declare a time-series column (call from Diagnostic::begin). At each record the host writes
+  // the time (tau0) and s beside the columns; the diagnostic appends exactly one value to each of
+  // its columns per record.
+  virtual std::size_t series(const std::string& name, const std::string& unit, const std::string& doc) = 0;
+  virtual void append(std::size_t series_id, double value) = 0;
+
+  // A whole array (a profile, a matrix) with its shape, row-major.
+  virtual void array(const std::string& name, const std::vector<double>& data,
+                     const std::vector<std::size_t>& shape, const std::string& unit, const std::string& doc) = 0;
+  // A histogram: bin edges (size = values.size() + 1) and values.
+  virtual void histogram(const std::string& name, const std::vector<double>& edges,
+                         const std::vector<double>& values, const std::string& edge_unit,
+                         const std::string& value_unit, const std::string& doc) = 0;
+  virtual void scalar(const std::string& name, double value, const std::string& unit, const std::string& doc) = 0;
+  // A text attribute on the diagnostic's group.
+  virtual void attribute(const std::string& name, const std::string& value) = 0;
+  // A line for the end-of-run summary printed by `gdsmc run`.
+  virtual void summary(const std::string& line) = 0;
+};
+
+}  // namespace gdsmc

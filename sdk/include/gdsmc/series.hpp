@@ -1,0 +1,86 @@
+// gdsmc SDK: the usual shape of a time-series diagnostic: declare columns, add one value per
+// column at each sample, and at each record append the mean of the samples since the last one.
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gdsmc/output.hpp"
+
+namespace gdsmc {
+
+class WindowAverage {
+ public:
+  struct Column {
+    std::string name, unit, doc;
+  };
+  // Declare the columns in the sink (call from Diagnostic::begin).
+  void declare(OutputSink& out, const std::vector<Column>& columns) {
+    ids_.clear();
+    for (const auto& c : columns) ids_.push_back(out.series(c.name, c.unit, c.doc));
+    sums_.assign(columns.size(), 0.0);
+    samples_ = 0;
+  }
+  // One sample: values in the order of the declared columns.
+  void add(const std::vector<double>& values) {
+    for (std::size_t k = 0; k < sums_.size() && k < values.size(); ++k) sums_[k] += values[k];
+    ++samples_;
+  }
+  // Append the window means (NaN for an empty window) and start a new window.
+  void commit(OutputSink& out) {
+    for (std::size_t k = 0; k < ids_.size(); ++k)
+      out.append(ids_[k], samples_ ? sums_[k] / static_cast<double>(samples_) : std::nan(""));
+    sums_.assign(sums_.size(), 0.0);
+    samples_ = 0;
+  }
+
+ private:
+  std::vector<std::size_t> ids_;
+  std::vector<double> sums_;
+  std::size_t samples_ = 0;
+};
+
+// Mean and standard error of a correlated sequence of samples by batch means: at most
+// max_batches batches, merged pairwise (batch length doubled) when full, so memory is fixed and
+// nothing is allocated while sampling. The error is that of the complete batches.
+class BatchMeans {
+ public:
+  static constexpr std::size_t max_batches = 64;
+  void add(double x) {
+    sum_ += x;
+    ++count_;
+    current_ += x;
+    if (++in_current_ == batch_length_) {
+      batch_[batches_++] = current_ / static_cast<double>(batch_length_);
+      current_ = 0;
+      in_current_ = 0;
+      if (batches_ == max_batches) {
+        for (std::size_t k = 0; k < max_batches / 2; ++k) batch_[k] = 0.5 * (batch_[2 * k] + batch_[2 * k + 1]);
+        batches_ = max_batches / 2;
+        batch_length_ *= 2;
+      }
+    }
+  }
+  std::size_t count() const { return count_; }
+  std::size_t batches() const { return batches_; }
+  double mean() const { return count_ ? sum_ / static_cast<double>(count_) : std::nan(""); }
+  // Standard error of the mean from the spread of the batch means; NaN with fewer than 4 batches.
+  double standard_error() const {
+    if (batches_ < 4) return std::nan("");
+    double m = 0;
+    for (std::size_t k = 0; k < batches_; ++k) m += batch_[k];
+    m /= static_cast<double>(batches_);
+    double v = 0;
+    for (std::size_t k = 0; k < batches_; ++k) v += (batch_[k] - m) * (batch_[k] - m);
+    v /= static_cast<double>(batches_ - 1);
+    return std::sqrt(v / static_cast<double>(batches_));
+  }
+
+ private:
+  double batch_[max_batches] = {};
+  std::size_t batches_ = 0, batch_length_ = 1, in_current_ = 0, count_ = 0;
+  double current_ = 0, sum_ = 0;
+};
+
+}  // namespace gdsmc
