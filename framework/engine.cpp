@@ -230,7 +230,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   if (report) report(progress(wall_seconds_));
 }
 
-RunOutput Engine::output() const {
+RunOutput Engine::output() {
   RunOutput out;
   out.root_attributes["gdsmc_version"] = version_string;
   out.root_attributes["sdk_abi"] = std::to_string(sdk_abi_major) + "." + std::to_string(sdk_abi_minor);
@@ -272,6 +272,27 @@ RunOutput Engine::output() const {
   for (const auto& u : pipeline_.forcings) prov(u.path, u);
   for (const auto& u : pipeline_.diagnostics) prov(u.path, u);
   out.diagnostics = &outputs_;
+  if (pipeline_.output_particles) {
+    const ParticleSpan s = store_.span();
+    const double length = system_.mean_free_path0, speed = std::sqrt(2.0 * system_.initial_temperature / system_.mass);
+    auto column = [&](const char* name, const double* v, double scale, const char* unit, const char* doc) {
+      ParticleDataset d{name, unit, doc, 1, std::vector<double>(v, v + s.count)};
+      for (double& x : d.data) x /= scale;
+      out.particles.push_back(std::move(d));
+    };
+    column("x", s.x, length, "lambda0", "final position x");
+    column("y", s.y, length, "lambda0", "final position y");
+    column("z", s.z, length, "lambda0", "final position z");
+    column("vx", s.vx, speed, "sqrt(2T0/m)", "final velocity x");
+    column("vy", s.vy, speed, "sqrt(2T0/m)", "final velocity y");
+    column("vz", s.vz, speed, "sqrt(2T0/m)", "final velocity z");
+    for (std::size_t a = 0; a < s.attribute_count; ++a) {
+      const AttributeSpec& spec = s.attribute_specs[a];
+      const double* data = s.attribute_data[a];
+      out.particles.push_back(ParticleDataset{spec.name, spec.unit, spec.doc, spec.components,
+                                              std::vector<double>(data, data + s.count * spec.components)});
+    }
+  }
   return out;
 }
 

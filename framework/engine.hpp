@@ -39,7 +39,7 @@ class Engine {
   // One step (exposed for tests and benchmarks).
   void step();
 
-  RunOutput output() const;
+  RunOutput output();
   const std::vector<std::string>& summary() const { return summary_; }
   const std::vector<DiagnosticOutput>& diagnostics() const { return outputs_; }
   ParticleSpan particles() { return store_.span(); }

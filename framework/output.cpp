@@ -137,6 +137,15 @@ void write_file(const fs::path& path, const RunOutput& out) {
       for (const auto& [k, v] : p.parameters) attr_string(g, "param." + k, v);
     }
   }
+  if (!out.particles.empty()) {
+    Id g = group(file, "particles");
+    for (const auto& d : out.particles) {
+      const hsize_t n = d.data.size() / static_cast<hsize_t>(d.components);
+      std::vector<hsize_t> shape = d.components == 1 ? std::vector<hsize_t>{n}
+                                                     : std::vector<hsize_t>{static_cast<hsize_t>(d.components), n};
+      dataset(g, d.name, d.data, shape, d.unit, d.doc);
+    }
+  }
   Id diags = group(file, "diagnostics");
   for (const auto& d : *out.diagnostics) {
     Id g = group(diags, d.group());

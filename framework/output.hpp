@@ -68,6 +68,13 @@ struct PluginProvenance {
   std::map<std::string, std::string> parameters;  // as resolved, reduced units
 };
 
+// A per-particle dataset of the final state: shape [components, N] (or [N] for one component).
+struct ParticleDataset {
+  std::string name, unit, doc;
+  int components = 1;
+  std::vector<double> data;
+};
+
 struct RunOutput {
   std::map<std::string, std::string> root_attributes;
   std::map<std::string, double> root_numbers;
@@ -75,6 +82,7 @@ struct RunOutput {
   std::map<std::string, double> run;          // /run attributes
   std::vector<PluginProvenance> plugins;
   const std::vector<DiagnosticOutput>* diagnostics = nullptr;
+  std::vector<ParticleDataset> particles;  // empty unless output.particles
 };
 
 // Write under "<file>.partial-<pid>" and rename to `file` on success. On failure, no file is left

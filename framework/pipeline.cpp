@@ -623,8 +623,10 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
     if (!out.IsMap()) {
       c.error("output", out, "expected {file: NAME.h5}");
     } else {
-      c.check_keys(out, "output", {"file"});
+      c.check_keys(out, "output", {"file", "particles"});
       if (out["file"]) p.output_file = out["file"].Scalar();
+      if (out["particles"])
+        if (auto b = c.boolean(out["particles"], "output.particles")) p.output_particles = *b;
     }
   }
   if (p.output_file.empty()) p.output_file = file.stem().string() + ".h5";

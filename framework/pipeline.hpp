@@ -65,6 +65,7 @@ struct Pipeline {
   std::vector<PluginUse> diagnostics;
 
   std::filesystem::path output_file;
+  bool output_particles = false;  // write the final particle state (/particles)
   std::shared_ptr<PluginRegistry> registry;
 
   double mean_free_path0() const;  // lambda0 = 1 / (sqrt(2) pi n sigma^2)

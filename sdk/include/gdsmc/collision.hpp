@@ -15,7 +15,9 @@
 //   double rate(const gdsmc::Vec3& g, const gdsmc::Vec3& sigma_hat) const;
 //                               // a general kernel B(g, s) instead of the hard-sphere one
 //   void publish(gdsmc::QuantityBoard&) const;
-//   std::vector<gdsmc::AttributeSpec> attributes() const;
+//   std::vector<gdsmc::AttributeSpec> attributes() const;  // extra per-particle attributes
+//   void bind(const gdsmc::ParticleSpan&);  // called before each cell (and each collide_pair):
+//                                           // look attributes up here, once, not per pair
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -44,6 +46,8 @@ concept HasRateScale = requires(const R& r) {
 };
 template <class R>
 concept HasPublish = requires(const R& r, QuantityBoard& b) { r.publish(b); };
+template <class R>
+concept HasBind = requires(R& r, const ParticleSpan& p) { r.bind(p); };
 template <class R>
 concept HasAttributes = requires(const R& r) {
   { r.attributes() } -> std::convertible_to<std::vector<AttributeSpec>>;
@@ -86,6 +90,7 @@ class CollisionRuleAdapter final : public CollisionRule {
 
   double collide_pair(const ParticleSpan& p, std::uint32_t i, std::uint32_t j, const Vec3& s,
                       Rng& rng) override {
+    if constexpr (detail::HasBind<Rule>) rule_.bind(p);
     Vec3 v1 = p.velocity(i), v2 = p.velocity(j);
     PairContext pair{p, i, j, rng};
     const double de = rule_.collide(v1, v2, s, pair);
@@ -113,6 +118,7 @@ class CollisionRuleAdapter final : public CollisionRule {
     c.remainder = expected - static_cast<double>(candidates);
 
     const ParticleSpan& p = c.particles;
+    if constexpr (detail::HasBind<Rule>) rule_.bind(p);
     const std::uint32_t* members = c.members;
     Rng& rng = *c.rng;
     double* const vx = p.vx;
