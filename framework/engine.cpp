@@ -79,6 +79,9 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization) : pipeline_(p), maj
     throw std::runtime_error(where_text(p.initial_state) + " produced a state with temperature " +
                              std::to_string(global_.temperature) + "; a positive finite temperature is needed");
 
+  if (p.stop_steady)
+    for (std::size_t k = 0; k < slots_.size(); ++k)
+      if (slots_[k].use->instance_name == p.stop_steady->group) steady_slot_ = static_cast<int>(k);
   outputs_.reserve(slots_.size());
   for (auto& slot : slots_) {
     outputs_.emplace_back(slot.use->instance_name, &summary_);
@@ -170,10 +173,38 @@ void Engine::sample_and_record(bool force_record) {
     slot.time_sum = slot.s_sum = 0;
     slot.samples = 0;
     slot.last_record_step = ctx_.step;
+    if (static_cast<int>(k) == steady_slot_) check_steady();
   }
 }
 
+void Engine::check_steady() {
+  // Means of the series over the windows (s - 2W, s - W] and (s - W, s] of the last record.
+  const SteadyStop& st = *pipeline_.stop_steady;
+  const DiagnosticOutput& out = outputs_[static_cast<std::size_t>(steady_slot_)];
+  const DiagnosticOutput::Column* col = nullptr;
+  for (const auto& c : out.columns)
+    if (c.name == st.column) col = &c;
+  if (!col) {
+    throw std::runtime_error("run.stop.steady: diagnostic '" + st.group + "' has no series '" + st.column + "'");
+  }
+  const auto& s = out.collisions_per_particle;
+  if (s.empty() || s.back() < 2 * st.window) return;
+  double sum[2] = {0, 0};
+  std::size_t n[2] = {0, 0};
+  for (std::size_t k = s.size(); k-- > 0;) {
+    const double age = s.back() - s[k];
+    if (age >= 2 * st.window) break;
+    const int w = age < st.window ? 1 : 0;
+    sum[w] += col->values[k];
+    ++n[w];
+  }
+  if (n[0] < 3 || n[1] < 3) return;
+  const double older = sum[0] / static_cast<double>(n[0]), newer = sum[1] / static_cast<double>(n[1]);
+  steady_ = std::fabs(newer - older) <= st.tolerance * std::fabs(newer);
+}
+
 bool Engine::finished() const {
+  if (steady_) return true;
   if (pipeline_.stop_collisions_per_particle && ctx_.collisions_per_particle() >= *pipeline_.stop_collisions_per_particle)
     return true;
   if (pipeline_.stop_time_tau0 && ctx_.time_in_tau0() >= *pipeline_.stop_time_tau0 * (1.0 - 1e-12)) return true;
@@ -230,21 +261,8 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   if (report) report(progress(wall_seconds_));
 }
 
-RunOutput Engine::output() {
-  RunOutput out;
-  out.root_attributes["gdsmc_version"] = version_string;
-  out.root_attributes["sdk_abi"] = std::to_string(sdk_abi_major) + "." + std::to_string(sdk_abi_minor);
-  out.root_attributes["pipeline"] = pipeline_.resolved_text;
-  out.root_attributes["pipeline_source"] = pipeline_.source_text;
-  out.root_attributes["pipeline_file"] = pipeline_.file.string();
-  std::string sets;
-  for (const auto& o : pipeline_.overrides) sets += (sets.empty() ? "" : "\n") + o;
-  out.root_attributes["overrides"] = sets;
-  out.root_attributes["units"] =
-      "reduced units: m = 1, k_B = 1, lengths in sigma; time datasets in tau0 = lambda0 / sqrt(2 T0 / m), "
-      "lambda0 = 1 / (sqrt(2) pi n sigma^2); each dataset's 'unit' attribute names its unit";
-  out.root_numbers["seed"] = static_cast<double>(pipeline_.seed);
-  out.root_numbers["realization"] = system_.realization;
+CaseOutput Engine::output() {
+  CaseOutput out;
   out.system = {{"particles", static_cast<double>(system_.particles)},
                 {"number_density", system_.number_density},
                 {"sigma", system_.sigma},
@@ -260,7 +278,8 @@ RunOutput Engine::output() {
              {"candidates", ctx_.candidates},
              {"majorant_exceeded", ctx_.majorant_exceeded},
              {"collision_energy_change", ctx_.collision_energy_change},
-             {"wall_seconds", wall_seconds_}};
+             {"wall_seconds", wall_seconds_},
+             {"reached_steady_state", steady_ ? 1.0 : 0.0}};
   auto prov = [&](const std::string& role, const PluginUse& u) {
     PluginProvenance pp{role, u.instance_name, u.plugin->descriptor->name, u.plugin->descriptor->version,
                         u.plugin->file.string(), {}};
@@ -271,7 +290,7 @@ RunOutput Engine::output() {
   prov("collision", pipeline_.collision);
   for (const auto& u : pipeline_.forcings) prov(u.path, u);
   for (const auto& u : pipeline_.diagnostics) prov(u.path, u);
-  out.diagnostics = &outputs_;
+  out.diagnostics = outputs_;
   if (pipeline_.output_particles) {
     const ParticleSpan s = store_.span();
     const double length = system_.mean_free_path0, speed = std::sqrt(2.0 * system_.initial_temperature / system_.mass);

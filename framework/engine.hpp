@@ -39,7 +39,9 @@ class Engine {
   // One step (exposed for tests and benchmarks).
   void step();
 
-  RunOutput output();
+  // This run's results (diagnostics copied), without the file-level provenance.
+  CaseOutput output();
+  bool reached_steady_state() const { return steady_; }
   const std::vector<std::string>& summary() const { return summary_; }
   const std::vector<DiagnosticOutput>& diagnostics() const { return outputs_; }
   ParticleSpan particles() { return store_.span(); }
@@ -62,6 +64,7 @@ class Engine {
   void update_moments();
   void sample_and_record(bool force_record);
   bool finished() const;
+  void check_steady();
   double stop_fraction() const;
 
   const Pipeline& pipeline_;
@@ -80,6 +83,8 @@ class Engine {
   double majorant_ratio_;      // w / sqrt(T/m) in the (single) cell, raised when exceeded
   double candidate_remainder_ = 0;
   double wall_seconds_ = 0;
+  bool steady_ = false;
+  int steady_slot_ = -1;
 };
 
 }  // namespace gdsmc::host

@@ -13,6 +13,7 @@
 #include "engine.hpp"
 #include "loader.hpp"
 #include "pipeline.hpp"
+#include "study.hpp"
 
 namespace fs = std::filesystem;
 using namespace gdsmc;
@@ -149,36 +150,46 @@ int cmd_run(const Options& o, bool run_it) {
       return 1;
     }
   }
-  std::unique_ptr<Engine> engine;
+  std::vector<StudyCase> cases;
   try {
-    engine = std::make_unique<Engine>(p);
+    cases = expand_cases(p, o.sets, o.plugin_paths);
+    // Set every case up once (plugins construct, diagnostics begin) before anything runs.
+    for (const auto& c : cases) Engine check(c.pipeline, 0);
+  } catch (const PipelineError& e) {
+    print_errors(e.messages());
+    return 1;
   } catch (const std::exception& e) {
     print_errors({p.file.string() + ": " + e.what()});
     return 1;
   }
   if (!run_it) {
-    std::cout << p.file.string() << ": valid (" << p.particles << " particles; " << p.diagnostics.size()
-              << " diagnostics; output " << p.output_file.string() << ")\n";
+    std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
+              << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
+              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string() << ")\n";
     return 0;
   }
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const bool tty = ::isatty(STDERR_FILENO);
-  std::function<void(const Progress&)> report;
+  std::function<void(const StudyProgress&)> report;
   if (!o.quiet) {
-    report = [tty](const Progress& pr) {
-      char line[256];
-      std::snprintf(line, sizeof line, "[%3.0f%%] s = %-8.4g t = %-9.4g tau0  T/T0 = %-10.4g elapsed %s, left ~%s",
-                    100 * pr.fraction, pr.collisions_per_particle, pr.time_tau0, pr.temperature_over_T0,
-                    format_seconds(pr.elapsed_seconds).c_str(), format_seconds(pr.remaining_seconds).c_str());
+    report = [tty](const StudyProgress& sp) {
+      const Progress& pr = sp.progress;
+      char line[384];
+      std::string run = sp.runs > 1 ? "run " + std::to_string(sp.run + 1) + "/" + std::to_string(sp.runs) + " " : "";
+      if (!sp.label.empty()) run += "(" + sp.label + ") ";
+      std::snprintf(line, sizeof line, "[%3.0f%%] %ss = %-8.4g t = %-9.4g tau0  T/T0 = %-10.4g elapsed %s, left ~%s",
+                    100 * sp.fraction, run.c_str(), pr.collisions_per_particle, pr.time_tau0, pr.temperature_over_T0,
+                    format_seconds(pr.elapsed_seconds).c_str(), format_seconds(sp.remaining_seconds).c_str());
       if (tty) std::cerr << "\r" << line << "\033[K" << std::flush;
       else std::cerr << line << "\n";
     };
   }
+  StudyResult result;
   try {
-    engine->run(report, tty ? 0.25 : 10.0, &g_interrupted);
+    result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted);
     if (report && tty) std::cerr << "\n";
-    write_hdf5(p.output_file, engine->output());
+    write_hdf5(p.output_file, result.output);
   } catch (const Engine::Interrupted&) {
     if (report && tty) std::cerr << "\n";
     std::cerr << "gdsmc: interrupted; no output written\n";
@@ -189,15 +200,12 @@ int cmd_run(const Options& o, bool run_it) {
     return 1;
   }
   if (!o.quiet) {
-    const auto& c = engine->context();
     char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "gdsmc: %s: %llu steps to t = %.4g tau0, s = %.4g; %.4g collisions in %.2f s (%.3g collisions/s)",
-                  p.file.filename().c_str(), static_cast<unsigned long long>(c.step), c.time_in_tau0(),
-                  c.collisions_per_particle(), c.collisions, engine->wall_seconds(),
-                  engine->wall_seconds() > 0 ? c.collisions / engine->wall_seconds() : 0.0);
+    std::snprintf(buf, sizeof buf, "gdsmc: %s: %zu case(s) x %u realization(s), %llu steps, %.4g collisions in %.2f s (%.3g collisions/s)",
+                  p.file.filename().c_str(), cases.size(), p.realizations, static_cast<unsigned long long>(result.steps),
+                  result.collisions, result.wall_seconds, result.wall_seconds > 0 ? result.collisions / result.wall_seconds : 0.0);
     std::cout << buf << "\n";
-    for (const auto& line : engine->summary()) std::cout << line << "\n";
+    for (const auto& line : result.summary) std::cout << line << "\n";
     std::cout << "output: " << fs::absolute(p.output_file).string() << "\n";
   }
   return 0;

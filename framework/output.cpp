@@ -114,10 +114,41 @@ Id group(hid_t parent, const std::string& name) {
   return Id(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create group " + name);
 }
 
-void write_file(const fs::path& path, const RunOutput& out) {
-  Id file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path.string());
-  for (const auto& [k, v] : out.root_attributes) attr_string(file, k, v);
-  for (const auto& [k, v] : out.root_numbers) attr_double(file, k, v);
+void string_dataset(hid_t group, const std::string& name, const std::vector<std::string>& labels, const std::string& doc) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
+  check(H5Tset_size(type, H5T_VARIABLE), "set string size");
+  check(H5Tset_cset(type, H5T_CSET_UTF8), "set string charset");
+  const hsize_t n = labels.size();
+  Id space(H5Screate_simple(1, &n, nullptr), H5Sclose, "create dataspace for " + name);
+  Id set(H5Dcreate2(group, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, "create dataset " + name);
+  std::vector<const char*> p;
+  for (const auto& l : labels) p.push_back(l.c_str());
+  if (!p.empty()) check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()), "write " + name);
+  attr_string(set, "unit", "");
+  attr_string(set, "description", doc);
+}
+
+// Create every group along "a/b/c" under parent (those that do not exist yet).
+Id open_or_create(hid_t parent, const std::string& path) {
+  if (path.empty()) return Id(H5Gopen2(parent, "/", H5P_DEFAULT), H5Gclose, "open /");
+  std::string sofar;
+  std::size_t start = 0;
+  while (true) {
+    const auto slash = path.find('/', start);
+    sofar = path.substr(0, slash);
+    if (H5Lexists(parent, sofar.c_str(), H5P_DEFAULT) <= 0) {
+      Id g(H5Gcreate2(parent, sofar.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create group " + sofar);
+    }
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+  return Id(H5Gopen2(parent, path.c_str(), H5P_DEFAULT), H5Gclose, "open group " + path);
+}
+
+void write_case(hid_t file_id, const CaseOutput& out) {
+  Id root = open_or_create(file_id, out.group);
+  hid_t file = root;
+  for (const auto& [k, v] : out.attributes) attr_string(file, k, v);
   {
     Id g = group(file, "system");
     for (const auto& [k, v] : out.system) attr_double(g, k, v);
@@ -147,7 +178,7 @@ void write_file(const fs::path& path, const RunOutput& out) {
     }
   }
   Id diags = group(file, "diagnostics");
-  for (const auto& d : *out.diagnostics) {
+  for (const auto& d : out.diagnostics) {
     Id g = group(diags, d.group());
     for (const auto& [k, v] : d.attributes) attr_string(g, k, v);
     const hsize_t n = d.time.size();
@@ -167,12 +198,27 @@ void write_file(const fs::path& path, const RunOutput& out) {
       dataset(hg, "values", h.values, {h.values.size()}, h.value_unit, h.doc);
     }
   }
+}
+
+void write_file(const fs::path& path, const StudyOutput& out) {
+  Id file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path.string());
+  for (const auto& [k, v] : out.root_attributes) attr_string(file, k, v);
+  for (const auto& [k, v] : out.root_numbers) attr_double(file, k, v);
+  for (const auto& c : out.cases) write_case(file, c);
+  if (!out.summary.empty()) {
+    Id g = group(file, "summary");
+    attr_string(g, "description", "one row per case of the sweep (cases/<k>), in case order");
+    for (const auto& col : out.summary) {
+      if (col.values.empty() && !col.labels.empty()) string_dataset(g, col.name, col.labels, col.doc);
+      else dataset(g, col.name, col.values, {col.values.size()}, col.unit, col.doc);
+    }
+  }
   check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush " + path.string());
 }
 
 }  // namespace
 
-void write_hdf5(const fs::path& file, const RunOutput& out) {
+void write_hdf5(const fs::path& file, const StudyOutput& out) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions, not printed
   fs::path tmp = file;
   tmp += ".partial-" + std::to_string(::getpid());

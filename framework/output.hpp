@@ -75,18 +75,33 @@ struct ParticleDataset {
   std::vector<double> data;
 };
 
-struct RunOutput {
+// One simulated case (one point of a sweep; all its realizations averaged).
+struct CaseOutput {
+  std::string group;                            // "" for a single case (written at the root), else "cases/<k>"
+  std::map<std::string, std::string> attributes;  // e.g. the sweep values of this case
+  std::map<std::string, double> system;         // /system attributes
+  std::map<std::string, double> run;            // /run attributes
+  std::vector<PluginProvenance> plugins;
+  std::vector<DiagnosticOutput> diagnostics;
+  std::vector<ParticleDataset> particles;       // empty unless output.particles (realization 0)
+};
+
+// A column of the /summary table of a sweep: one entry per case.
+struct SummaryColumn {
+  std::string name, unit, doc;
+  std::vector<double> values;       // numeric column, or
+  std::vector<std::string> labels;  // text column (when values is empty)
+};
+
+struct StudyOutput {
   std::map<std::string, std::string> root_attributes;
   std::map<std::string, double> root_numbers;
-  std::map<std::string, double> system;       // /system attributes
-  std::map<std::string, double> run;          // /run attributes
-  std::vector<PluginProvenance> plugins;
-  const std::vector<DiagnosticOutput>* diagnostics = nullptr;
-  std::vector<ParticleDataset> particles;  // empty unless output.particles
+  std::vector<CaseOutput> cases;
+  std::vector<SummaryColumn> summary;
 };
 
 // Write under "<file>.partial-<pid>" and rename to `file` on success. On failure, no file is left
 // under either name and the error is thrown.
-void write_hdf5(const std::filesystem::path& file, const RunOutput& out);
+void write_hdf5(const std::filesystem::path& file, const StudyOutput& out);
 
 }  // namespace gdsmc::host

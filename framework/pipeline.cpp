@@ -463,7 +463,7 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
 
   Checker c(file, overrides);
   c.check_keys(root, "", {"run", "system", "initial_state", "collision", "forcings", "boundaries", "diagnostics",
-                          "output", "plugins"});
+                          "output", "plugins", "sweep"});
   auto need = [&](const char* key) -> YAML::Node {
     YAML::Node n = root[key];
     if (!n) c.error(SourceLocation{file.string(), 1, 1}, key, std::string("missing required section '") + key + "'");
@@ -500,7 +500,33 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
     if (!run.IsMap()) {
       c.error("run", run, "expected a mapping");
     } else {
-      c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every"});
+      c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
+                                "realizations", "average_after"});
+      if (run["realizations"]) {
+        if (auto v = c.integer(run["realizations"], "run.realizations")) {
+          if (*v < 1 || *v > 100000) c.error("run.realizations", run["realizations"], "realizations must be between 1 and 100000");
+          else p.realizations = static_cast<std::uint32_t>(*v);
+        }
+      }
+      if (const YAML::Node aa = run["average_after"]) {
+        if (!aa.IsMap()) {
+          c.error("run.average_after", aa, "expected {collisions_per_particle: S} or {time: T (tau0)}");
+        } else {
+          c.check_keys(aa, "run.average_after", {"collisions_per_particle", "time"});
+          if (aa["collisions_per_particle"])
+            if (auto v = c.real(aa["collisions_per_particle"], "run.average_after.collisions_per_particle")) {
+              if (*v < 0) c.error("run.average_after.collisions_per_particle", aa["collisions_per_particle"], "must be >= 0");
+              else p.average_after_collisions_per_particle = *v;
+            }
+          if (aa["time"])
+            if (auto v = c.real(aa["time"], "run.average_after.time")) {
+              if (*v < 0) c.error("run.average_after.time", aa["time"], "must be >= 0 (tau0)");
+              else p.average_after_time_tau0 = *v;
+            }
+          if (aa["collisions_per_particle"] && aa["time"])
+            c.error("run.average_after", aa, "give collisions_per_particle or time, not both");
+        }
+      }
       if (run["seed"]) {
         if (auto v = c.integer(run["seed"], "run.seed")) {
           if (*v < 0) c.error("run.seed", run["seed"], "seed must be >= 0");
@@ -543,7 +569,43 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
         if (!st.IsMap()) {
           c.error("run.stop", st, "expected {collisions_per_particle: S} and/or {time: T (tau0)}");
         } else {
-          c.check_keys(st, "run.stop", {"collisions_per_particle", "time"});
+          c.check_keys(st, "run.stop", {"collisions_per_particle", "time", "steady"});
+          if (const YAML::Node sd = st["steady"]) {
+            if (!sd.IsMap()) {
+              c.error("run.stop.steady", sd, "expected {series: GROUP/COLUMN, window: S, tolerance: X}");
+            } else {
+              c.check_keys(sd, "run.stop.steady", {"series", "window", "tolerance"});
+              SteadyStop ss;
+              bool ok = true;
+              const std::string series = sd["series"] ? sd["series"].Scalar() : "";
+              const auto slash = series.find('/');
+              if (slash == std::string::npos || slash == 0 || slash + 1 == series.size()) {
+                c.error("run.stop.steady.series", sd["series"] ? sd["series"] : sd,
+                        "expected a series as GROUP/COLUMN, e.g. temperature/temperature");
+                ok = false;
+              } else {
+                ss.group = series.substr(0, slash);
+                ss.column = series.substr(slash + 1);
+              }
+              auto window = sd["window"] ? c.real(sd["window"], "run.stop.steady.window") : std::nullopt;
+              auto tol = sd["tolerance"] ? c.real(sd["tolerance"], "run.stop.steady.tolerance") : std::nullopt;
+              if (!window || *window <= 0) {
+                c.error("run.stop.steady.window", sd["window"] ? sd["window"] : sd, "window must be > 0 collisions per particle");
+                ok = false;
+              }
+              if (!tol || *tol <= 0) {
+                c.error("run.stop.steady.tolerance", sd["tolerance"] ? sd["tolerance"] : sd, "tolerance must be > 0 (relative)");
+                ok = false;
+              }
+              if (ok) {
+                ss.window = *window;
+                ss.tolerance = *tol;
+                p.stop_steady = ss;
+              }
+              if (!st["collisions_per_particle"] && !st["time"])
+                c.error("run.stop", st, "a steady stop also needs collisions_per_particle or time as an upper limit");
+            }
+          }
           if (st["collisions_per_particle"])
             if (auto v = c.real(st["collisions_per_particle"], "run.stop.collisions_per_particle")) {
               if (*v <= 0) c.error("run.stop.collisions_per_particle", st["collisions_per_particle"], "must be > 0");
@@ -631,6 +693,47 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
   }
   if (p.output_file.empty()) p.output_file = file.stem().string() + ".h5";
 
+  if (const YAML::Node sw = root["sweep"]) {
+    if (!sw.IsMap()) {
+      c.error("sweep", sw, "expected a mapping: key.path: [values...], or AXIS: {VARIANT: {key.path: value, ...}, ...}");
+    } else {
+      std::set<std::string> axes;
+      for (auto it = sw.begin(); it != sw.end(); ++it) {
+        const std::string name = it->first.Scalar();
+        const std::string sub = "sweep." + name;
+        if (!axes.insert(name).second) c.error(sub, it->first, "duplicate sweep axis '" + name + "'");
+        SweepAxis axis;
+        axis.name = name;
+        const YAML::Node v = it->second;
+        if (v.IsSequence() && v.size() > 0) {
+          for (std::size_t k = 0; k < v.size(); ++k) {
+            YAML::Emitter e;
+            e << YAML::Flow << v[k];
+            axis.values.push_back({e.c_str(), {name + "=" + e.c_str()}});
+          }
+        } else if (v.IsMap() && v.size() > 0) {
+          for (auto vt = v.begin(); vt != v.end(); ++vt) {
+            SweepAxis::Value value{vt->first.Scalar(), {}};
+            if (!vt->second.IsMap()) {
+              c.error(sub + "." + value.label, vt->second, "a named variant is a mapping of key.path: value overrides");
+              continue;
+            }
+            for (auto ot = vt->second.begin(); ot != vt->second.end(); ++ot) {
+              YAML::Emitter e;
+              e << YAML::Flow << ot->second;
+              value.overrides.push_back(ot->first.Scalar() + "=" + e.c_str());
+            }
+            axis.values.push_back(std::move(value));
+          }
+        } else {
+          c.error(sub, v, "expected a non-empty list of values or a mapping of named variants");
+          continue;
+        }
+        p.sweep.push_back(std::move(axis));
+      }
+    }
+  }
+
   // Plugins need lambda0 and tau0 for their units: only check them once the system is sound.
   const bool system_ok = p.number_density > 0;
   if (system_ok) {
@@ -651,6 +754,13 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
     list("forcings", PluginKind::forcing, p.forcings);
     list("boundaries", PluginKind::boundary, p.boundaries);
     list("diagnostics", PluginKind::diagnostic, p.diagnostics);
+    if (p.stop_steady) {
+      bool found = false;
+      for (const auto& d : p.diagnostics) found = found || d.instance_name == p.stop_steady->group;
+      if (!found)
+        c.error(SourceLocation{file.string(), 0, 0}, "run.stop.steady.series",
+                "no diagnostic writes the group '" + p.stop_steady->group + "'");
+    }
     std::set<std::string> names;
     for (const auto& d : p.diagnostics)
       if (!names.insert(d.instance_name).second)

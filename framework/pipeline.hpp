@@ -37,6 +37,24 @@ struct PluginUse {
   std::uint64_t record_every = 1;  // diagnostics only (steps)
 };
 
+// One axis of a parameter sweep: a list of values, each a set of overrides (key.path=value).
+struct SweepAxis {
+  std::string name;  // the key path (value axis) or the axis name (named variants)
+  struct Value {
+    std::string label;                   // the value as text, or the variant name
+    std::vector<std::string> overrides;  // "key.path=value" assignments
+  };
+  std::vector<Value> values;
+};
+
+// Stop when a diagnostic series is steady: the means over the last two windows of `window`
+// collisions per particle differ by at most `tolerance` times the latest mean.
+struct SteadyStop {
+  std::string group, column;  // the series "group/column"
+  double window = 0;          // in collisions per particle s
+  double tolerance = 0;
+};
+
 struct Pipeline {
   std::filesystem::path file;
   std::string source_text;    // the file as read
@@ -50,7 +68,13 @@ struct Pipeline {
   bool time_step_follows_temperature = false;
   std::optional<double> stop_collisions_per_particle;
   std::optional<double> stop_time_tau0;
+  std::optional<SteadyStop> stop_steady;
   std::uint64_t sample_every = 1, record_every = 1, moments_every = 4;
+  std::uint32_t realizations = 1;
+  // Steady-state averages of every series over the records with s >= this (or t/tau0 >= this).
+  std::optional<double> average_after_collisions_per_particle;
+  std::optional<double> average_after_time_tau0;
+  std::vector<SweepAxis> sweep;
 
   // system (reduced units)
   double number_density = 0;
