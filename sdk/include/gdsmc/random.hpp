@@ -73,9 +73,21 @@ class Rng {
   double uniform() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
   // Uniform on (0, 1]: safe for log().
   double uniform_open0() { return (static_cast<double>(next_u64() >> 11) + 1.0) * 0x1.0p-53; }
-  // Uniform integer in [0, n), n > 0 (multiply-shift on 64 bits: bias below n / 2^64).
+  // Uniform on [0, 1) with 32 random bits: enough for an acceptance test, half the cost.
+  double uniform32() { return static_cast<double>(next_u32()) * 0x1.0p-32; }
+  // Uniform integer in [0, n), n > 0, exactly unbiased (Lemire's multiply-shift with rejection;
+  // the rejection happens with probability below n / 2^32).
   std::uint32_t below(std::uint32_t n) {
-    return static_cast<std::uint32_t>((static_cast<unsigned __int128>(next_u64()) * n) >> 64);
+    std::uint64_t m = static_cast<std::uint64_t>(next_u32()) * n;
+    auto low = static_cast<std::uint32_t>(m);
+    if (low < n) {
+      const std::uint32_t threshold = static_cast<std::uint32_t>(-n) % n;
+      while (low < threshold) {
+        m = static_cast<std::uint64_t>(next_u32()) * n;
+        low = static_cast<std::uint32_t>(m);
+      }
+    }
+    return static_cast<std::uint32_t>(m >> 32);
   }
   // Standard normal deviate (Box-Muller; both values of a pair are used).
   double normal() {
@@ -89,12 +101,18 @@ class Rng {
     has_spare_ = true;
     return r * std::cos(phi);
   }
-  // Direction uniformly distributed on the unit sphere.
+  // Direction uniformly distributed on the unit sphere (Marsaglia 1972: a point uniform in the
+  // unit disc, (u, v) with s = u^2 + v^2 < 1, maps to (2u sqrt(1-s), 2v sqrt(1-s), 1 - 2s);
+  // no trigonometric call).
   Vec3 unit_vector() {
-    const double z = 2.0 * uniform() - 1.0;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double phi = 2.0 * M_PI * uniform();
-    return {r * std::cos(phi), r * std::sin(phi), z};
+    double u, v, s;
+    do {
+      u = 2.0 * uniform32() - 1.0;
+      v = 2.0 * uniform32() - 1.0;
+      s = u * u + v * v;
+    } while (s >= 1.0 || s == 0.0);
+    const double f = 2.0 * std::sqrt(1.0 - s);
+    return {u * f, v * f, 1.0 - 2.0 * s};
   }
 
  private:

@@ -1,0 +1,560 @@
+// gdsmc_bench: cost of the DSMC collision stage of inelastic hard spheres in one homogeneous cell.
+//
+//   BM_PluginCollideCell  the IHS plugin (.so loaded at run time with gdsmc::host::load_plugin +
+//                         create_object), one virtual collide_cell(CellCollision&) call per step,
+//                         driven exactly as Engine::step drives it.
+//   BM_StaticAdapter      the same SDK loop (CollisionRuleAdapter) instantiated inside this
+//                         executable with a copy of the IHS rule: separates "SDK loop" from
+//                         "loaded through a .so".
+//   BM_HandLoop           one plain function of the same physics and the same algorithm (same
+//                         candidate count, pair selection, acceptance |g|/w, impact direction
+//                         normalize(g_hat + u), Eq. 2.8 update) and the same generator
+//                         (gdsmc::Rng, Philox4x32-10) drawn in the same order. Started from the
+//                         same state with the same streams it produces bit-identical velocities
+//                         (checked at start-up; see verify_same_trajectory).
+//   BM_EngineStep         Engine::step() of the HCS pipeline configs/hcs.yaml (collisions, moment
+//                         updates every 4 steps, five diagnostics), dt set for ~N/100 collisions.
+//   BM_Rng*               the random-number primitives the loop uses.
+//
+// The cell benchmarks take N (particles) and alpha_pct (restitution x 100). With alpha < 1 the gas
+// cools; the temperature is followed exactly from the declared energy changes and the velocities
+// are rescaled to T0 (outside the timed region) whenever T < 0.8 T0, so the majorant, acceptance
+// rate and dt stay those of a T0 Maxwellian-like state. alpha_pct = 100 is the pure-cost
+// comparison without rescaling.
+//
+// Counters: collisions/s and candidates/s (rates over CPU time), accept = accepted / candidates.
+// After the run a summary table gives, per N, the rates of every path and the cost ratio
+// plugin / hand loop (= hand rate / plugin rate; 1.0 means the plugin path is free).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <gdsmc/collision.hpp>
+#include <gdsmc/moments.hpp>
+
+#include "engine.hpp"
+#include "loader.hpp"
+#include "pipeline.hpp"
+
+namespace {
+
+using namespace gdsmc;
+
+constexpr double kT0 = 1.0;
+constexpr double kDensity = 1e-3;  // n sigma^3, as in configs/hcs.yaml (the cost does not depend on it)
+constexpr double kSigma = 1.0;
+constexpr double kInitialMajorantRatio = 6.0 * M_SQRT2;  // as framework/engine.cpp
+constexpr double kMajorantHeadroom = 1.05;               // as framework/engine.cpp
+constexpr double kCollisionFractionPerCall = 0.01;       // ~N/100 accepted collisions per call
+constexpr double kRescaleBelow = 0.8;                    // rescale velocities when T < 0.8 T0
+constexpr std::uint64_t kSeed = 2026;
+
+std::string env_or(const char* name, const char* fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? std::string(v) : std::string(fallback);
+}
+std::string plugin_dir() { return env_or("GDSMC_BENCH_PLUGIN_DIR", GDSMC_BENCH_PLUGIN_DIR); }
+std::string pipeline_file() { return env_or("GDSMC_BENCH_PIPELINE", GDSMC_BENCH_PIPELINE); }
+
+// ---------------------------------------------------------------------------------------------
+// The hand-written loop: one function, plain doubles, gdsmc::Rng drawn in the SDK loop's order.
+
+struct HandStats {
+  std::uint64_t candidates = 0, accepted = 0, exceeded = 0;
+  double max_rate = 0, energy_change = 0;
+};
+
+void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double volume, double sigma, double dt,
+                  double w, double alpha, double& remainder, Rng& rng, HandStats& st) {
+  if (n < 2 || w <= 0) {
+    remainder = 0;
+    return;
+  }
+  // 000 Eqs. 4.13 / 4.23: N^2 sigma^2 pi w dt / (2 V) candidates (Omega_B = pi for hard spheres).
+  const double nd = static_cast<double>(n);
+  const double expected = 0.5 * nd * nd * sigma * sigma * M_PI * w * dt / volume + remainder;
+  const auto candidates = static_cast<std::uint64_t>(expected);
+  remainder = expected - static_cast<double>(candidates);
+  const double half_one_plus_alpha = 0.5 * (1.0 + alpha);
+  const double loss = -0.25 * (1.0 - alpha * alpha);
+  std::uint64_t accepted = 0, exceeded = 0;
+  double max_rate = st.max_rate, energy = 0;
+  for (std::uint64_t k = 0; k < candidates; ++k) {
+    const std::uint32_t i = rng.below(n);
+    std::uint32_t j = rng.below(n - 1);
+    j += (j >= i);
+    const double gx = vx[i] - vx[j], gy = vy[i] - vy[j], gz = vz[i] - vz[j];
+    const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
+    const double u = rng.uniform32();
+    if (g > w) {  // majorant exceeded: accept with probability 1, report the rate seen
+      ++exceeded;
+      max_rate = std::max(max_rate, g);
+    } else if (u * w >= g) {
+      continue;  // rejected: probability 1 - |g| / w
+    }
+    // sigma_hat ~ Theta(g.s)(g.s): normalize(g_hat + e), e uniform on the unit sphere
+    // (Marsaglia: a point uniform in the unit disc mapped to the sphere).
+    double eu, ev, es;
+    do {
+      eu = 2.0 * rng.uniform32() - 1.0;
+      ev = 2.0 * rng.uniform32() - 1.0;
+      es = eu * eu + ev * ev;
+    } while (es >= 1.0 || es == 0.0);
+    const double ef = 2.0 * std::sqrt(1.0 - es);
+    const double ig = 1.0 / g;
+    double sx = ig * gx + eu * ef, sy = ig * gy + ev * ef, sz = ig * gz + (1.0 - 2.0 * es);
+    const double len = std::sqrt(sx * sx + sy * sy + sz * sz);
+    if (len < 1e-300) {
+      sx = ig * gx; sy = ig * gy; sz = ig * gz;
+    } else {
+      const double il = 1.0 / len;
+      sx *= il; sy *= il; sz *= il;
+    }
+    // Eq. 2.8: v_i' = v_i - (1+alpha)/2 (g.s) s,  v_j' = v_j + (1+alpha)/2 (g.s) s.
+    const double gs = gx * sx + gy * sy + gz * sz;
+    const double f = half_one_plus_alpha * gs;
+    vx[i] -= f * sx; vy[i] -= f * sy; vz[i] -= f * sz;
+    vx[j] += f * sx; vy[j] += f * sy; vz[j] += f * sz;
+    energy += loss * gs * gs;
+    ++accepted;
+  }
+  st.candidates += candidates;
+  st.accepted += accepted;
+  st.exceeded += exceeded;
+  st.max_rate = max_rate;
+  st.energy_change += energy;
+}
+
+// A copy of plugins/collision/inelastic_hard_spheres for the statically instantiated SDK loop.
+struct BenchIHS {
+  explicit BenchIHS(double a) : alpha(a), half_one_plus_alpha(0.5 * (1.0 + a)) {}
+  double collide(Vec3& v1, Vec3& v2, const Vec3& s, PairContext&) const {
+    const double gs = dot(v1 - v2, s);
+    const Vec3 dv = (half_one_plus_alpha * gs) * s;
+    v1 -= dv;
+    v2 += dv;
+    return -0.25 * (1.0 - alpha * alpha) * gs * gs;
+  }
+  double alpha, half_one_plus_alpha;
+};
+
+// ---------------------------------------------------------------------------------------------
+// A homogeneous cell and the host side of its collision stage (as Engine::step).
+
+struct Cell {
+  std::vector<double> vx, vy, vz;
+  std::uint32_t n;
+  double volume;
+  double temperature = kT0;  // followed exactly from the declared energy changes (m = 1, u = 0)
+  double majorant_ratio = kInitialMajorantRatio;
+  double remainder = 0;
+  PhiloxKey key;
+  std::uint64_t step = 0;
+  std::uint64_t candidates = 0, accepted = 0, exceeded = 0, rescales = 0;
+
+  explicit Cell(std::uint32_t particles, std::uint32_t realization = 0)
+      : vx(particles), vy(particles), vz(particles), n(particles), volume(particles / kDensity),
+        key(stream_key(kSeed, realization)) {
+    Rng rng(key, StreamPurpose::initial_state, 0, 0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      vx[i] = rng.normal();
+      vy[i] = rng.normal();
+      vz[i] = rng.normal();
+    }
+    rescale();
+  }
+  ParticleSpan span() {
+    ParticleSpan s;
+    s.count = n;
+    s.vx = vx.data(); s.vy = vy.data(); s.vz = vz.data();
+    s.x = s.y = s.z = nullptr;
+    return s;
+  }
+  // Zero mean velocity, temperature exactly T0.
+  void rescale() {
+    const VelocityMoments m = velocity_moments(span());
+    const double f = std::sqrt(kT0 / m.temperature);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      vx[i] = (vx[i] - m.mean[0]) * f;
+      vy[i] = (vy[i] - m.mean[1]) * f;
+      vz[i] = (vz[i] - m.mean[2]) * f;
+    }
+    temperature = kT0;
+    ++rescales;
+  }
+  // dt for ~N/100 accepted collisions: a call accepts 0.5 N n pi sigma^2 <|g|> dt on average,
+  // <|g|> = 4 sqrt(T / pi) for a Maxwellian (m = 1).
+  double dt() const {
+    const double mean_g = 4.0 * std::sqrt(temperature / M_PI);
+    return 2.0 * kCollisionFractionPerCall / (kDensity * M_PI * kSigma * kSigma * mean_g);
+  }
+  // One collision stage through `collide(CellCollision&)`, with Engine::step's bookkeeping.
+  template <class F>
+  void stage(F&& collide) {
+    Rng rng(key, StreamPurpose::collisions, 0, step);
+    CellCollision c;
+    c.particles = span();
+    c.members = nullptr;
+    c.count = n;
+    c.volume = volume;
+    c.sigma = kSigma;
+    c.dt = dt();
+    const double thermal_speed = std::sqrt(temperature);
+    c.majorant = majorant_ratio * thermal_speed;
+    c.remainder = remainder;
+    c.rng = &rng;
+    collide(c);
+    remainder = c.remainder;
+    if (c.max_rate > c.majorant) majorant_ratio = kMajorantHeadroom * c.max_rate / thermal_speed;
+    candidates += c.candidates;
+    accepted += c.accepted;
+    exceeded += c.majorant_exceeded;
+    temperature += (2.0 / 3.0) * c.energy_change / n;  // E = 3/2 N T
+    ++step;
+  }
+};
+
+void hand_stage(Cell& cell, double alpha) {
+  cell.stage([&](CellCollision& c) {
+    HandStats st;
+    st.max_rate = c.max_rate;
+    hand_collide(c.particles.vx, c.particles.vy, c.particles.vz, c.count, c.volume, c.sigma, c.dt, c.majorant,
+                 alpha, c.remainder, *c.rng, st);
+    c.candidates = st.candidates;
+    c.accepted = st.accepted;
+    c.majorant_exceeded = st.exceeded;
+    c.max_rate = st.max_rate;
+    c.energy_change = st.energy_change;
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// The plugin, loaded once.
+
+const host::LoadedPlugin& ihs_plugin() {
+  static const host::LoadedPlugin plugin = [] {
+    auto p = host::load_plugin(plugin_dir() + "/gdsmc_inelastic_hard_spheres.so");
+    if (p.descriptor->kind != PluginKind::collision_rule)
+      throw std::runtime_error("gdsmc_inelastic_hard_spheres.so is not a collision rule");
+    return p;
+  }();
+  return plugin;
+}
+
+std::shared_ptr<PluginObject> make_ihs(double alpha) {
+  Params params;
+  params.set("alpha", alpha);
+  return host::create_object(ihs_plugin(), params);
+}
+
+// State kept across the repeated calls Google Benchmark makes to one benchmark (iteration-count
+// search, repetitions): the 1e6-particle set-up is paid once and the gas keeps evolving.
+template <class T>
+T& cached(const std::string& name, std::int64_t n, std::int64_t alpha_pct) {
+  static std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::unique_ptr<T>> cache;
+  auto& slot = cache[{name, n, alpha_pct}];
+  if (!slot) slot = std::make_unique<T>(static_cast<std::uint32_t>(n));
+  return *slot;
+}
+
+struct PluginCell {
+  Cell cell;
+  std::shared_ptr<PluginObject> object;
+  explicit PluginCell(std::uint32_t n) : cell(n) {}
+};
+struct AdapterCell {
+  Cell cell;
+  std::unique_ptr<CollisionRuleAdapter<BenchIHS>> rule;
+  explicit AdapterCell(std::uint32_t n) : cell(n) {}
+};
+
+template <class Step>
+void run_cell(benchmark::State& state, Cell& cell, Step&& one_stage) {
+  const std::uint64_t c0 = cell.candidates, a0 = cell.accepted;
+  for (auto _ : state) {
+    one_stage();
+    if (cell.temperature < kRescaleBelow * kT0) {
+      state.PauseTiming();
+      cell.rescale();
+      state.ResumeTiming();
+    }
+  }
+  const double cand = static_cast<double>(cell.candidates - c0), acc = static_cast<double>(cell.accepted - a0);
+  state.counters["collisions/s"] = benchmark::Counter(acc, benchmark::Counter::kIsRate);
+  state.counters["candidates/s"] = benchmark::Counter(cand, benchmark::Counter::kIsRate);
+  state.counters["accept"] = cand > 0 ? acc / cand : 0.0;
+  state.counters["coll/call"] = benchmark::Counter(acc, benchmark::Counter::kAvgIterations);
+}
+
+void BM_PluginCollideCell(benchmark::State& state) {
+  const double alpha = static_cast<double>(state.range(1)) / 100.0;
+  PluginCell* pc;
+  try {
+    pc = &cached<PluginCell>("plugin", state.range(0), state.range(1));
+    if (!pc->object) pc->object = make_ihs(alpha);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  // The descriptor says collision_rule, so the cast is exact (as in Engine).
+  auto* rule = static_cast<CollisionRule*>(pc->object.get());
+  run_cell(state, pc->cell, [&] { pc->cell.stage([&](CellCollision& c) { rule->collide_cell(c); }); });
+}
+
+void BM_StaticAdapter(benchmark::State& state) {
+  const double alpha = static_cast<double>(state.range(1)) / 100.0;
+  auto& ac = cached<AdapterCell>("adapter", state.range(0), state.range(1));
+  if (!ac.rule) ac.rule = std::make_unique<CollisionRuleAdapter<BenchIHS>>(BenchIHS(alpha));
+  CollisionRule* rule = ac.rule.get();
+  benchmark::DoNotOptimize(rule);  // keep the call virtual, as for the plugin
+  run_cell(state, ac.cell, [&] { ac.cell.stage([&](CellCollision& c) { rule->collide_cell(c); }); });
+}
+
+void BM_HandLoop(benchmark::State& state) {
+  const double alpha = static_cast<double>(state.range(1)) / 100.0;
+  Cell& cell = cached<Cell>("hand", state.range(0), state.range(1));
+  run_cell(state, cell, [&] { hand_stage(cell, alpha); });
+}
+
+void cell_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"N", "alpha_pct"});
+  for (std::int64_t alpha_pct : {90, 100})
+    for (std::int64_t n : {10000, 100000, 1000000}) b->Args({n, alpha_pct});
+}
+BENCHMARK(BM_PluginCollideCell)->Apply(cell_args);
+BENCHMARK(BM_StaticAdapter)->Apply(cell_args);
+BENCHMARK(BM_HandLoop)->Apply(cell_args);
+
+// ---------------------------------------------------------------------------------------------
+// Engine::step of the HCS pipeline.
+
+struct EngineRun {
+  host::Pipeline pipeline;
+  std::unique_ptr<host::Engine> engine;
+  explicit EngineRun(std::uint32_t n) {
+    // dt = c tau0 sqrt(T0/T); a particle collides 2/sqrt(pi) times per tau0 in a Maxwellian, so
+    // c = 0.02 sqrt(pi) / 2 gives ~N/100 collisions per step.
+    const double c = 2.0 * kCollisionFractionPerCall * std::sqrt(M_PI) / 2.0;
+    pipeline = host::load_pipeline(pipeline_file(),
+                                   {"run.particles=" + std::to_string(n), "run.time_step.value=" + std::to_string(c)},
+                                   {plugin_dir()});
+    engine = std::make_unique<host::Engine>(pipeline);
+  }
+};
+
+void BM_EngineStep(benchmark::State& state) {
+  EngineRun* run;
+  try {
+    run = &cached<EngineRun>("engine", state.range(0), 90);
+  } catch (const host::PipelineError& e) {
+    std::string m;
+    for (const auto& s : e.messages()) m += s + "; ";
+    state.SkipWithError(m.c_str());
+    return;
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  // The HCS cools without bound (T/T0 ~ 1e-23 after a few seconds at N = 1e4); the engine is
+  // rebuilt (untimed) when T/T0 < 1e-3, long before velocities could reach subnormal numbers.
+  double acc = 0, cand = 0;
+  double c0 = run->engine->context().collisions, k0 = run->engine->context().candidates;
+  for (auto _ : state) {
+    run->engine->step();
+    const host::Engine& e = *run->engine;
+    if (e.context().global->temperature < 1e-3 * e.system().initial_temperature) {
+      state.PauseTiming();
+      acc += e.context().collisions - c0;
+      cand += e.context().candidates - k0;
+      run->engine = std::make_unique<host::Engine>(run->pipeline);
+      c0 = run->engine->context().collisions;
+      k0 = run->engine->context().candidates;
+      state.ResumeTiming();
+    }
+  }
+  const host::Engine& engine = *run->engine;
+  acc += engine.context().collisions - c0;
+  cand += engine.context().candidates - k0;
+  state.counters["collisions/s"] = benchmark::Counter(acc, benchmark::Counter::kIsRate);
+  state.counters["candidates/s"] = benchmark::Counter(cand, benchmark::Counter::kIsRate);
+  state.counters["accept"] = cand > 0 ? acc / cand : 0.0;
+  state.counters["coll/call"] = benchmark::Counter(acc, benchmark::Counter::kAvgIterations);
+  state.counters["T/T0"] = engine.context().global->temperature / engine.system().initial_temperature;
+}
+BENCHMARK(BM_EngineStep)->ArgName("N")->Arg(10000)->Arg(100000)->Arg(1000000);
+
+// ---------------------------------------------------------------------------------------------
+// The random-number primitives (per call; items/s = calls per second).
+
+void BM_Philox4x32_10(benchmark::State& state) {
+  PhiloxCounter c{1, 2, 3, 4};
+  const PhiloxKey k = stream_key(kSeed, 0);
+  for (auto _ : state) {
+    c = philox4x32_10(c, k);
+    benchmark::DoNotOptimize(c);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Philox4x32_10);
+
+template <class F>
+void rng_bench(benchmark::State& state, F&& draw) {
+  Rng rng(stream_key(kSeed, 0), StreamPurpose::user, 0, 0);
+  for (auto _ : state) {
+    for (int r = 0; r < 64; ++r) benchmark::DoNotOptimize(draw(rng));
+  }
+  state.SetItemsProcessed(64 * state.iterations());
+}
+void BM_RngNextU32(benchmark::State& s) { rng_bench(s, [](Rng& r) { return r.next_u32(); }); }
+void BM_RngUniform(benchmark::State& s) { rng_bench(s, [](Rng& r) { return r.uniform(); }); }
+void BM_RngBelow(benchmark::State& s) { rng_bench(s, [](Rng& r) { return r.below(999983u); }); }
+void BM_RngUnitVector(benchmark::State& s) { rng_bench(s, [](Rng& r) { return r.unit_vector().z; }); }
+BENCHMARK(BM_RngNextU32);
+BENCHMARK(BM_RngUniform);
+BENCHMARK(BM_RngBelow);
+BENCHMARK(BM_RngUnitVector);
+
+// ---------------------------------------------------------------------------------------------
+// Start-up check: the plugin and the hand loop are the same algorithm on the same streams.
+
+void verify_same_trajectory() {
+  constexpr std::uint32_t n = 10000;
+  constexpr int calls = 300;  // ~30 collisions per particle, with rescales
+  Cell a(n), b(n);
+  std::shared_ptr<PluginObject> obj;
+  try {
+    obj = make_ihs(0.9);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "check: cannot load the plugin: %s\n", e.what());
+    return;
+  }
+  auto* rule = static_cast<CollisionRule*>(obj.get());
+  for (int k = 0; k < calls; ++k) {
+    a.stage([&](CellCollision& c) { rule->collide_cell(c); });
+    hand_stage(b, 0.9);
+    if (a.temperature < kRescaleBelow * kT0) a.rescale();
+    if (b.temperature < kRescaleBelow * kT0) b.rescale();
+  }
+  double max_diff = 0;
+  for (std::uint32_t i = 0; i < n; ++i)
+    max_diff = std::max({max_diff, std::abs(a.vx[i] - b.vx[i]), std::abs(a.vy[i] - b.vy[i]), std::abs(a.vz[i] - b.vz[i])});
+  const bool same = max_diff == 0 && a.accepted == b.accepted && a.candidates == b.candidates;
+  std::fprintf(stderr,
+               "check: plugin vs hand loop, N = %u, alpha = 0.9, %d calls: candidates %llu / %llu, accepted %llu / %llu, "
+               "rescales %llu / %llu, max |dv| = %g -> %s\n",
+               n, calls, static_cast<unsigned long long>(a.candidates), static_cast<unsigned long long>(b.candidates),
+               static_cast<unsigned long long>(a.accepted), static_cast<unsigned long long>(b.accepted),
+               static_cast<unsigned long long>(a.rescales), static_cast<unsigned long long>(b.rescales), max_diff,
+               same ? "bit-identical" : "DIFFERENT (the two loops are not the same algorithm)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// A console reporter that also remembers the counters, for the summary table.
+
+class SummaryReporter : public benchmark::ConsoleReporter {
+ public:
+  using benchmark::ConsoleReporter::ConsoleReporter;
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const auto& r : runs) {
+      if (r.error_occurred) continue;
+      const bool median = r.run_type == Run::RT_Aggregate && r.aggregate_name == "median";
+      if (r.run_type == Run::RT_Aggregate && !median) continue;
+      auto it = r.counters.find("collisions/s");
+      if (it == r.counters.end()) continue;
+      Entry& e = results_[{r.run_name.function_name, r.run_name.args}];
+      if (e.from_median && !median) continue;
+      e.collisions = it->second.value;
+      e.candidates = r.counters.at("candidates/s").value;
+      e.from_median = median;
+    }
+    benchmark::ConsoleReporter::ReportRuns(runs);
+  }
+  void PrintSummary() const {
+    std::vector<std::string> args;
+    for (const auto& [key, e] : results_)
+      if (key.first == "BM_HandLoop") args.push_back(key.second);
+    if (args.empty()) return;
+    std::printf("\nSummary (collisions/s on one core; cost ratio = hand rate / path rate, 1.00 = as fast as the hand loop)\n");
+    std::printf("%-24s %12s %12s %12s %12s %10s %10s %10s\n", "cell", "hand", "plugin", "static", "engine.step",
+                "plug/hand", "stat/hand", "eng/hand");
+    auto rate = [&](const char* fn, const std::string& a) {
+      auto it = results_.find({fn, a});
+      return it == results_.end() ? 0.0 : it->second.collisions;
+    };
+    for (const auto& a : args) {
+      const double hand = rate("BM_HandLoop", a), plugin = rate("BM_PluginCollideCell", a),
+                   stat = rate("BM_StaticAdapter", a);
+      const bool hcs = a.find("alpha_pct:90") != std::string::npos;
+      const double engine = hcs ? rate("BM_EngineStep", a.substr(0, a.find('/'))) : 0.0;
+      auto ratio = [&](double x) { return x > 0 ? hand / x : 0.0; };
+      std::printf("%-24s %12.4g %12.4g %12.4g %12.4g %10.3f %10.3f %10.3f\n", a.c_str(), hand, plugin, stat, engine,
+                  ratio(plugin), ratio(stat), ratio(engine));
+    }
+  }
+
+ private:
+  struct Entry {
+    double collisions = 0, candidates = 0;
+    bool from_median = false;
+  };
+  std::map<std::pair<std::string, std::string>, Entry> results_;
+};
+
+// Fixed-work mode for instruction-counting profilers (valgrind --tool=callgrind), no timing:
+//   gdsmc_bench --profile {plugin|adapter|hand} N CALLS [ALPHA_PCT]
+int profile(int argc, char** argv) {
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: gdsmc_bench --profile {plugin|adapter|hand} N CALLS [ALPHA_PCT]\n");
+    return 2;
+  }
+  const std::string path = argv[2];
+  const auto n = static_cast<std::uint32_t>(std::stoul(argv[3]));
+  const long calls = std::stol(argv[4]);
+  const double alpha = (argc > 5 ? std::stod(argv[5]) : 100.0) / 100.0;
+  Cell cell(n);
+  std::shared_ptr<PluginObject> object;
+  std::unique_ptr<CollisionRuleAdapter<BenchIHS>> adapter;
+  CollisionRule* rule = nullptr;
+  if (path == "plugin") {
+    object = make_ihs(alpha);
+    rule = static_cast<CollisionRule*>(object.get());
+  } else if (path == "adapter") {
+    adapter = std::make_unique<CollisionRuleAdapter<BenchIHS>>(BenchIHS(alpha));
+    rule = adapter.get();
+    benchmark::DoNotOptimize(rule);
+  } else if (path != "hand") {
+    std::fprintf(stderr, "unknown path '%s'\n", path.c_str());
+    return 2;
+  }
+  for (long k = 0; k < calls; ++k) {
+    if (rule) cell.stage([&](CellCollision& c) { rule->collide_cell(c); });
+    else hand_stage(cell, alpha);
+    if (cell.temperature < kRescaleBelow * kT0) cell.rescale();
+  }
+  std::printf("%s N=%u calls=%ld candidates=%llu accepted=%llu T=%.6f\n", path.c_str(), n, calls,
+              static_cast<unsigned long long>(cell.candidates), static_cast<unsigned long long>(cell.accepted),
+              cell.temperature);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "--profile") return profile(argc, argv);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  verify_same_trajectory();
+  SummaryReporter reporter(benchmark::ConsoleReporter::OO_Tabular);
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.PrintSummary();
+  benchmark::Shutdown();
+  return 0;
+}
