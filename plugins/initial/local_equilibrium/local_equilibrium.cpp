@@ -1,0 +1,74 @@
+// Local equilibrium with the linear shear profile (000 Eq. 3.12).
+#include <cmath>
+#include <string>
+
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+class LocalEquilibrium final : public gdsmc::InitialState {
+ public:
+  static constexpr const char* name = "local_equilibrium";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary =
+      "Local equilibrium of uniform shear flow (Eq. 3.12): Maxwellian about the profile a y x_hat";
+  static constexpr const char* documentation =
+      "Paper 000, Eq. (3.12): f(r, v; 0) = n (m/2 pi T)^{3/2} exp[-m (v - a y x_hat)^2 / 2T], uniform\n"
+      "density, positions uniform in the box (y in [-L/2, L/2), so the profile vanishes mid-box).\n"
+      "frame: lagrangian (default) stores the peculiar velocities V = v - a y x_hat, which is what the\n"
+      "homogeneous USF engine evolves (uniform_shear forcing, Eq. 3.4): there the profile a y x_hat is\n"
+      "carried by the frame and the stored state is simply a Maxwellian at rest, whatever the shear\n"
+      "rate. frame: laboratory stores the laboratory velocities v = V + a y x_hat, for slab runs with\n"
+      "Lees-Edwards boundaries (3.1); do not combine it with the uniform_shear forcing. With\n"
+      "exact_moments (default) the peculiar velocities are shifted to zero mean and rescaled to exactly\n"
+      "T before the profile is added. shear_rate: a bare number is a tau0 (used only by frame:\n"
+      "laboratory).";
+
+  static std::vector<gdsmc::ParamSpec> parameters() {
+    return {gdsmc::ParamSpec::real("temperature", "initial temperature T").above(0.0).unit(gdsmc::Dimension::temperature).default_value(1.0),
+            gdsmc::ParamSpec::real("shear_rate", "shear rate a of the profile a y x_hat (bare numbers: a tau0)")
+                .unit(gdsmc::Dimension::inverse_time)
+                .default_value(0.0),
+            gdsmc::ParamSpec::choice("frame", {"lagrangian", "laboratory"},
+                                     "store peculiar (lagrangian) or laboratory velocities")
+                .default_value("lagrangian"),
+            gdsmc::ParamSpec::boolean("exact_moments", "shift to zero mean peculiar velocity and rescale to exactly T")
+                .default_value(true)};
+  }
+  explicit LocalEquilibrium(const gdsmc::Params& p)
+      : temperature_(p.real("temperature")),
+        shear_rate_(p.real("shear_rate")),
+        laboratory_(p.string("frame") == "laboratory"),
+        exact_(p.boolean("exact_moments")) {}
+
+  void generate(const gdsmc::SystemInfo& sys, const gdsmc::ParticleSpan& p, gdsmc::Rng& rng) override {
+    const double sd = std::sqrt(temperature_ / sys.mass);
+    for (std::size_t i = 0; i < p.count; ++i) {
+      p.x[i] = sys.box[0] * rng.uniform();
+      p.y[i] = sys.box[1] * rng.uniform() - 0.5 * sys.box[1];
+      p.z[i] = sys.box[2] * rng.uniform();
+      p.vx[i] = sd * rng.normal();
+      p.vy[i] = sd * rng.normal();
+      p.vz[i] = sd * rng.normal();
+    }
+    if (exact_ && p.count >= 2) {
+      const gdsmc::VelocityMoments m = gdsmc::velocity_moments(p);
+      const double scale = std::sqrt(temperature_ / m.temperature);
+      for (std::size_t i = 0; i < p.count; ++i) {
+        p.vx[i] = (p.vx[i] - m.mean[0]) * scale;
+        p.vy[i] = (p.vy[i] - m.mean[1]) * scale;
+        p.vz[i] = (p.vz[i] - m.mean[2]) * scale;
+      }
+    }
+    if (laboratory_)
+      for (std::size_t i = 0; i < p.count; ++i) p.vx[i] += shear_rate_ * p.y[i];
+  }
+
+ private:
+  double temperature_, shear_rate_;
+  bool laboratory_, exact_;
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(LocalEquilibrium)
