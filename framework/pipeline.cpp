@@ -1,6 +1,7 @@
 #include "pipeline.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -38,9 +39,23 @@ class Checker {
  public:
   Checker(fs::path file, std::vector<std::string> overrides) : file_(std::move(file)), overrides_(std::move(overrides)) {}
 
+  // "a.b[2].c" and "a.b.2.c" -> "a.b[2].c", the form the checker uses for paths.
+  static std::string canonical(std::string key) {
+    std::replace(key.begin(), key.end(), '[', '.');
+    key.erase(std::remove(key.begin(), key.end(), ']'), key.end());
+    std::string out, part;
+    std::stringstream ss(key);
+    while (std::getline(ss, part, '.')) {
+      if (part.empty()) continue;
+      const bool index = !out.empty() && std::all_of(part.begin(), part.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); });
+      out += index ? "[" + part + "]" : (out.empty() ? "" : ".") + part;
+    }
+    return out;
+  }
+
   SourceLocation where(const std::string& path, const YAML::Node& node) const {
     for (const auto& o : overrides_) {
-      const std::string key = o.substr(0, o.find('='));
+      const std::string key = canonical(o.substr(0, o.find('=')));
       if (path == key || path.rfind(key + ".", 0) == 0 || path.rfind(key + "[", 0) == 0)
         return SourceLocation{"--set " + o, 0, 0};
     }
@@ -435,6 +450,8 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
   Pipeline p;
   p.file = file;
   p.overrides = overrides;
+  if (std::filesystem::is_directory(file))
+    throw PipelineError({file.string() + ": cannot read the pipeline file (it is a directory)"});
   {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw PipelineError({file.string() + ": cannot read the pipeline file (" + std::strerror(errno) + ")"});

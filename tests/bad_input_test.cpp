@@ -1,0 +1,277 @@
+// Bad input through the gdsmc executable: every mistake is refused with exit status 1, a message
+// that says where and what (file:line:column, the key, what would be valid), and no output file.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+using gdsmc::test::ProcessResult;
+using gdsmc::test::TempDir;
+using gdsmc::test::line_of;
+using gdsmc::test::run_gdsmc;
+
+// A small valid pipeline (each test breaks one thing). Line numbers are computed from the text.
+const std::string kGood = R"(run:
+  seed: 7
+  particles: 500
+  time_step: {value: 0.01, unit: tau0, follow_temperature: true}
+  stop: {collisions_per_particle: 2}
+system:
+  density: 1.0e-3
+  temperature: 1.0
+initial_state: {plugin: maxwellian}
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+diagnostics:
+  - {plugin: temperature}
+output: {file: out.h5}
+)";
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  if (pos == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the pipeline");
+  text.replace(pos, from.size(), to);
+  return text;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Runs `gdsmc run pipeline.yaml [extra]` in a fresh directory holding only the pipeline, and
+// checks the refusal: exit status 1, no crash, and nothing but the pipeline left in the directory.
+struct Refusal {
+  ProcessResult result;
+  std::string file;  // the pipeline path as given on the command line
+  std::string text;  // the pipeline
+};
+
+Refusal refuse(const std::string& yaml, const std::vector<std::string>& extra = {}) {
+  TempDir dir;
+  Refusal r;
+  r.text = yaml;
+  r.file = dir.write("pipeline.yaml", yaml).string();
+  std::vector<std::string> args = {"run", r.file};
+  args.insert(args.end(), extra.begin(), extra.end());
+  r.result = run_gdsmc(args, dir.path());
+  EXPECT_EQ(r.result.exit_code, 1) << r.result.describe();
+  EXPECT_EQ(r.result.signal, 0) << r.result.describe();
+  EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{}) << "a refused run left files behind";
+  return r;
+}
+
+// The reference: the unbroken pipeline runs and writes out.h5 in its directory (so the "no output
+// file" checks below are meaningful).
+TEST(BadInput, GoodPipelineRunsAndWrites) {
+  TempDir dir;
+  const auto file = dir.write("pipeline.yaml", kGood);
+  const ProcessResult r = run_gdsmc({"run", file.string(), "--quiet"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_EQ(dir.files(), (std::vector<std::string>{"out.h5", "pipeline.yaml"}));
+}
+
+TEST(BadInput, MalformedYamlGivesFileLineColumn) {
+  // An over-indented key inside a block mapping: yaml-cpp stops on that very line.
+  const std::string broken = replace(kGood, "  temperature: 1.0\n", "   temperature: 1.0\n");
+  const Refusal r = refuse(broken);
+  const int line = line_of(broken, "   temperature: 1.0");
+  ASSERT_GT(line, 0);
+  EXPECT_TRUE(contains(r.result.err, r.file + ":" + std::to_string(line) + ":")) << r.result.describe();
+  EXPECT_TRUE(contains(r.result.err, "YAML")) << r.result.describe();
+
+  // A second shape of broken line: a scalar followed by another ': '.
+  const std::string broken2 = replace(kGood, "  density: 1.0e-3\n", "  density: 1.0e-3: 5\n");
+  const Refusal r2 = refuse(broken2);
+  const int line2 = line_of(broken2, "density: 1.0e-3: 5");
+  EXPECT_TRUE(contains(r2.result.err, r2.file + ":" + std::to_string(line2) + ":")) << r2.result.describe();
+}
+
+TEST(BadInput, UnknownPluginSuggestsClosestName) {
+  const std::string yaml = replace(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: inelastic_hard_sphere, alpha: 0.9}");
+  const Refusal r = refuse(yaml);
+  const std::string& err = r.result.err;
+  EXPECT_TRUE(contains(err, "inelastic_hard_sphere'")) << err;          // names what was asked for
+  EXPECT_TRUE(contains(err, "did you mean inelastic_hard_spheres")) << err;  // and the closest name
+  EXPECT_TRUE(contains(err, r.file + ":" + std::to_string(line_of(yaml, "collision:")) + ":")) << err;
+}
+
+TEST(BadInput, UnknownParameterSuggestsAlpha) {
+  const std::string yaml = replace(kGood, "alpha: 0.9}", "alpah: 0.9}");
+  const Refusal r = refuse(yaml);
+  const std::string& err = r.result.err;
+  EXPECT_TRUE(contains(err, "alpah")) << err;
+  EXPECT_TRUE(contains(err, "did you mean alpha")) << err;
+  EXPECT_TRUE(contains(err, r.file + ":" + std::to_string(line_of(yaml, "alpah")) + ":")) << err;
+}
+
+TEST(BadInput, OutOfRangeParameterNamesPluginAndRange) {
+  const std::string yaml = replace(kGood, "alpha: 0.9}", "alpha: 1.2}");
+  const Refusal r = refuse(yaml);
+  const std::string& err = r.result.err;
+  EXPECT_TRUE(contains(err, "alpha")) << err;
+  EXPECT_TRUE(contains(err, "inelastic_hard_spheres")) << err;
+  EXPECT_TRUE(contains(err, "[0, 1]")) << err;
+  EXPECT_TRUE(contains(err, "1.2")) << err;
+  EXPECT_TRUE(contains(err, r.file + ":" + std::to_string(line_of(yaml, "alpha: 1.2")) + ":")) << err;
+}
+
+TEST(BadInput, ParticleCountMustBeAtLeastTwo) {
+  for (const std::string n : {"0", "-5"}) {
+    const std::string yaml = replace(kGood, "particles: 500", "particles: " + n);
+    const Refusal r = refuse(yaml);
+    EXPECT_TRUE(contains(r.result.err, "particles")) << r.result.err;
+    EXPECT_TRUE(contains(r.result.err, n)) << r.result.err;
+    EXPECT_TRUE(contains(r.result.err, r.file + ":" + std::to_string(line_of(yaml, "particles:")) + ":")) << r.result.err;
+  }
+}
+
+TEST(BadInput, NegativeTimeStep) {
+  const std::string yaml = replace(kGood, "{value: 0.01, unit: tau0", "{value: -0.01, unit: tau0");
+  const Refusal r = refuse(yaml);
+  EXPECT_TRUE(contains(r.result.err, "time_step")) << r.result.err;
+  EXPECT_TRUE(contains(r.result.err, "> 0")) << r.result.err;
+}
+
+TEST(BadInput, MissingRequiredKeyAndSection) {
+  {
+    const Refusal r = refuse(replace(kGood, "  particles: 500\n", ""));
+    EXPECT_TRUE(contains(r.result.err, "particles")) << r.result.err;
+    EXPECT_TRUE(contains(r.result.err, "missing")) << r.result.err;
+  }
+  {
+    const Refusal r = refuse(replace(kGood, "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n", ""));
+    EXPECT_TRUE(contains(r.result.err, "collision")) << r.result.err;
+    EXPECT_TRUE(contains(r.result.err, "missing")) << r.result.err;
+  }
+}
+
+TEST(BadInput, NonexistentOrUnreadablePipelineFile) {
+  TempDir dir;
+  {
+    const std::string missing = (dir / "no-such-pipeline.yaml").string();
+    const ProcessResult r = run_gdsmc({"run", missing}, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.describe();
+    EXPECT_TRUE(contains(r.err, missing)) << r.err;
+    EXPECT_TRUE(contains(r.err, "cannot read")) << r.err;
+  }
+  {
+    // A directory where the file should be: refused, naming the path.
+    const ProcessResult r = run_gdsmc({"run", dir.path().string()}, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.describe();
+    EXPECT_TRUE(contains(r.err, dir.path().string())) << r.err;
+  }
+  EXPECT_EQ(dir.entries_except({}), std::vector<std::string>{});
+  if (::geteuid() != 0) {  // root reads a mode-000 file anyway
+    const auto file = dir.write("locked.yaml", kGood);
+    ::chmod(file.c_str(), 0);
+    const ProcessResult r = run_gdsmc({"run", file.string()}, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.describe();
+    EXPECT_TRUE(contains(r.err, "cannot read")) << r.err;
+    EXPECT_EQ(dir.files(), std::vector<std::string>{"locked.yaml"});
+  }
+}
+
+TEST(BadInput, OutOfRangeSetOverrideNamesTheSet) {
+  const Refusal r = refuse(kGood, {"--set", "collision.alpha=1.5"});
+  const std::string& err = r.result.err;
+  EXPECT_TRUE(contains(err, "--set collision.alpha=1.5")) << err;
+  EXPECT_TRUE(contains(err, "[0, 1]")) << err;
+  EXPECT_TRUE(contains(err, "inelastic_hard_spheres")) << err;
+  // An override of a value that is not in the file (here a run key) is checked the same way.
+  const Refusal r2 = refuse(kGood, {"--set", "run.particles=1"});
+  EXPECT_TRUE(contains(r2.result.err, "--set run.particles=1")) << r2.result.err;
+}
+
+// Known defects, disabled until framework/pipeline.cpp is fixed (run with
+// --gtest_also_run_disabled_tests to see them fail):
+// - `--set a.0.b=v` (the dot form of a list index, which apply_override accepts) is reported at
+//   "<file>:1:1" instead of at the --set, because Checker::where compares the raw override key
+//   with the canonical path "a[0].b".
+TEST(BadInput, SetOverrideWithDotIndexNamesTheSet) {
+  const Refusal r = refuse(kGood, {"--set", "diagnostics.0.record_every=0"});
+  EXPECT_TRUE(contains(r.result.err, "--set diagnostics.0.record_every=0")) << r.result.err;
+}
+// - A directory given as the pipeline file is reported as "a pipeline is a YAML mapping ..." at
+//   "<dir>:1:1" (std::ifstream opens a directory; the read then fails silently).
+TEST(BadInput, DirectoryAsPipelineFileCannotBeRead) {
+  TempDir dir;
+  const ProcessResult r = run_gdsmc({"run", dir.path().string()}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "cannot read")) << r.err;
+}
+
+TEST(BadInput, DuplicateKey) {
+  {
+    const std::string yaml = replace(kGood, "  seed: 7\n", "  seed: 7\n  seed: 8\n");
+    const Refusal r = refuse(yaml);
+    EXPECT_TRUE(contains(r.result.err, "duplicate key 'seed'")) << r.result.err;
+    EXPECT_TRUE(contains(r.result.err, r.file + ":" + std::to_string(line_of(yaml, "seed: 8")) + ":")) << r.result.err;
+  }
+  {
+    const std::string yaml = replace(kGood, "alpha: 0.9}", "alpha: 0.9, alpha: 0.5}");
+    const Refusal r = refuse(yaml);
+    EXPECT_TRUE(contains(r.result.err, "duplicate key 'alpha'")) << r.result.err;
+  }
+}
+
+// Several mistakes at once are all reported (the user fixes them in one go).
+TEST(BadInput, EveryErrorIsReported) {
+  std::string yaml = replace(kGood, "alpha: 0.9}", "alpha: 1.2}");
+  yaml = replace(yaml, "particles: 500", "particles: 0");
+  const Refusal r = refuse(yaml);
+  EXPECT_TRUE(contains(r.result.err, "alpha")) << r.result.err;
+  EXPECT_TRUE(contains(r.result.err, "particles")) << r.result.err;
+}
+
+TEST(Validate, GoodAndBadPipelines) {
+  TempDir dir;
+  const std::string hcs = (gdsmc::test::source_dir() / "configs" / "hcs.yaml").string();
+  const ProcessResult ok = run_gdsmc({"validate", hcs}, dir.path());
+  EXPECT_EQ(ok.exit_code, 0) << ok.describe();
+  const auto bad = dir.write("bad.yaml", replace(kGood, "alpha: 0.9}", "alpha: 1.2}"));
+  const ProcessResult no = run_gdsmc({"validate", bad.string()}, dir.path());
+  EXPECT_EQ(no.exit_code, 1) << no.describe();
+  EXPECT_TRUE(contains(no.err, "alpha")) << no.err;
+  // validate writes nothing.
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"bad.yaml"});
+}
+
+TEST(Cli, HelpAndPluginDocumentation) {
+  TempDir dir;
+  const ProcessResult help = run_gdsmc({"--help"}, dir.path());
+  EXPECT_EQ(help.exit_code, 0) << help.describe();
+  for (const char* word : {"run", "validate", "plugins", "--set"}) EXPECT_TRUE(contains(help.out, word)) << word;
+
+  const ProcessResult run_help = run_gdsmc({"run", "--help"}, dir.path());
+  EXPECT_EQ(run_help.exit_code, 0) << run_help.describe();
+  EXPECT_TRUE(contains(run_help.out, "--set")) << run_help.out;
+  EXPECT_TRUE(contains(run_help.out, "--output")) << run_help.out;
+
+  const ProcessResult list = run_gdsmc({"plugins"}, dir.path());
+  EXPECT_EQ(list.exit_code, 0) << list.describe();
+  for (const char* name : {"inelastic_hard_spheres", "maxwellian", "temperature", "hcs_theory"})
+    EXPECT_TRUE(contains(list.out, name)) << name << "\n" << list.out;
+  // Listed by kind: the collision rule comes under "collision:", before "initial:".
+  const auto collision = list.out.find("collision:");
+  const auto ihs = list.out.find("inelastic_hard_spheres");
+  const auto initial = list.out.find("initial:");
+  EXPECT_TRUE(collision != std::string::npos && initial != std::string::npos && collision < ihs && ihs < initial)
+      << list.out;
+
+  const ProcessResult doc = run_gdsmc({"plugins", "inelastic_hard_spheres"}, dir.path());
+  EXPECT_EQ(doc.exit_code, 0) << doc.describe();
+  EXPECT_TRUE(contains(doc.out, "alpha")) << doc.out;
+  EXPECT_TRUE(contains(doc.out, "[0, 1]")) << doc.out;
+  const int alpha_line = line_of(doc.out, "alpha (");
+  EXPECT_GT(alpha_line, 0) << doc.out;
+  EXPECT_EQ(alpha_line, line_of(doc.out, "[0, 1]")) << "the range is on the parameter's line\n" << doc.out;
+
+  const ProcessResult unknown = run_gdsmc({"plugins", "inelastic_hard_sphere"}, dir.path());
+  EXPECT_EQ(unknown.exit_code, 1) << unknown.describe();
+  EXPECT_TRUE(contains(unknown.err, "inelastic_hard_spheres")) << unknown.err;
+
+  EXPECT_EQ(dir.files(), std::vector<std::string>{});
+}
+
+}  // namespace

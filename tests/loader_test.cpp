@@ -1,0 +1,228 @@
+// The plugin loader: ABI checks, non-plugins, object lifetime, the registry, failing factories.
+#include <gtest/gtest.h>
+
+#include <dlfcn.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+using namespace gdsmc::test;
+using gdsmc::host::LoadedPlugin;
+using gdsmc::host::PluginLoadError;
+using gdsmc::host::PluginRegistry;
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The message of the PluginLoadError that loading `file` throws ("" if it loads).
+std::string load_error(const fs::path& file) {
+  try {
+    (void)gdsmc::host::load_plugin(file);
+  } catch (const PluginLoadError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Loader, TestPluginsWereBuilt) {
+  for (const char* name : {"wrong_abi", "not_a_plugin", "throwing_factory", "failing_finish"})
+    EXPECT_TRUE(fs::is_regular_file(test_plugin(name))) << test_plugin(name);
+}
+
+// A plugin whose entry declares another ABI major is refused before its descriptor is read (the
+// test plugin's describe() aborts), with the file, both versions and what to do.
+TEST(Loader, WrongAbiMajorIsRefused) {
+  const fs::path file = test_plugin("wrong_abi");
+  const std::string message = load_error(file);
+  ASSERT_FALSE(message.empty()) << "a plugin with ABI major " << GDSMC_SDK_ABI_MAJOR + 1 << " was loaded";
+  EXPECT_TRUE(contains(message, file.string())) << message;
+  const std::string plugin_version = std::to_string(GDSMC_SDK_ABI_MAJOR + 1) + ".0";
+  const std::string host_version = std::to_string(GDSMC_SDK_ABI_MAJOR) + "." + std::to_string(GDSMC_SDK_ABI_MINOR);
+  EXPECT_TRUE(contains(message, plugin_version)) << message;
+  EXPECT_TRUE(contains(message, host_version)) << message;
+  EXPECT_TRUE(contains(message, "rebuild")) << message;
+  // Named explicitly on the search path: an error; found by scanning a directory: a warning.
+  PluginRegistry explicit_file;
+  EXPECT_THROW(explicit_file.add(file), PluginLoadError);
+  // (Scanned in a directory of its own: test-plugins also holds other deliberately broken plugins.)
+  TempDir dir;
+  const fs::path copy = dir.path() / file.filename();
+  fs::copy_file(file, copy);
+  PluginRegistry scanned;
+  scanned.add(dir.path());
+  EXPECT_EQ(scanned.find("wrong_abi"), nullptr);
+  EXPECT_TRUE(scanned.plugins().empty());
+  bool warned = false;
+  for (const auto& w : scanned.warnings()) warned = warned || (contains(w, copy.string()) && contains(w, "rebuild"));
+  EXPECT_TRUE(warned) << join(scanned.warnings(), "\n");
+}
+
+TEST(Loader, SharedLibraryThatIsNotAPluginIsRefused) {
+  const fs::path file = test_plugin("not_a_plugin");
+  const std::string message = load_error(file);
+  EXPECT_TRUE(contains(message, "not a gdsmc plugin")) << message;
+  EXPECT_TRUE(contains(message, file.string())) << message;
+  // A file that is not a shared library at all.
+  TempDir dir;
+  const fs::path junk = dir.write("gdsmc_junk.so", "this is not an ELF file\n");
+  const std::string junk_message = load_error(junk);
+  EXPECT_TRUE(contains(junk_message, junk.string())) << junk_message;
+  EXPECT_FALSE(junk_message.empty());
+}
+
+// Through the executable: `gdsmc plugins FILE.so` on each broken file fails cleanly (exit 1,
+// no crash) with the same messages.
+TEST(Loader, ExecutableRefusesBrokenPluginFiles) {
+  TempDir dir;
+  const ProcessResult abi = run_gdsmc({"plugins", test_plugin("wrong_abi").string()}, dir.path());
+  EXPECT_EQ(abi.exit_code, 1) << abi.describe();
+  EXPECT_TRUE(contains(abi.err, "rebuild")) << abi.describe();
+  const ProcessResult other = run_gdsmc({"plugins", test_plugin("not_a_plugin").string()}, dir.path());
+  EXPECT_EQ(other.exit_code, 1) << other.describe();
+  EXPECT_TRUE(contains(other.err, "not a gdsmc plugin")) << other.describe();
+  // On the search path of a run: refused with the file named, nothing run.
+  const ProcessResult run = run_gdsmc({"validate", (source_dir() / "configs" / "hcs.yaml").string(), "--plugin-path",
+                                       test_plugin("wrong_abi").string()},
+                                      dir.path());
+  EXPECT_EQ(run.exit_code, 1) << run.describe();
+  EXPECT_TRUE(contains(run.err, test_plugin("wrong_abi").string())) << run.describe();
+}
+
+// Whether the shared library `file` is mapped in this process (dlopen with RTLD_NOLOAD never
+// loads; it only finds a library already loaded).
+bool is_loaded(const fs::path& file) {
+  void* h = ::dlopen(file.c_str(), RTLD_NOW | RTLD_NOLOAD);
+  if (!h) return false;
+  ::dlclose(h);
+  return true;
+}
+
+// An object made by a plugin holds its library: with the registry (and every LoadedPlugin)
+// gone, the library stays mapped and the object's code still runs.
+TEST(Loader, ObjectKeepsItsLibraryAlive) {
+  const fs::path file = plugin_dir() / "gdsmc_inelastic_hard_spheres.so";
+  ASSERT_TRUE(fs::is_regular_file(file));
+  std::shared_ptr<gdsmc::PluginObject> object;
+  {
+    auto registry = std::make_unique<PluginRegistry>();
+    registry->add(file);
+    const LoadedPlugin* lp = registry->find("inelastic_hard_spheres");
+    ASSERT_NE(lp, nullptr);
+    gdsmc::Params params;
+    params.set("alpha", 0.5);
+    object = gdsmc::host::create_object(*lp, params);
+    ASSERT_TRUE(is_loaded(file));
+  }  // registry destroyed
+  EXPECT_TRUE(is_loaded(file)) << "the library was unloaded while an object made by it is alive";
+  auto* rule = dynamic_cast<gdsmc::CollisionRule*>(object.get());
+  ASSERT_NE(rule, nullptr);
+  // Call into the library: pair_rate of the hard-sphere kernel is g.s for g.s > 0 (exact here).
+  EXPECT_EQ(rule->pair_rate({2.0, 0.0, 0.0}, {1.0, 0.0, 0.0}), 2.0);
+  EXPECT_EQ(rule->pair_rate({-2.0, 0.0, 0.0}, {1.0, 0.0, 0.0}), 0.0);
+  // And a collision: v1 = (1,0,0), v2 = 0, s = x: v1' = (1 - 0.75, 0, 0), v2' = (0.75, 0, 0) for
+  // alpha = 0.5 (000 Eq. 2.8); energy change -(1 - alpha^2)/4 (g.s)^2 = -0.1875. All exact in binary.
+  std::vector<double> vx = {1.0, 0.0}, vy = {0.0, 0.0}, vz = {0.0, 0.0}, x(2), y(2), z(2);
+  gdsmc::ParticleSpan span;
+  span.count = 2;
+  span.x = x.data(); span.y = y.data(); span.z = z.data();
+  span.vx = vx.data(); span.vy = vy.data(); span.vz = vz.data();
+  gdsmc::Rng rng(gdsmc::stream_key(1, 0), gdsmc::StreamPurpose::conformance, 0, 0);
+  const double de = rule->collide_pair(span, 0, 1, {1.0, 0.0, 0.0}, rng);
+  EXPECT_EQ(vx[0], 0.25);
+  EXPECT_EQ(vx[1], 0.75);
+  EXPECT_EQ(de, -0.1875);
+  object.reset();  // the library may now be unloaded; nothing of it is used again
+}
+
+// The registry scans the in-tree plugin directory and lists the plugins by kind.
+TEST(Loader, RegistryListsInTreePluginsByKind) {
+  PluginRegistry reg;
+  reg.add(plugin_dir());
+  EXPECT_EQ(reg.warnings(), std::vector<std::string>{}) << "in-tree plugins should all load";
+  using gdsmc::PluginKind;
+  auto has = [&](PluginKind kind, const std::string& name) {
+    const auto names = reg.names_of_kind(kind);
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  EXPECT_TRUE(has(PluginKind::collision_rule, "inelastic_hard_spheres"));
+  EXPECT_TRUE(has(PluginKind::initial_state, "maxwellian"));
+  for (const char* d : {"temperature", "cumulants", "pressure_tensor", "collision_count", "hcs_theory"})
+    EXPECT_TRUE(has(PluginKind::diagnostic, d)) << d;
+  // Every plugin is listed under exactly its own kind.
+  for (const auto& lp : reg.plugins()) {
+    for (auto kind : {PluginKind::collision_rule, PluginKind::forcing, PluginKind::boundary, PluginKind::initial_state,
+                      PluginKind::diagnostic})
+      EXPECT_EQ(has(kind, lp.descriptor->name), kind == lp.descriptor->kind) << lp.descriptor->name;
+    EXPECT_EQ(lp.abi_major, gdsmc::sdk_abi_major);
+    EXPECT_FALSE(lp.descriptor->version.empty());
+    EXPECT_EQ(reg.find(lp.descriptor->name), &lp);
+  }
+  EXPECT_FALSE(has(PluginKind::diagnostic, "inelastic_hard_spheres"));
+  EXPECT_EQ(reg.find("no_such_plugin"), nullptr);
+}
+
+// A factory that throws: create_object passes the exception on (it does not crash or leak a
+// half-made object), and a pipeline using the plugin is refused with a message that names the
+// plugin, where it is used, and what it said.
+TEST(Loader, ThrowingFactoryGivesClearError) {
+  PluginRegistry reg;
+  reg.add(test_plugin("throwing_factory"));
+  const LoadedPlugin* lp = reg.find("throwing_factory");
+  ASSERT_NE(lp, nullptr);
+  gdsmc::Params params;
+  params.set("mode", std::string("runtime_error"));
+  params.set("limit", 0.5);
+  try {
+    (void)gdsmc::host::create_object(*lp, params);
+    ADD_FAILURE() << "the factory did not throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(contains(e.what(), "deliberate failure")) << e.what();
+  }
+
+  TempDir dir;
+  const std::string yaml = R"(run:
+  particles: 100
+  time_step: 0.01
+  stop: {collisions_per_particle: 1}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: inelastic_hard_spheres
+diagnostics:
+  - {plugin: throwing_factory}
+)";
+  const fs::path file = dir.write("pipeline.yaml", yaml);
+  auto refused = [&](const std::vector<std::string>& overrides) -> std::string {
+    try {
+      (void)gdsmc::host::load_pipeline(file, overrides, {plugin_dir(), test_plugin("throwing_factory")});
+    } catch (const gdsmc::host::PipelineError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string runtime = refused({});
+  EXPECT_TRUE(contains(runtime, "throwing_factory")) << runtime;
+  EXPECT_TRUE(contains(runtime, "deliberate failure in the throwing_factory constructor")) << runtime;
+  EXPECT_TRUE(contains(runtime, "diagnostics[0]")) << runtime;
+  EXPECT_TRUE(contains(runtime, file.string() + ":" + std::to_string(line_of(yaml, "throwing_factory")) + ":"))
+      << runtime;
+  // A ParameterError names the parameter and where its value came from.
+  const std::string parameter = refused({"diagnostics[0].mode=none", "diagnostics[0].limit=3"});
+  EXPECT_TRUE(contains(parameter, "limit")) << parameter;
+  EXPECT_TRUE(contains(parameter, "deliberate ParameterError")) << parameter;
+  EXPECT_TRUE(contains(parameter, "--set diagnostics[0].limit=3")) << parameter;
+  // With a value it accepts, the same pipeline loads.
+  EXPECT_EQ(refused({"diagnostics[0].mode=none"}), "");
+
+  // The executable says the same and exits 1.
+  const ProcessResult r = run_gdsmc({"run", file.string(), "--plugin-path", test_plugin("throwing_factory").string()},
+                                    dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "deliberate failure")) << r.describe();
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"pipeline.yaml"});
+}
+
+}  // namespace

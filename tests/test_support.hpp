@@ -1,0 +1,498 @@
+// Helpers shared by the gdsmc tests: temporary directories, pipelines written from strings, the
+// gdsmc executable run as a subprocess, HDF5 files read back with the C API, and the in-process
+// host (load a pipeline, run an engine).
+#pragma once
+#include <fcntl.h>
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "engine.hpp"
+#include "loader.hpp"
+#include "pipeline.hpp"
+
+extern char** environ;
+
+namespace gdsmc::test {
+
+namespace fs = std::filesystem;
+
+// The in-tree plugins (<build>/plugins) and the test-only ones (<build>/test-plugins).
+inline fs::path plugin_dir() { return GDSMC_TEST_PLUGIN_DIR; }
+inline fs::path test_plugin_dir() { return fs::path(GDSMC_BINARY_DIR) / "test-plugins"; }
+inline fs::path test_plugin(const std::string& name) { return test_plugin_dir() / ("gdsmc_" + name + ".so"); }
+inline fs::path executable() { return GDSMC_EXECUTABLE; }
+inline fs::path source_dir() { return GDSMC_SOURCE_DIR; }
+
+// A fresh directory under $TMPDIR (or /tmp), removed with everything in it on destruction.
+class TempDir {
+ public:
+  TempDir() {
+    const char* base = std::getenv("TMPDIR");
+    std::string tmpl = std::string(base && *base ? base : "/tmp") + "/gdsmc-test-XXXXXX";
+    std::vector<char> buf(tmpl.begin(), tmpl.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data())) throw std::runtime_error("mkdtemp failed: " + std::string(std::strerror(errno)));
+    path_ = buf.data();
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+  // Write `text` to <dir>/<name> and return the path.
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = path_ / name;
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + p.string());
+    return p;
+  }
+  // Names of the regular files in the directory (not recursive), sorted.
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_))
+      if (e.is_regular_file()) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  // Every entry (file or directory, recursively) other than those named in `except`.
+  std::vector<std::string> entries_except(const std::vector<std::string>& except) const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(path_)) {
+      const std::string rel = fs::relative(e.path(), path_).string();
+      if (std::find(except.begin(), except.end(), rel) == except.end()) names.push_back(rel);
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+inline std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline std::string join(const std::vector<std::string>& v, const std::string& sep = ", ") {
+  std::string s;
+  for (std::size_t k = 0; k < v.size(); ++k) s += (k ? sep : "") + v[k];
+  return s;
+}
+
+// 1-based number of the first line of `text` that contains `needle` (0 if none).
+inline int line_of(const std::string& text, const std::string& needle) {
+  std::istringstream in(text);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (line.find(needle) != std::string::npos) return n;
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The executable as a subprocess.
+
+struct ProcessResult {
+  int exit_code = -1;   // exit status, or -1 if killed by a signal
+  int signal = 0;       // the signal that ended it, if any
+  bool timed_out = false;
+  std::string out, err;
+  std::string describe() const {
+    std::ostringstream s;
+    s << "exit " << exit_code << (signal ? " (signal " + std::to_string(signal) + ")" : "")
+      << (timed_out ? " (timed out)" : "") << "\n--- stdout ---\n" << out << "\n--- stderr ---\n" << err;
+    return s.str();
+  }
+};
+
+// A running gdsmc process: started in `cwd` with GDSMC_PLUGIN_PATH removed from the environment
+// (the host then finds the build's plugins beside the executable); stdout and stderr go to files
+// in a private directory (not `cwd`, so that tests can check what the run left in `cwd`).
+class Process {
+ public:
+  Process(const std::vector<std::string>& args, const fs::path& cwd) {
+    out_ = capture_.path() / "stdout";
+    err_ = capture_.path() / "stderr";
+    std::vector<std::string> argv_s;
+    argv_s.push_back(executable().string());
+    argv_s.insert(argv_s.end(), args.begin(), args.end());
+    std::vector<std::string> env_s;
+    for (char** e = environ; *e; ++e)
+      if (std::strncmp(*e, "GDSMC_PLUGIN_PATH=", 18) != 0) env_s.emplace_back(*e);
+    // Everything the child needs is prepared before fork (no allocation after it).
+    std::vector<char*> argv, envp;
+    for (auto& s : argv_s) argv.push_back(s.data());
+    argv.push_back(nullptr);
+    for (auto& s : env_s) envp.push_back(s.data());
+    envp.push_back(nullptr);
+    const std::string cwd_s = cwd.string(), out_s = out_.string(), err_s = err_.string();
+    pid_ = ::fork();
+    if (pid_ < 0) throw std::runtime_error("fork failed");
+    if (pid_ == 0) {
+      const int o = ::open(out_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int e = ::open(err_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int in = ::open("/dev/null", O_RDONLY);
+      if (o < 0 || e < 0 || in < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::dup2(in, 0) < 0 ||
+          ::chdir(cwd_s.c_str()) != 0)
+        ::_exit(127);
+      ::execve(argv[0], argv.data(), envp.data());
+      ::_exit(127);
+    }
+  }
+  Process(const Process&) = delete;
+  ~Process() {
+    if (pid_ > 0 && !done_) {
+      ::kill(pid_, SIGKILL);
+      int status;
+      ::waitpid(pid_, &status, 0);
+    }
+  }
+  void send(int sig) { ::kill(pid_, sig); }
+  // Whether the process has installed a handler for `sig` (Linux: SigCgt in /proc/<pid>/status).
+  bool catches(int sig) const {
+    std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
+    std::string line;
+    while (std::getline(status, line))
+      if (line.rfind("SigCgt:", 0) == 0) {
+        const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
+        return (mask >> (sig - 1)) & 1ull;
+      }
+    return false;
+  }
+  // Wait until the process catches `sig` (true), or until it exits or `timeout_s` passes (false).
+  bool wait_until_catches(int sig, double timeout_s = 30) {
+    const auto start = std::chrono::steady_clock::now();
+    while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < timeout_s) {
+      if (catches(sig)) return true;
+      siginfo_t info{};
+      if (::waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid_)
+        return false;  // it ended (left for wait() to reap)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
+  }
+  // Wait up to `timeout_s` seconds (then SIGKILL it and report a timeout).
+  ProcessResult wait(double timeout_s = 120) {
+    ProcessResult r;
+    int status = 0;
+    const auto start = std::chrono::steady_clock::now();
+    while (true) {
+      const pid_t w = ::waitpid(pid_, &status, WNOHANG);
+      if (w == pid_) break;
+      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+        r.timed_out = true;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    done_ = true;
+    if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+    r.out = read_text(out_);
+    r.err = read_text(err_);
+    return r;
+  }
+  // The stderr written so far.
+  std::string err_so_far() const { return read_text(err_); }
+
+ private:
+  TempDir capture_;
+  fs::path out_, err_;
+  pid_t pid_ = -1;
+  bool done_ = false;
+};
+
+inline ProcessResult run_gdsmc(const std::vector<std::string>& args, const fs::path& cwd, double timeout_s = 120) {
+  Process p(args, cwd);
+  return p.wait(timeout_s);
+}
+
+// ---------------------------------------------------------------------------------------------
+// HDF5 read-back (C API).
+
+namespace h5 {
+
+struct Handle {
+  hid_t id = -1;
+  herr_t (*close)(hid_t) = nullptr;
+  Handle(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
+  Handle(const Handle&) = delete;
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+  explicit operator bool() const { return id >= 0; }
+  operator hid_t() const { return id; }
+};
+
+class File {
+ public:
+  explicit File(const fs::path& p) : h_(open(p), H5Fclose) {
+    if (!h_) throw std::runtime_error("cannot open HDF5 file " + p.string());
+  }
+  hid_t id() const { return h_.id; }
+
+ private:
+  static hid_t open(const fs::path& p) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  }
+  Handle h_;
+};
+
+inline bool exists(hid_t loc, const std::string& path) {
+  // Check every prefix: H5Lexists fails on a path whose intermediate group is missing.
+  std::size_t pos = 0;
+  while (true) {
+    pos = path.find('/', pos + 1);
+    const std::string prefix = path.substr(0, pos);
+    if (!prefix.empty() && prefix != "/" && H5Lexists(loc, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (pos == std::string::npos) return true;
+  }
+}
+
+inline bool is_dataset(hid_t loc, const std::string& path) {
+  if (!exists(loc, path)) return false;
+  H5O_info_t info;
+  if (H5Oget_info_by_name(loc, path.c_str(), &info, H5P_DEFAULT) < 0) return false;
+  return info.type == H5O_TYPE_DATASET;
+}
+
+inline std::vector<hsize_t> shape(hid_t loc, const std::string& path) {
+  Handle d(H5Dopen2(loc, path.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d) throw std::runtime_error("no dataset " + path);
+  Handle s(H5Dget_space(d), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(s);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 0)));
+  if (rank > 0) H5Sget_simple_extent_dims(s, dims.data(), nullptr);
+  return dims;
+}
+
+// A numeric dataset converted to double (rank 0 gives one value).
+inline std::vector<double> read_doubles(hid_t loc, const std::string& path) {
+  Handle d(H5Dopen2(loc, path.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d) throw std::runtime_error("no dataset " + path);
+  Handle s(H5Dget_space(d), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(s);
+  std::vector<double> v(static_cast<std::size_t>(std::max<hssize_t>(n, 0)));
+  if (!v.empty() && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    throw std::runtime_error("cannot read " + path + " as double");
+  return v;
+}
+
+inline double read_scalar(hid_t loc, const std::string& path) {
+  const auto v = read_doubles(loc, path);
+  if (v.size() != 1) throw std::runtime_error(path + " is not a scalar");
+  return v[0];
+}
+
+// A string dataset (fixed or variable length) as text.
+inline std::vector<std::string> read_strings(hid_t loc, const std::string& path) {
+  Handle d(H5Dopen2(loc, path.c_str(), H5P_DEFAULT), H5Dclose);
+  Handle ftype(H5Dget_type(d), H5Tclose);
+  Handle s(H5Dget_space(d), H5Sclose);
+  const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(s));
+  std::vector<std::string> out;
+  if (H5Tis_variable_str(ftype) > 0) {
+    Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(mtype, H5T_VARIABLE);
+    H5Tset_cset(mtype, H5Tget_cset(ftype));  // HDF5 does not convert between ASCII and UTF-8
+    std::vector<char*> p(n, nullptr);
+    if (n && H5Dread(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) < 0)
+      throw std::runtime_error("cannot read strings " + path);
+    for (char* c : p) out.emplace_back(c ? c : "");
+    if (n) H5Dvlen_reclaim(mtype, s, H5P_DEFAULT, p.data());
+  } else {
+    const std::size_t len = H5Tget_size(ftype);
+    std::vector<char> buf(n * len);
+    if (n && H5Dread(d, ftype, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0)
+      throw std::runtime_error("cannot read strings " + path);
+    for (std::size_t k = 0; k < n; ++k) out.emplace_back(std::string(buf.data() + k * len, len).c_str());
+  }
+  return out;
+}
+
+// The raw content of a dataset, for bit-for-bit comparison: numbers as their bytes in the
+// native layout of their own type, strings as text.
+inline std::string content_bytes(hid_t loc, const std::string& path) {
+  Handle d(H5Dopen2(loc, path.c_str(), H5P_DEFAULT), H5Dclose);
+  Handle ftype(H5Dget_type(d), H5Tclose);
+  if (H5Tget_class(ftype) == H5T_STRING) return join(read_strings(loc, path), std::string(1, '\0'));
+  Handle mtype(H5Tget_native_type(ftype, H5T_DIR_ASCEND), H5Tclose);
+  Handle s(H5Dget_space(d), H5Sclose);
+  const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(s));
+  std::string bytes(n * H5Tget_size(mtype), '\0');
+  if (n && H5Dread(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()) < 0)
+    throw std::runtime_error("cannot read " + path);
+  return bytes;
+}
+
+inline bool has_attribute(hid_t loc, const std::string& object, const std::string& name) {
+  return H5Aexists_by_name(loc, object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+inline std::string read_string_attribute(hid_t loc, const std::string& object, const std::string& name) {
+  Handle a(H5Aopen_by_name(loc, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!a) throw std::runtime_error("no attribute " + object + "@" + name);
+  Handle ftype(H5Aget_type(a), H5Tclose);
+  if (H5Tget_class(ftype) != H5T_STRING) throw std::runtime_error(object + "@" + name + " is not text");
+  if (H5Tis_variable_str(ftype) > 0) {
+    Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(mtype, H5T_VARIABLE);
+    H5Tset_cset(mtype, H5Tget_cset(ftype));
+    char* p = nullptr;
+    if (H5Aread(a, mtype, &p) < 0) throw std::runtime_error("cannot read " + object + "@" + name);
+    std::string s = p ? p : "";
+    Handle space(H5Aget_space(a), H5Sclose);
+    H5Dvlen_reclaim(mtype, space, H5P_DEFAULT, &p);
+    return s;
+  }
+  std::string buf(H5Tget_size(ftype), '\0');
+  if (H5Aread(a, ftype, buf.data()) < 0) throw std::runtime_error("cannot read " + object + "@" + name);
+  return std::string(buf.c_str());
+}
+
+inline double read_number_attribute(hid_t loc, const std::string& object, const std::string& name) {
+  Handle a(H5Aopen_by_name(loc, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!a) throw std::runtime_error("no attribute " + object + "@" + name);
+  double v = 0;
+  if (H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0) throw std::runtime_error("cannot read " + object + "@" + name + " as a number");
+  return v;
+}
+
+// Every object of the file: "/a/b" -> type, in visit order.
+inline std::map<std::string, H5O_type_t> objects(hid_t file) {
+  std::map<std::string, H5O_type_t> out;
+  auto cb = [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+    auto* m = static_cast<std::map<std::string, H5O_type_t>*>(data);
+    const std::string n = name;
+    if (n != ".") (*m)["/" + n] = info->type;
+    return 0;
+  };
+  if (H5Ovisit(file, H5_INDEX_NAME, H5_ITER_INC, cb, &out) < 0) throw std::runtime_error("H5Ovisit failed");
+  return out;
+}
+
+inline std::vector<std::string> datasets(hid_t file) {
+  std::vector<std::string> v;
+  for (const auto& [name, type] : objects(file))
+    if (type == H5O_TYPE_DATASET) v.push_back(name);
+  return v;
+}
+
+// Names of the direct members of a group.
+inline std::vector<std::string> members(hid_t loc, const std::string& group) {
+  std::vector<std::string> out;
+  Handle g(H5Gopen2(loc, group.c_str(), H5P_DEFAULT), H5Gclose);
+  if (!g) throw std::runtime_error("no group " + group);
+  auto cb = [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+    return 0;
+  };
+  H5Literate(g, H5_INDEX_NAME, H5_ITER_INC, nullptr, cb, &out);
+  return out;
+}
+
+}  // namespace h5
+
+// ---------------------------------------------------------------------------------------------
+// The host in-process.
+
+// Load a pipeline written from `yaml` into <dir>/<name>, with the in-tree plugins on the search
+// path. An Engine keeps a reference to the pipeline: keep the pipeline alive while it runs.
+inline host::Pipeline load_yaml(const TempDir& dir, const std::string& yaml, const std::vector<std::string>& overrides = {},
+                                const std::string& name = "pipeline.yaml") {
+  const fs::path file = dir.write(name, yaml);
+  return host::load_pipeline(file, overrides, {plugin_dir()});
+}
+
+// What the diagnostic group `group`, its series `column` or its scalar `name` holds after a run
+// (throws if missing).
+inline const host::DiagnosticOutput& diagnostic(const host::Engine& e, const std::string& group) {
+  for (const auto& d : e.diagnostics())
+    if (d.group() == group) return d;
+  throw std::runtime_error("no diagnostic group '" + group + "'");
+}
+inline const std::vector<double>& series(const host::Engine& e, const std::string& group, const std::string& column) {
+  const auto& d = diagnostic(e, group);
+  for (const auto& c : d.columns)
+    if (c.name == column) return c.values;
+  throw std::runtime_error("no series '" + column + "' in group '" + group + "'");
+}
+inline double scalar(const host::Engine& e, const std::string& group, const std::string& name) {
+  const auto& d = diagnostic(e, group);
+  for (const auto& s : d.scalars)
+    if (s.name == name) return s.value;
+  throw std::runtime_error("no scalar '" + name + "' in group '" + group + "'");
+}
+
+// Sum of doubles with Neumaier's compensation: the error is about one rounding of the result
+// plus N eps^2 sum|x|, negligible next to the round-off the tests bound.
+class ExactishSum {
+ public:
+  void add(double x) {
+    const double t = sum_ + x;
+    if (std::fabs(sum_) >= std::fabs(x)) c_ += (sum_ - t) + x;
+    else c_ += (x - t) + sum_;
+    sum_ = t;
+  }
+  double value() const { return sum_ + c_; }
+
+ private:
+  double sum_ = 0, c_ = 0;
+};
+
+// Mean and standard error of independent values.
+struct MeanError {
+  double mean = 0, standard_error = 0;
+};
+inline MeanError mean_error(const std::vector<double>& x) {
+  MeanError r;
+  const double n = static_cast<double>(x.size());
+  for (double v : x) r.mean += v;
+  r.mean /= n;
+  double var = 0;
+  for (double v : x) var += (v - r.mean) * (v - r.mean);
+  var /= (n - 1);
+  r.standard_error = std::sqrt(var / n);
+  return r;
+}
+
+// a2 of the HCS in the first Sonine approximation, d = 3 (paper 001, Eq. 2.16).
+inline double sonine_a2(double alpha) {
+  constexpr double d = 3.0;
+  return 16.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha * alpha) /
+         (25.0 + 24.0 * d - alpha * (57.0 - 8.0 * d) - 2.0 * (1.0 - alpha) * alpha * alpha);
+}
+// zeta(T0) tau0 of the HCS (paper 001, Eqs. 2.14-2.15 with d = 3; paper 000, Eq. 2.16).
+inline double haff_zeta_tau0(double alpha) {
+  return 2.0 * (1.0 - alpha * alpha) * (1.0 + 3.0 * sonine_a2(alpha) / 16.0) / (3.0 * std::sqrt(M_PI));
+}
+
+}  // namespace gdsmc::test
