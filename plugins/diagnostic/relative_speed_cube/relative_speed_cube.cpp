@@ -41,21 +41,7 @@ class RelativeSpeedCube final : public gdsmc::Diagnostic {
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     const auto m = gdsmc::velocity_moments(p);
     gdsmc::Rng rng = ctx.rng(gdsmc::StreamPurpose::diagnostic, unit_);
-    double ratio = std::nan("");
-    if (p.count >= 2 && m.temperature > 0) {
-      const auto n = static_cast<std::uint32_t>(p.count);
-      double sum = 0;
-      for (std::uint64_t k = 0; k < pairs_; ++k) {
-        const std::uint32_t i = rng.below(n);
-        std::uint32_t j = rng.below(n - 1);
-        j += (j >= i);
-        const double dx = p.vx[i] - p.vx[j], dy = p.vy[i] - p.vy[j], dz = p.vz[i] - p.vz[j];
-        const double g2 = dx * dx + dy * dy + dz * dz;
-        sum += g2 * std::sqrt(g2);
-      }
-      const double T = m.temperature;
-      ratio = sum / static_cast<double>(pairs_) / (32.0 / std::sqrt(M_PI) * T * std::sqrt(T));
-    }
+    const double ratio = gdsmc::relative_speed_cube_ratio(p, m.temperature, pairs_, rng);  // Eq. 4.20
     const double a2 = m.a2();
     window_.add({ratio, a2, (ratio - 1.0) / a2});
     if (ctx.collisions_per_particle() >= average_after_) {

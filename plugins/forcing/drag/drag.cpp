@@ -48,23 +48,6 @@ class Drag final : public gdsmc::Forcing {
 
   void publish(gdsmc::QuantityBoard& board) const override { board.publish("drag_model", refined_ ? 2.0 : 1.0); }
 
-  // <V12^3> / <V12^3>_0 from `pairs` random pairs (Eq. 4.20 over Eq. 2.15).
-  static double speed_cube_ratio(const gdsmc::ParticleSpan& p, double T, std::uint64_t pairs, gdsmc::Rng& rng) {
-    if (p.count < 2 || !(T > 0)) return 1.0;
-    const auto n = static_cast<std::uint32_t>(p.count);
-    double sum = 0;
-    for (std::uint64_t k = 0; k < pairs; ++k) {
-      const std::uint32_t i = rng.below(n);
-      std::uint32_t j = rng.below(n - 1);
-      j += (j >= i);
-      const double dx = p.vx[i] - p.vx[j], dy = p.vy[i] - p.vy[j], dz = p.vz[i] - p.vz[j];
-      const double g2 = dx * dx + dy * dy + dz * dz;
-      sum += g2 * std::sqrt(g2);
-    }
-    const double v12_0 = 32.0 / std::sqrt(M_PI) * T * std::sqrt(T);  // m = 1
-    return sum / static_cast<double>(pairs) / v12_0;
-  }
-
   void apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p, gdsmc::Rng& rng) override {
     if (p.count == 0) return;
     if (!have_alpha_) {
@@ -102,7 +85,7 @@ class Drag final : public gdsmc::Forcing {
     double gamma = 0.5 * zeta0;
     if (refined_) {
       if (!have_ratio_ || ctx.step % ratio_every_ == 0) {
-        ratio_ = speed_cube_ratio(p, T, pairs_, rng);
+        ratio_ = gdsmc::relative_speed_cube_ratio(p, T, pairs_, rng);  // Eq. 4.20
         have_ratio_ = true;
       }
       gamma *= ratio_;

@@ -23,23 +23,8 @@ class Maxwellian final : public gdsmc::InitialState {
   explicit Maxwellian(const gdsmc::Params& p) : temperature_(p.real("temperature")), exact_(p.boolean("exact_moments")) {}
 
   void generate(const gdsmc::SystemInfo& sys, const gdsmc::ParticleSpan& p, gdsmc::Rng& rng) override {
-    const double sd = std::sqrt(temperature_ / sys.mass);
-    for (std::size_t i = 0; i < p.count; ++i) {
-      p.x[i] = sys.box[0] * rng.uniform();
-      p.y[i] = sys.box[1] * rng.uniform() - 0.5 * sys.box[1];
-      p.z[i] = sys.box[2] * rng.uniform();
-      p.vx[i] = sd * rng.normal();
-      p.vy[i] = sd * rng.normal();
-      p.vz[i] = sd * rng.normal();
-    }
-    if (!exact_ || p.count < 2) return;
-    const gdsmc::VelocityMoments m = gdsmc::velocity_moments(p);
-    const double scale = std::sqrt(temperature_ / m.temperature);
-    for (std::size_t i = 0; i < p.count; ++i) {
-      p.vx[i] = (p.vx[i] - m.mean[0]) * scale;
-      p.vy[i] = (p.vy[i] - m.mean[1]) * scale;
-      p.vz[i] = (p.vz[i] - m.mean[2]) * scale;
-    }
+    gdsmc::sample_maxwellian(sys, p, temperature_, rng);
+    if (exact_) gdsmc::impose_exact_moments(p, temperature_);
   }
 
  private:

@@ -4,7 +4,11 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <cmath>
+
+#include "gdsmc/context.hpp"
 #include "gdsmc/particles.hpp"
+#include "gdsmc/random.hpp"
 
 namespace gdsmc {
 
@@ -58,6 +62,49 @@ inline VelocityMoments velocity_moments(const ParticleSpan& p, const std::uint32
   m.fourth = v4 * inv;
   m.sixth = v6 * inv;
   return m;
+}
+
+// <V12^3> / <V12^3>_0 estimated from `pairs` random pairs i != j (000 Eq. 4.20), with the
+// local-equilibrium value <V12^3>_0 = 32/sqrt(pi) (T/m)^{3/2} (000 Eq. 2.15), m = 1.
+inline double relative_speed_cube_ratio(const ParticleSpan& p, double temperature, std::uint64_t pairs, Rng& rng) {
+  if (p.count < 2 || !(temperature > 0) || pairs == 0) return std::nan("");
+  const auto n = static_cast<std::uint32_t>(p.count);
+  double sum = 0;
+  for (std::uint64_t k = 0; k < pairs; ++k) {
+    const std::uint32_t i = rng.below(n);
+    std::uint32_t j = rng.below(n - 1);
+    j += (j >= i);
+    const double dx = p.vx[i] - p.vx[j], dy = p.vy[i] - p.vy[j], dz = p.vz[i] - p.vz[j];
+    const double g2 = dx * dx + dy * dy + dz * dz;
+    sum += g2 * std::sqrt(g2);
+  }
+  return sum / static_cast<double>(pairs) / (32.0 / std::sqrt(M_PI) * temperature * std::sqrt(temperature));
+}
+
+// Positions uniform in the box (y centred on 0, as the slab convention of 000 Sec. IV.A) and
+// velocities from a Maxwellian at `temperature` with zero mean (000 Eq. 2.14).
+inline void sample_maxwellian(const SystemInfo& sys, const ParticleSpan& p, double temperature, Rng& rng) {
+  const double sd = std::sqrt(temperature / sys.mass);
+  for (std::size_t i = 0; i < p.count; ++i) {
+    p.x[i] = sys.box[0] * rng.uniform();
+    p.y[i] = sys.box[1] * rng.uniform() - 0.5 * sys.box[1];
+    p.z[i] = sys.box[2] * rng.uniform();
+    p.vx[i] = sd * rng.normal();
+    p.vy[i] = sd * rng.normal();
+    p.vz[i] = sd * rng.normal();
+  }
+}
+
+// Shift the velocities to zero total momentum and rescale them to exactly `temperature`.
+inline void impose_exact_moments(const ParticleSpan& p, double temperature) {
+  if (p.count < 2) return;
+  const VelocityMoments m = velocity_moments(p);
+  const double scale = std::sqrt(temperature / m.temperature);
+  for (std::size_t i = 0; i < p.count; ++i) {
+    p.vx[i] = (p.vx[i] - m.mean[0]) * scale;
+    p.vy[i] = (p.vy[i] - m.mean[1]) * scale;
+    p.vz[i] = (p.vz[i] - m.mean[2]) * scale;
+  }
 }
 
 }  // namespace gdsmc
