@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance.hpp"
 #include "engine.hpp"
 #include "loader.hpp"
 #include "pipeline.hpp"
@@ -30,6 +31,7 @@ Usage:
   gdsmc run PIPELINE.yaml [--set key.path=value]... [--output FILE] [--quiet] [--plugin-path P]...
   gdsmc validate PIPELINE.yaml [--set key.path=value]... [--plugin-path P]...
   gdsmc plugins [NAME | FILE.so]... [--plugin-path P]...
+  gdsmc conformance PLUGIN.so [--params FILE.yaml] [--seed N] [--only CHECK]...
   gdsmc help [COMMAND]        (or COMMAND --help)
   gdsmc --version
 
@@ -37,6 +39,7 @@ Commands:
   run        run a pipeline and write one HDF5 file (docs/user-guide.md describes both)
   validate   check a pipeline and every plugin parameter without running it
   plugins    list the plugins found, or document the ones named
+  conformance  check a plugin binary against the contract of its kind (`gdsmc conformance --help`)
 
 Plugins are shared libraries found on the search path: --plugin-path entries, the pipeline's
 `plugins:` list, $GDSMC_PLUGIN_PATH (colon-separated), then the plugins installed with gdsmc.
@@ -313,6 +316,7 @@ int main(int argc, char** argv) {
     std::cout << (topic == "run" ? kRunHelp : topic == "validate" ? kValidateHelp : topic == "plugins" ? kPluginsHelp : kMainHelp);
     return 0;
   }
+  if (cmd == "conformance") return run_conformance(argc - 1, argv + 1);
   Options o;
   std::string error;
   if (!parse(argc, argv, 2, o, error)) return usage_error(error);

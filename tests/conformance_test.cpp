@@ -1,0 +1,180 @@
+// `gdsmc conformance` on every plugin of the build, and on deliberately bad test plugins
+// (tests/plugins/conformance_*), each of which must fail with a message naming the plugin and the
+// broken property.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int status = -1;
+  std::string out;
+};
+
+Outcome run(const std::string& args) {
+  const std::string cmd = std::string("GDSMC_PLUGIN_PATH= '") + GDSMC_EXECUTABLE + "' " + args + " 2>&1";
+  Outcome r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string test_plugin(const std::string& name) {
+  return std::string(GDSMC_BINARY_DIR) + "/test-plugins/gdsmc_" + name + ".so";
+}
+
+// The line of the output that reports `check`, or "".
+std::string line_of(const std::string& out, const std::string& check) {
+  std::istringstream in(out);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string status, name;
+    words >> status >> name;
+    if (name == check) return line;
+  }
+  return "";
+}
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("gdsmc-conformance-test-" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+// Plugins that need more around them than the default filler plugins: the --context pipelines.
+std::map<std::string, std::string> contexts() {
+  return {{"shear_rheology", "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+                             "forcings: [{plugin: uniform_shear, shear_rate: 0.5}]\n"}};
+}
+
+}  // namespace
+
+TEST(Conformance, EveryPluginOfTheBuildConforms) {
+  const fs::path dir = GDSMC_TEST_PLUGIN_DIR;
+  const fs::path tmp = temp_dir();
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".so") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const char* needed : {"inelastic_hard_spheres", "maxwellian", "temperature"})
+    EXPECT_TRUE(fs::exists(dir / ("gdsmc_" + std::string(needed) + ".so"))) << needed;
+  const auto ctx = contexts();
+  for (const auto& f : files) {
+    std::string name = f.stem().string();
+    if (name.rfind("gdsmc_", 0) == 0) name = name.substr(6);
+    std::string args = "conformance '" + f.string() + "'";
+    if (auto it = ctx.find(name); it != ctx.end()) {
+      const fs::path c = tmp / (name + "-context.yaml");
+      std::ofstream(c) << it->second;
+      args += " --context '" + c.string() + "'";
+    }
+    const Outcome r = run(args);
+    EXPECT_EQ(r.status, 0) << "plugin " << name << " does not conform:\n" << r.out;
+    EXPECT_NE(r.out.find(": conforming"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("CRASH"), std::string::npos) << r.out;
+  }
+  fs::remove_all(tmp);
+}
+
+struct BadPlugin {
+  const char* plugin;
+  const char* check;
+  std::vector<const char*> words;  // each must appear in the FAIL line
+};
+
+TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
+  const std::vector<BadPlugin> bad = {
+      {"conformance_leaky", "collision.momentum", {"conformance_leaky", "momentum not conserved", "|p' - p|"}},
+      {"conformance_nan", "collision.finite", {"conformance_nan", "NaN", "nan"}},
+      {"conformance_throwing", "defaults_construct", {"conformance_throwing", "does not construct", "the factory always fails"}},
+      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 2.0"}},
+      {"conformance_fake_thermostat", "forcing.conservation", {"conformance_fake_thermostat", "energy not conserved"}},
+  };
+  for (const auto& b : bad) {
+    SCOPED_TRACE(b.plugin);
+    ASSERT_TRUE(fs::exists(test_plugin(b.plugin)));
+    const Outcome r = run("conformance '" + test_plugin(b.plugin) + "'");
+    EXPECT_EQ(r.status, 1) << r.out;
+    const std::string line = line_of(r.out, b.check);
+    ASSERT_EQ(line.rfind("FAIL", 0), 0u) << "expected " << b.check << " to FAIL:\n" << r.out;
+    for (const char* w : b.words) EXPECT_NE(line.find(w), std::string::npos) << "'" << w << "' not in: " << line;
+    EXPECT_EQ(r.out.find("CRASH"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("NOT CONFORMING"), std::string::npos) << r.out;
+  }
+}
+
+TEST(Conformance, CrashingPluginGivesCrashLinesAndTheRunnerCarriesOn) {
+  const Outcome r = run("conformance '" + test_plugin("conformance_crash") + "'");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_EQ(line_of(r.out, "parameter_schema").rfind("PASS", 0), 0u) << r.out;
+  EXPECT_EQ(line_of(r.out, "defaults_construct").rfind("CRASH", 0), 0u) << r.out;
+  const std::string line = line_of(r.out, "collision.momentum");
+  EXPECT_EQ(line.rfind("CRASH", 0), 0u) << r.out;
+  EXPECT_NE(line.find("conformance_crash"), std::string::npos) << line;
+  EXPECT_NE(line.find("signal"), std::string::npos) << line;
+  // later checks still ran and the summary was printed
+  EXPECT_FALSE(line_of(r.out, "collision.cell").empty()) << r.out;
+  EXPECT_NE(r.out.find("NOT CONFORMING"), std::string::npos) << r.out;
+}
+
+TEST(Conformance, BoundaryContainmentRunsOnATestBoundary) {
+  const Outcome r = run("conformance '" + test_plugin("conformance_periodic") + "'");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(line_of(r.out, "boundary.containment").rfind("PASS", 0), 0u) << r.out;
+  EXPECT_EQ(line_of(r.out, "boundary.wall_flux").rfind("SKIP", 0), 0u) << r.out;
+}
+
+TEST(Conformance, CommandLineOptions) {
+  const std::string ihs = std::string(GDSMC_TEST_PLUGIN_DIR) + "/gdsmc_inelastic_hard_spheres.so";
+  {
+    const Outcome r = run("conformance '" + ihs + "' --only collision.momentum --seed 7");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("seed 7"), std::string::npos) << r.out;
+    EXPECT_EQ(line_of(r.out, "collision.momentum").rfind("PASS", 0), 0u) << r.out;
+    EXPECT_TRUE(line_of(r.out, "collision.energy").empty()) << r.out;
+  }
+  {
+    const Outcome r = run("conformance '" + ihs + "' --list");
+    EXPECT_EQ(r.status, 0);
+    EXPECT_NE(r.out.find("collision.cell"), std::string::npos) << r.out;
+  }
+  const fs::path tmp = temp_dir();
+  {
+    const fs::path params = tmp / "params.yaml";
+    std::ofstream(params) << "alpha: 0.5\n";
+    const Outcome r = run("conformance '" + ihs + "' --params '" + params.string() + "' --only defaults_construct");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(line_of(r.out, "defaults_construct").find("alpha = 0.5"), std::string::npos) << r.out;
+  }
+  {
+    const fs::path params = tmp / "bad.yaml";
+    std::ofstream(params) << "alpha: 1.5\n";
+    const Outcome r = run("conformance '" + ihs + "' --params '" + params.string() + "' --only defaults_construct");
+    EXPECT_EQ(r.status, 1) << r.out;
+    EXPECT_NE(line_of(r.out, "defaults_construct").find("out of range"), std::string::npos) << r.out;
+  }
+  EXPECT_EQ(run("conformance '" + ihs + "' --no-such-option").status, 2);
+  EXPECT_EQ(run("conformance /no/such/plugin.so").status, 2);
+  EXPECT_EQ(run("conformance '" + ihs + "' --only no_such_check").status, 2);
+  EXPECT_EQ(run("conformance --help").status, 0);
+  fs::remove_all(tmp);
+}

@@ -1,0 +1,191 @@
+// The SDK as a third party sees it: install this build into a temporary prefix, build each
+// project under sdk/examples out of tree against it (find_package(gdsmc) + gdsmc_add_plugin),
+// run its YAML pipeline with the installed host, check the datasets it wrote, and run
+// `gdsmc conformance` on each of its plugins.
+#include <hdf5.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int status = -1;
+  std::string out;
+};
+
+Outcome sh(const std::string& cmd) {
+  Outcome r;
+  FILE* p = popen(("GDSMC_PLUGIN_PATH= " + cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::vector<double> read(const fs::path& file, const std::string& dataset) {
+  std::vector<double> v;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return v;
+  if (H5Lexists(f, dataset.c_str(), H5P_DEFAULT) > 0) {
+    const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+    const hid_t s = H5Dget_space(d);
+    v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(s)));
+    H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Sclose(s);
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  return v;
+}
+
+bool all_finite(const std::vector<double>& v) {
+  for (double x : v)
+    if (!std::isfinite(x)) return false;
+  return !v.empty();
+}
+
+// One example project built against a fresh installation.
+class SdkExample : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("gdsmc-sdk-examples-" + std::to_string(::getpid()) + "-" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+    prefix_ = root_ / "prefix";
+    const Outcome r = sh("cmake --install " + q(GDSMC_BINARY_DIR) + " --prefix " + q(prefix_));
+    ASSERT_EQ(r.status, 0) << r.out;
+    gdsmc_ = prefix_ / "bin" / "gdsmc";
+    ASSERT_TRUE(fs::exists(gdsmc_));
+    ASSERT_TRUE(fs::exists(prefix_ / "include/gdsmc/gdsmc.hpp"));
+    ASSERT_TRUE(fs::exists(prefix_ / "lib/cmake/gdsmc/gdsmcConfig.cmake"));
+    ASSERT_TRUE(fs::exists(prefix_ / "lib/gdsmc/plugins/gdsmc_maxwellian.so"));
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(root_);
+  }
+  // Configure and build sdk/examples/<name> out of tree; returns its build directory.
+  fs::path build(const std::string& name) {
+    const fs::path src = fs::path(GDSMC_SOURCE_DIR) / "sdk/examples" / name;
+    const fs::path dir = root_ / ("build-" + name);
+    Outcome r = sh("cmake -S " + q(src) + " -B " + q(dir) + " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + q(prefix_));
+    EXPECT_EQ(r.status, 0) << r.out;
+    r = sh("cmake --build " + q(dir) + " -j2");
+    EXPECT_EQ(r.status, 0) << r.out;
+    return dir;
+  }
+  // Run the example's pipeline with the installed host; returns the output file.
+  fs::path run(const std::string& name, const std::string& yaml, const fs::path& dir, const std::string& extra = "") {
+    const fs::path file = dir / ("out-" + std::to_string(runs_++) + ".h5");
+    const Outcome r = sh(q(gdsmc_) + " run " + q(fs::path(GDSMC_SOURCE_DIR) / "sdk/examples" / name / yaml) +
+                         " --plugin-path " + q(dir / "plugins") + " --output " + q(file) + " --quiet " + extra);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_TRUE(fs::exists(file)) << r.out;
+    return file;
+  }
+  void conforms(const fs::path& plugin, const std::string& extra = "") {
+    const Outcome r = sh(q(gdsmc_) + " conformance " + q(plugin) + " " + extra);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find(": conforming"), std::string::npos) << r.out;
+  }
+
+  fs::path root_, prefix_, gdsmc_;
+  int runs_ = 0;
+};
+
+}  // namespace
+
+TEST_F(SdkExample, ViscoelasticRestitution) {
+  const fs::path dir = build("viscoelastic_restitution");
+  const fs::path plugin = dir / "plugins/gdsmc_viscoelastic_restitution.so";
+  ASSERT_TRUE(fs::exists(plugin));
+  const fs::path h5 = run("viscoelastic_restitution", "viscoelastic.yaml", dir);
+  const auto T = read(h5, "/diagnostics/temperature/temperature");
+  ASSERT_TRUE(all_finite(T));
+  EXPECT_DOUBLE_EQ(T.front(), 1.0);
+  EXPECT_LT(T.back(), 0.99);  // it cools
+  EXPECT_GT(T.back(), 0.05);
+  for (std::size_t k = 1; k < T.size(); ++k) EXPECT_LE(T[k], T[k - 1] * (1 + 1e-3)) << k;  // cools monotonically (to noise)
+  conforms(plugin);
+  // the installed host finds the plugin by name once it is installed into the same prefix
+  const Outcome r = sh("cmake --install " + q(dir) + " --prefix " + q(prefix_));
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(fs::exists(prefix_ / "lib/gdsmc/plugins/gdsmc_viscoelastic_restitution.so"));
+  const Outcome p = sh(q(gdsmc_) + " plugins viscoelastic_restitution");
+  EXPECT_EQ(p.status, 0) << p.out;
+  EXPECT_NE(p.out.find("Brilliantov"), std::string::npos) << p.out;
+}
+
+TEST_F(SdkExample, RoughSpheres) {
+  const fs::path dir = build("rough_spheres");
+  const fs::path rule = dir / "plugins/gdsmc_rough_spheres.so";
+  const fs::path diag = dir / "plugins/gdsmc_rotational_temperature.so";
+  ASSERT_TRUE(fs::exists(rule));
+  ASSERT_TRUE(fs::exists(diag));
+  const fs::path h5 = run("rough_spheres", "rough_spheres.yaml", dir);
+  const auto t_rot = read(h5, "/diagnostics/rotational_temperature/rotational_temperature");
+  const auto ratio = read(h5, "/diagnostics/rotational_temperature/temperature_ratio");
+  ASSERT_TRUE(all_finite(t_rot));
+  ASSERT_TRUE(all_finite(ratio));
+  EXPECT_EQ(t_rot.front(), 0.0);  // spins start at rest
+  EXPECT_GT(t_rot.back(), 0.05);  // and are spun up by the rough collisions
+  const auto omega = read(h5, "/particles/angular_velocity");
+  EXPECT_EQ(omega.size(), 3u * 5000u);
+  EXPECT_TRUE(all_finite(omega));
+  // alpha = beta = 1: the total energy (3/2)(T_tr + T_rot) is conserved to round-off
+  const fs::path elastic = run("rough_spheres", "rough_spheres.yaml", dir, "--set collision.alpha=1 --set collision.beta=1");
+  const auto e = read(elastic, "/diagnostics/rotational_temperature/energy_per_particle");
+  const auto t_rot_e = read(elastic, "/diagnostics/rotational_temperature/rotational_temperature");
+  ASSERT_TRUE(all_finite(e));
+  for (double x : e) EXPECT_NEAR(x, 1.5, 1e-9);
+  EXPECT_GT(t_rot_e.back(), 0.05);
+  conforms(rule);
+  conforms(diag, "--context " + q(fs::path(GDSMC_SOURCE_DIR) / "sdk/examples/rough_spheres/rough_spheres.yaml") +
+                     " --plugin-path " + q(dir / "plugins"));
+  // The project's own CTest runs the same conformance checks (gdsmc_add_plugin registers them).
+  const Outcome c = sh("ctest --test-dir " + q(dir));
+  EXPECT_EQ(c.status, 0) << c.out;
+}
+
+TEST_F(SdkExample, SpeedDistributionWritesItsOwnDatasets) {
+  const fs::path dir = build("speed_distribution");
+  const fs::path plugin = dir / "plugins/gdsmc_speed_distribution.so";
+  ASSERT_TRUE(fs::exists(plugin));
+  const fs::path h5 = run("speed_distribution", "speed_distribution.yaml", dir);
+  const std::string g = "/diagnostics/speed_distribution/";
+  const auto mean = read(h5, g + "mean_speed");
+  const auto time = read(h5, g + "time");
+  ASSERT_TRUE(all_finite(mean));
+  EXPECT_EQ(mean.size(), time.size());
+  EXPECT_NEAR(mean.front(), 2.0 / std::sqrt(M_PI), 0.02);  // Maxwellian <c>
+  const auto edges = read(h5, g + "speed_pdf/edges");
+  const auto values = read(h5, g + "speed_pdf/values");
+  ASSERT_EQ(values.size(), 32u);
+  ASSERT_EQ(edges.size(), 33u);
+  EXPECT_DOUBLE_EQ(edges.back(), 4.0);
+  double integral = 0;
+  for (std::size_t b = 0; b < values.size(); ++b) integral += values[b] * (edges[b + 1] - edges[b]);
+  const auto overflow = read(h5, g + "overflow_fraction");
+  ASSERT_EQ(overflow.size(), 1u);
+  EXPECT_NEAR(integral + overflow[0], 1.0, 1e-9);
+  EXPECT_EQ(read(h5, g + "maxwellian_pdf").size(), 32u);
+  const auto samples = read(h5, g + "samples");
+  ASSERT_EQ(samples.size(), 1u);
+  EXPECT_GT(samples[0], 1.0);
+  conforms(plugin);
+}
