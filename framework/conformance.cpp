@@ -54,6 +54,18 @@ namespace fs = std::filesystem;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
+// Total momentum, kinetic energy (m = 1) and sum of speeds (the round-off scale) of all particles.
+void velocity_totals(const ParticleSpan& p, Vec3& momentum, double& energy, double& speed_sum) {
+  momentum = {};
+  energy = speed_sum = 0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const Vec3 v = p.velocity(i);
+    momentum += v;
+    energy += 0.5 * dot(v, v);
+    speed_sum += norm(v);
+  }
+}
+
 const char* kHelp = R"(gdsmc conformance PLUGIN.so [options]
 
 Checks one plugin binary against the contract of its kind and prints one line per check:
@@ -508,19 +520,9 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
   h->store.allocate(n, h->attributes);
   for (const auto& o : objects) o->publish(h->board);
 
-  SystemInfo& sys = h->sys;
-  sys.particles = n;
-  sys.number_density = p.number_density;
-  sys.sigma = p.sigma;
-  sys.mass = 1.0;
-  sys.initial_temperature = p.temperature;
-  sys.mean_free_path0 = p.mean_free_path0();
-  sys.time_unit0 = p.time_unit0();
-  sys.volume = static_cast<double>(n) / p.number_density;
-  sys.geometry = p.geometry;
-  sys.box[0] = sys.box[1] = sys.box[2] = std::cbrt(sys.volume);
-  sys.cells = 1;
-  sys.seed = s.cfg.seed;
+  h->sys = p.system_info(n, 0);
+  h->sys.seed = s.cfg.seed;
+  const SystemInfo& sys = h->sys;
 
   StepContext& ctx = h->ctx;
   ctx.system = &h->sys;
@@ -1196,16 +1198,7 @@ Result check_collision_cell(const Subject& s) {
   Rng attr_rng(h->ctx.key, StreamPurpose::conformance, 3, 0);
   h->randomize_zero_attributes(attr_rng);
   const ParticleSpan p = h->span();
-  auto totals = [&](Vec3& mom, double& energy, double& abs_sum) {
-    mom = {};
-    energy = abs_sum = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 v = p.velocity(i);
-      mom += v;
-      energy += 0.5 * dot(v, v);
-      abs_sum += norm(v);
-    }
-  };
+  auto totals = [&](Vec3& mom, double& energy, double& abs_sum) { velocity_totals(p, mom, energy, abs_sum); };
   Vec3 p0, p1;
   double e0, e1, a0, a1;
   totals(p0, e0, a0);
@@ -1255,16 +1248,7 @@ Result check_forcing_conservation(const Subject& s) {
   auto* f = static_cast<Forcing*>(h->subject.get());
   const Conservation c = f->conserves();
   const ParticleSpan p = h->span();
-  auto totals = [&](Vec3& mom, double& energy, double& abs_sum) {
-    mom = {};
-    energy = abs_sum = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 v = p.velocity(i);
-      mom += v;
-      energy += 0.5 * dot(v, v);
-      abs_sum += norm(v);
-    }
-  };
+  auto totals = [&](Vec3& mom, double& energy, double& abs_sum) { velocity_totals(p, mom, energy, abs_sum); };
   Vec3 p0, p1;
   double e0, e1, a0, a1;
   totals(p0, e0, a0);

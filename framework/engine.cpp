@@ -18,20 +18,7 @@ std::string where_text(const PluginUse& u) {
 }  // namespace
 
 Engine::Engine(const Pipeline& p, std::uint32_t realization) : pipeline_(p), majorant_ratio_(kInitialMajorantRatio) {
-  system_.particles = p.particles;
-  system_.number_density = p.number_density;
-  system_.sigma = p.sigma;
-  system_.mass = 1.0;
-  system_.initial_temperature = p.temperature;
-  system_.mean_free_path0 = p.mean_free_path0();
-  system_.time_unit0 = p.time_unit0();
-  system_.volume = static_cast<double>(p.particles) / p.number_density;
-  system_.geometry = p.geometry;
-  const double edge = std::cbrt(system_.volume);
-  system_.box[0] = system_.box[1] = system_.box[2] = edge;
-  system_.cells = 1;
-  system_.seed = p.seed;
-  system_.realization = realization;
+  system_ = p.system_info(p.particles, realization);
 
   auto make = [&](const PluginUse& u) -> PluginObject* {
     try {

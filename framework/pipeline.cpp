@@ -229,6 +229,24 @@ std::optional<double> to_reduced(double value, const std::string& unit, Dimensio
   return std::nullopt;
 }
 
+SystemInfo Pipeline::system_info(std::size_t n, std::uint32_t realization) const {
+  SystemInfo sys;
+  sys.particles = n;
+  sys.number_density = number_density;
+  sys.sigma = sigma;
+  sys.mass = 1.0;
+  sys.initial_temperature = temperature;
+  sys.mean_free_path0 = mean_free_path0();
+  sys.time_unit0 = time_unit0();
+  sys.volume = static_cast<double>(n) / number_density;
+  sys.geometry = geometry;
+  sys.box[0] = sys.box[1] = sys.box[2] = std::cbrt(sys.volume);
+  sys.cells = 1;
+  sys.seed = seed;
+  sys.realization = realization;
+  return sys;
+}
+
 double Pipeline::mean_free_path0() const { return 1.0 / (std::sqrt(2.0) * M_PI * number_density * sigma * sigma); }
 double Pipeline::time_unit0() const { return mean_free_path0() / std::sqrt(2.0 * temperature); }
 
@@ -604,19 +622,19 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
                 ss.group = series.substr(0, slash);
                 ss.column = series.substr(slash + 1);
               }
-              auto window = sd["window"] ? c.real(sd["window"], "run.stop.steady.window") : std::nullopt;
-              auto tol = sd["tolerance"] ? c.real(sd["tolerance"], "run.stop.steady.tolerance") : std::nullopt;
-              if (!window || *window <= 0) {
+              const double window = sd["window"] ? c.real(sd["window"], "run.stop.steady.window").value_or(0.0) : 0.0;
+              const double tol = sd["tolerance"] ? c.real(sd["tolerance"], "run.stop.steady.tolerance").value_or(0.0) : 0.0;
+              if (!(window > 0)) {
                 c.error("run.stop.steady.window", sd["window"] ? sd["window"] : sd, "window must be > 0 collisions per particle");
                 ok = false;
               }
-              if (!tol || *tol <= 0) {
+              if (!(tol > 0)) {
                 c.error("run.stop.steady.tolerance", sd["tolerance"] ? sd["tolerance"] : sd, "tolerance must be > 0 (relative)");
                 ok = false;
               }
               if (ok) {
-                ss.window = *window;
-                ss.tolerance = *tol;
+                ss.window = window;
+                ss.tolerance = tol;
                 p.stop_steady = ss;
               }
               if (!st["collisions_per_particle"] && !st["time"])

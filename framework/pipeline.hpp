@@ -94,6 +94,8 @@ struct Pipeline {
 
   double mean_free_path0() const;  // lambda0 = 1 / (sqrt(2) pi n sigma^2)
   double time_unit0() const;       // tau0 = lambda0 / sqrt(2 T0 / m)
+  // What plugins see of this system with `particles` particles (homogeneous: a cube of volume N/n).
+  SystemInfo system_info(std::size_t particles, std::uint32_t realization) const;
 };
 
 // Read, check and resolve a pipeline. `overrides` are "key.path=value" strings (--set); `extra_plugin_paths` come first in the search path.
