@@ -16,27 +16,16 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int status = -1;
-  std::string out;
-};
+using Outcome = gdsmc::test::ShellResult;
 
-Outcome run(const std::string& args) {
-  const std::string cmd = std::string("GDSMC_PLUGIN_PATH= '") + GDSMC_EXECUTABLE + "' " + args + " 2>&1";
-  Outcome r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+// `gdsmc ARGS` (ARGS quoted by the caller).
+Outcome run(const std::string& args) { return gdsmc::test::shell(std::string("'") + GDSMC_EXECUTABLE + "' " + args); }
 
 std::string test_plugin(const std::string& name) {
   return std::string(GDSMC_BINARY_DIR) + "/test-plugins/gdsmc_" + name + ".so";

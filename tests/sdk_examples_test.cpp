@@ -14,26 +14,14 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int status = -1;
-  std::string out;
-};
-
-Outcome sh(const std::string& cmd) {
-  Outcome r;
-  FILE* p = popen(("GDSMC_PLUGIN_PATH= " + cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using Outcome = gdsmc::test::ShellResult;
+Outcome sh(const std::string& cmd) { return gdsmc::test::shell(cmd); }
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 

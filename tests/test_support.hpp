@@ -229,6 +229,23 @@ class Process {
   bool done_ = false;
 };
 
+// A shell command line (sh -c), with GDSMC_PLUGIN_PATH cleared; stdout and stderr together.
+struct ShellResult {
+  int status = -1;  // exit status, or -1 if it did not exit normally
+  std::string out;
+};
+inline ShellResult shell(const std::string& command) {
+  ShellResult r;
+  FILE* p = ::popen(("GDSMC_PLUGIN_PATH= " + command + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int st = ::pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
 inline ProcessResult run_gdsmc(const std::vector<std::string>& args, const fs::path& cwd, double timeout_s = 120) {
   Process p(args, cwd);
   return p.wait(timeout_s);
