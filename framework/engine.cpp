@@ -134,7 +134,7 @@ void Engine::step() {
 
   ctx_.time += dt;
   ++ctx_.step;
-  if (ctx_.step % pipeline_.moments_every == 0 || pipeline_.moments_every == 1) update_moments();
+  if (ctx_.step % pipeline_.moments_every == 0) update_moments();
   sample_and_record(false);
 }
 
