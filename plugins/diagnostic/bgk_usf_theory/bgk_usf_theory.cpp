@@ -9,7 +9,6 @@
 
 namespace {
 
-constexpr double kTauEtaOverTau = 5.0 * 1.7724538509055159 / 8.0;  // 5 sqrt(pi)/8 (Eq. 2.18, without 1.016)
 
 // Steady state of the BGK-like model in units of the steady temperature (m = 1, T_s = 1) and of the
 // relaxation rate beta nu = 1. x = zeta0/(beta nu), at = a/(beta nu) (docs/bgk-usf.md).
@@ -110,7 +109,7 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
     steady_[6] = st_.v4() / 15.0 - 1.0;            // a2
     steady_[7] = -st_.v6() / 105.0 + 1.0 + 3.0 * steady_[6];  // a3
     const double a_tau0 = a_ * tau0_;
-    steady_T_ = a_ != 0 ? std::pow(a_tau0 * c_eta_ * kTauEtaOverTau / steady_[0], 2) : std::nan("");
+    steady_T_ = a_ != 0 ? std::pow(a_tau0 * gdsmc::viscosity_time_over_tau(c_eta_) / steady_[0], 2) : std::nan("");
 
     if (transient_) {
       ids_ = {out.series("temperature_bgk", "T0", "BGK-model T/T0 from the moment equations"),
@@ -125,14 +124,14 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
     }
   }
 
-  double tau_of(double T) const { return lambda0_ / std::sqrt(2.0 * T); }
+  double tau_of(double T) const { return gdsmc::characteristic_time(lambda0_, T); }
   // State y = {P_xx, P_yy, P_zz, P_xy, s0} per unit density (m = 1).
   using State = std::array<double, 5>;
   State rhs(const State& y) const {
     const double T = (y[0] + y[1] + y[2]) / 3.0;
     const double tau = tau_of(T);
-    const double nu = beta_ / (c_eta_ * kTauEtaOverTau * tau);
-    const double z = 2.0 * (1.0 - alpha_ * alpha_) / (3.0 * std::sqrt(M_PI) * tau);
+    const double nu = beta_ / (gdsmc::viscosity_time_over_tau(c_eta_) * tau);
+    const double z = gdsmc::cooling_rate0_times_tau(alpha_) / tau;
     return {-2.0 * a_ * y[3] - nu * (y[0] - T) - z * y[0], -nu * (y[1] - T) - z * y[1], -nu * (y[2] - T) - z * y[2],
             -a_ * y[1] - nu * y[3] - z * y[3], 1.0 / (std::sqrt(M_PI) * tau)};
   }
@@ -140,7 +139,7 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
     while (bgk_time_ < t) {
       const double T = (y_[0] + y_[1] + y_[2]) / 3.0;
       const double tau = tau_of(T);
-      const double rate = beta_ / (c_eta_ * kTauEtaOverTau * tau) + 2.0 * (1.0 - alpha_ * alpha_) / (3.0 * std::sqrt(M_PI) * tau) + std::fabs(a_);
+      const double rate = beta_ / (gdsmc::viscosity_time_over_tau(c_eta_) * tau) + gdsmc::cooling_rate0_times_tau(alpha_) / tau + std::fabs(a_);
       const double h = std::min(t - bgk_time_, 0.01 / rate);
       auto add = [](const State& u, const State& k, double c) {
         State r;
@@ -166,13 +165,13 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
         advance(ctx.time);
       }
       const double Tb = (y_[0] + y_[1] + y_[2]) / 3.0;
-      const double a_star = a_ * c_eta_ * kTauEtaOverTau * tau_of(Tb);
+      const double a_star = a_ * gdsmc::viscosity_time_over_tau(c_eta_) * tau_of(Tb);
       const double s[kSeries] = {Tb / t0_, -y_[3] / Tb, (y_[0] - y_[1]) / Tb, a_star, -y_[3] / Tb / a_star, y_[4], T / t0_, pxy, n1};
       for (int k = 0; k < kSeries; ++k) sums_[k] += s[k];
       ++samples_;
     }
     if (ctx.collisions_per_particle() >= average_after_) {
-      const double a_star = a_ * c_eta_ * kTauEtaOverTau * tau_of(T);
+      const double a_star = a_ * gdsmc::viscosity_time_over_tau(c_eta_) * tau_of(T);
       const double n2 = (m.second[2][2] - m.second[1][1]) / T;
       const double v[kMeasured] = {a_star, pxy, n1, n2, pxy / a_star, -n1 / (a_star * a_star), m.a2(), m.a3(), T / t0_};
       for (int k = 0; k < kMeasured; ++k) measured_[k].add(v[k]);

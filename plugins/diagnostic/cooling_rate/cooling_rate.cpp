@@ -40,7 +40,7 @@ class CoolingRate final : public gdsmc::Diagnostic {
     N_ = static_cast<double>(sys.particles);
     lambda0_ = sys.mean_free_path0;
     tau0_ = sys.time_unit0;
-    zeta0_tau_ = 2.0 * (1.0 - alpha_ * alpha_) / (3.0 * std::sqrt(M_PI));
+    zeta0_tau_ = gdsmc::cooling_rate0_times_tau(alpha_);  // Eq. 2.16
     ids_[0] = out.series("zeta", "1/tau0", "collisional cooling rate -(dE_coll/dt)/((3/2) N T) over the record window (Eq. 2.9)");
     ids_[1] = out.series("zeta0", "1/tau0", "local-equilibrium cooling rate 2(1-alpha^2)/(3 sqrt(pi) tau(T)) (Eq. 2.16)");
     ids_[2] = out.series("zeta_tau", "1", "zeta times tau(T) = lambda0/sqrt(2T/m)");
@@ -57,7 +57,7 @@ class CoolingRate final : public gdsmc::Diagnostic {
     const double dt = ctx.time - last_time_;
     const double Tw = T_count_ ? T_sum_ / static_cast<double>(T_count_) : std::nan("");
     double zeta = std::nan(""), zeta_tau = std::nan("");
-    const double tau = lambda0_ / std::sqrt(2.0 * Tw);
+    const double tau = gdsmc::characteristic_time(lambda0_, Tw);
     if (have_last_ && dt > 0 && Tw > 0) {
       zeta = -(dE / dt) / (1.5 * N_ * Tw);
       zeta_tau = zeta * tau;

@@ -46,7 +46,7 @@ class HcsTheory final : public gdsmc::Diagnostic {
     t0_ = sys.initial_temperature;
     tau0_ = sys.time_unit0;
     // zeta(T0) tau0 = 2 (1 - alpha^2)(1 + 3 a2 / 16) / (3 sqrt(pi))     (001 Eq. 2.14, 000 Eq. 2.16)
-    zeta0_tau0_ = 2.0 * (1.0 - alpha_ * alpha_) * (1.0 + 3.0 * a2_theory_ / 16.0) / (3.0 * std::sqrt(M_PI));
+    zeta0_tau0_ = gdsmc::cooling_rate0_times_tau(alpha_) * (1.0 + 3.0 * a2_theory_ / 16.0);
     window_.declare(out, {{"temperature", "T0", "measured T / T0"},
                           {"temperature_haff", "T0", "Haff's law T / T0 (001 Eqs. 2.14-2.15)"},
                           {"a2", "1", "measured fourth cumulant (000 Eq. 4.17)"},

@@ -44,7 +44,7 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
   }
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     const double T = gdsmc::velocity_moments(p).temperature;
-    const double rate = beta_ * std::sqrt(2.0 * T) / (lambda0_ * std::sqrt(M_PI));  // beta / (sqrt(pi) tau(T))
+    const double rate = beta_ / (std::sqrt(M_PI) * gdsmc::characteristic_time(lambda0_, T));  // Eq. 3.13
     if (have_prev_) s0_ += 0.5 * (rate + prev_rate_) * (ctx.time - prev_time_);
     prev_rate_ = rate;
     prev_time_ = ctx.time;

@@ -62,8 +62,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     const auto m = gdsmc::velocity_moments(p);
     const double T = m.temperature;
-    const double tau = lambda0_ / std::sqrt(2.0 * T);
-    const double a_star = a_ * 1.016 * 5.0 * std::sqrt(M_PI) / 8.0 * tau;
+    const double tau = gdsmc::characteristic_time(lambda0_, T);
+    const double a_star = a_ * gdsmc::viscosity_time_over_tau() * tau;  // a tau_eta, Eqs. 2.18, 5.2
     const double pxy = m.second[0][1] / T, n1 = (m.second[0][0] - m.second[1][1]) / T, n2 = (m.second[2][2] - m.second[1][1]) / T;
     const double heating = -(2.0 * a_ / 3.0) * m.second[0][1] / T;  // P/n = <V V> (m = 1)
     const double v[kColumns] = {T / t0_, a_star, -pxy, n1, n2, -pxy / a_star, -n1 / (a_star * a_star), n2 / (a_star * a_star),

@@ -7,11 +7,6 @@
 
 namespace {
 
-// Fraction of a Maxwellian with reduced speed c = V / sqrt(2T/m) below x.
-double maxwell_cumulative(double x) {
-  if (std::isinf(x)) return 1.0;
-  return std::erf(x) - 2.0 * x * std::exp(-x * x) / std::sqrt(M_PI);
-}
 
 class SpeedRatios final : public gdsmc::Diagnostic {
  public:
@@ -33,7 +28,7 @@ class SpeedRatios final : public gdsmc::Diagnostic {
   }
   explicit SpeedRatios(const gdsmc::Params& p) : average_after_(p.real("average_after")) {
     const double C[5] = {0, 1, 2, 3, INFINITY};
-    for (int l = 0; l < 4; ++l) reference_[l] = maxwell_cumulative(C[l + 1]) - maxwell_cumulative(C[l]);
+    for (int l = 0; l < 4; ++l) reference_[l] = gdsmc::maxwell_speed_fraction_below(C[l + 1]) - gdsmc::maxwell_speed_fraction_below(C[l]);
   }
 
   void begin(const gdsmc::SystemInfo&, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {

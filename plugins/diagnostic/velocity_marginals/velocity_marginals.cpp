@@ -7,7 +7,6 @@
 
 namespace {
 
-double maxwell_cumulative(double x) { return std::erf(x) - 2.0 * x * std::exp(-x * x) / std::sqrt(M_PI); }
 
 class VelocityMarginals final : public gdsmc::Diagnostic {
  public:
@@ -97,7 +96,7 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
       gys[b] = 0.5 * (gyp[b] + gym[mb]);
       defect = std::max(defect, std::fabs(gxp[b] - gxm[mb]));
       gle[b] = 0.25 * (std::erf(sym_edges[b + 1]) - std::erf(sym_edges[b])) / sym_width;
-      Fle[b] = (maxwell_cumulative(edges[b + 1]) - maxwell_cumulative(edges[b])) / width;
+      Fle[b] = (gdsmc::maxwell_speed_fraction_below(edges[b + 1]) - gdsmc::maxwell_speed_fraction_below(edges[b])) / width;
     }
     const char* doc_c = "reduced velocity C = V/sqrt(2T/m)";
     out.histogram("g_x_plus", sym_edges, gxp, "1", "1", "g_x^(+)(C_x): particles with C_y > 0 (Eq. 3.18)");

@@ -80,8 +80,8 @@ class Drag final : public gdsmc::Forcing {
     }
     const double T = c2 * inv / 3.0;  // m = 1
     if (!(T > 0)) return;
-    const double tau = ctx.system->mean_free_path0 / std::sqrt(2.0 * T);  // tau(T), Eq. 4.22
-    const double zeta0 = 2.0 * (1.0 - alpha_ * alpha_) / (3.0 * std::sqrt(M_PI) * tau);  // Eq. 2.16
+    const double tau = gdsmc::characteristic_time(ctx.system->mean_free_path0, T);  // tau(T), Eq. 4.22
+    const double zeta0 = gdsmc::cooling_rate0_times_tau(alpha_) / tau;                 // Eq. 2.16
     double gamma = 0.5 * zeta0;
     if (refined_) {
       if (!have_ratio_ || ctx.step % ratio_every_ == 0) {
