@@ -16,8 +16,9 @@
 //                               // a general kernel B(g, s) instead of the hard-sphere one
 //   void publish(gdsmc::QuantityBoard&) const;
 //   std::vector<gdsmc::AttributeSpec> attributes() const;  // extra per-particle attributes
-//   void bind(const gdsmc::ParticleSpan&);  // called before each cell (and each collide_pair):
-//                                           // look attributes up here, once, not per pair
+//   void bind(const gdsmc::ParticleSpan&);  // called once before the first step: look attributes
+//                                           // up here, not per pair (storage never moves)
+// collide() is called concurrently for different cells: it must not modify the rule.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -28,10 +29,11 @@
 namespace gdsmc {
 
 // What a rule's collide() may use besides the two velocities: the pair's indices (to read or
-// update extra attributes) and a random stream.
+// update extra attributes), the diameter and the cell's random stream.
 struct PairContext {
   const ParticleSpan& particles;
   std::uint32_t i, j;
+  double sigma;
   Rng& rng;
 };
 
@@ -88,11 +90,15 @@ class CollisionRuleAdapter final : public CollisionRule {
     }
   }
 
-  double collide_pair(const ParticleSpan& p, std::uint32_t i, std::uint32_t j, const Vec3& s,
-                      Rng& rng) override {
+  void bind(const ParticleSpan& p) override {
     if constexpr (detail::HasBind<Rule>) rule_.bind(p);
+    else (void)p;
+  }
+
+  double collide_pair(const ParticleSpan& p, std::uint32_t i, std::uint32_t j, const Vec3& s, double sigma,
+                      Rng& rng) const override {
     Vec3 v1 = p.velocity(i), v2 = p.velocity(j);
-    PairContext pair{p, i, j, rng};
+    PairContext pair{p, i, j, sigma, rng};
     const double de = rule_.collide(v1, v2, s, pair);
     p.set_velocity(i, v1);
     p.set_velocity(j, v2);
@@ -103,7 +109,7 @@ class CollisionRuleAdapter final : public CollisionRule {
   // candidate pairs, each accepted with probability rate / w. For the hard-sphere kernel the
   // sigma_hat-integrated rate pi |g| is used for acceptance (Omega_B = pi) and sigma_hat is then
   // drawn from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly (Omega_B = 4 pi).
-  void collide_cell(CellCollision& c) override {
+  void collide_cell(CellCollision& c) const override {
     if (c.count < 2 || c.majorant <= 0) {
       c.remainder = 0;
       return;
@@ -118,7 +124,6 @@ class CollisionRuleAdapter final : public CollisionRule {
     c.remainder = expected - static_cast<double>(candidates);
 
     const ParticleSpan& p = c.particles;
-    if constexpr (detail::HasBind<Rule>) rule_.bind(p);
     const std::uint32_t* members = c.members;
     const std::uint32_t count = c.count;
     // A local copy of the stream (written back below): its state then stays in registers instead
@@ -153,7 +158,7 @@ class CollisionRuleAdapter final : public CollisionRule {
         continue;
       }
       if constexpr (!general) s = hard_sphere_impact_direction(g, rate, rng);
-      PairContext pair{p, i, j, rng};
+      PairContext pair{p, i, j, c.sigma, rng};
       energy += rule_.collide(v1, v2, s, pair);
       vx[i] = v1.x; vy[i] = v1.y; vz[i] = v1.z;
       vx[j] = v2.x; vy[j] = v2.y; vz[j] = v2.z;

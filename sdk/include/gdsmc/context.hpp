@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gdsmc/random.hpp"
+#include "gdsmc/vec3.hpp"
 
 namespace gdsmc {
 
@@ -23,23 +24,72 @@ struct SystemInfo {
   double time_unit0 = 0;           // tau0 = lambda0 / sqrt(2 T0 / m)         (000 Eq. 4.1)
   double volume = 0;               // Omega = N / n
   Geometry geometry = Geometry::homogeneous;
-  double box[3] = {0, 0, 0};       // box edges (slab: box[1] is the gap along y)
-  std::size_t cells = 1;           // collision cells (layers in y for a slab)
+  // Box edges Lx, Ly, Lz. Slab: x in [0, Lx) and z in [0, Lz) periodic, y in [-Ly/2, Ly/2]
+  // bounded by the y_min and y_max boundaries. Homogeneous: a cube of volume N/n.
+  double box[3] = {0, 0, 0};
+  std::size_t cells = 1;           // collision cells: the M layers of width Ly/M along y (slab)
+  std::size_t bins = 1;            // sampling bins of profiles: equal widths Ly/bins along y
   std::uint64_t seed = 0;
   std::uint32_t realization = 0;
+
+  double layer_width() const { return box[1] / static_cast<double>(cells); }   // delta y
+  double bin_width() const { return box[1] / static_cast<double>(bins); }
+  double bin_centre(std::size_t b) const { return -0.5 * box[1] + (static_cast<double>(b) + 0.5) * bin_width(); }
+  double cross_section() const { return box[0] * box[2]; }                      // A of 000 Eq. 4.2
 };
 
-// Moments of the particles in one cell (or of the whole system, cell 0 of a homogeneous run).
-struct CellMoments {
+// Velocity moments of a set of particles (000 Eqs. 4.15-4.18); V is the peculiar velocity.
+struct VelocityMoments {
   std::size_t count = 0;
-  double number_density = 0;
-  double mean_velocity[3] = {0, 0, 0};
-  double temperature = 0;  // (m / 3N) sum (v - u)^2
+  double mean[3] = {0, 0, 0};      // u
+  double second[3][3] = {};        // <V_a V_b>
+  double temperature = 0;          // T = (m/3) <V^2>                          (000 Eq. 4.15)
+  double fourth = 0;               // <V^4>
+  double sixth = 0;                // <V^6>
+  // a2 = <V^4> / (15 (T/m)^2) - 1                                              (000 Eq. 4.17)
+  double a2() const { return fourth / (15.0 * temperature * temperature) - 1.0; }
+  // a3 = -<V^6> / (105 (T/m)^3) + 1 + 3 a2                                     (000 Eq. 4.18)
+  double a3() const { return -sixth / (105.0 * temperature * temperature * temperature) + 1.0 + 3.0 * a2(); }
+};
+
+// Moments of the particles in one cell (000 Eqs. 4.3-4.6): a layer of a slab, or the single cell
+// of a homogeneous system.
+struct CellMoments {
+  std::size_t count = 0;           // N_I
+  double number_density = 0;       // n_I = N_I / (A delta y)
+  double mean_velocity[3] = {0, 0, 0};  // u_I
+  double temperature = 0;          // T_I = (m / 3 N_I) sum (v - u_I)^2 (0 with fewer than 2 particles)
+};
+
+// The moments every diagnostic shares at a sampled step, computed once by the host. Peculiar
+// velocities are taken relative to the local flow: V_i = v_i - u_I with I the particle's cell
+// (homogeneous: the mean of all particles). So in a slab `local.temperature` is T-bar of
+// 000 Eq. (4.8), number_density * local.second is the mean pressure tensor P-bar of Eq. (4.9), and
+// a2, a3 are the cumulants of the local peculiar velocities.
+struct SampledMoments {
+  VelocityMoments local;           // local.mean: the mean velocity of all particles
+  double number_density = 0;       // n-bar
+  double kinetic_energy = 0;       // E = (m/2) sum_i v_i^2, laboratory velocities (004 Eq. A1)
+};
+
+// What one boundary (y_min or y_max) has exchanged with the gas since the start of the run: the
+// host tallies every interaction from the particle's velocity before and after it.
+struct BoundaryTally {
+  std::uint64_t hits = 0;
+  double momentum[3] = {0, 0, 0};  // sum of m (v_after - v_before): momentum given to the gas
+  double energy = 0;               // sum of (m/2)(v_after^2 - v_before^2): energy given to the gas
+};
+
+// The kinetic energy each stage has added to the gas since the start of the run (m = 1), so that
+// every run can print its energy balance E(t) - E(0) = sum of the stages.
+struct EnergyLedgerEntry {
+  const char* stage = "";          // "collisions", a forcing's instance name, "y_min", ...
+  double energy = 0;
 };
 
 // Named scalars that plugins publish for each other (e.g. the collision rule publishes
 // "restitution"), so that a diagnostic or a forcing can use a model parameter without the user
-// repeating it and without the host knowing what it means.
+// repeating it and without the host knowing what it means. Written only before the run starts.
 class QuantityBoard {
  public:
   void publish(const std::string& name, double value) { values_[name] = value; }
@@ -59,23 +109,42 @@ struct StepContext {
   std::uint64_t step = 0;       // steps completed before this call
   double time = 0;              // reduced units; time / system->time_unit0 is t / tau0
   double dt = 0;                // the step being taken (reduced units)
-  double collisions = 0;        // accepted collisions so far
-  double candidates = 0;        // candidate pairs tested so far
-  double majorant_exceeded = 0; // candidates whose rate exceeded the cell majorant so far
-  double collision_energy_change = 0;  // sum of the kinetic-energy change of every collision so far
-  const CellMoments* cells = nullptr;  // per-cell moments as of the last update
+  std::uint64_t collisions = 0;         // accepted collisions so far
+  std::uint64_t candidates = 0;         // candidate pairs tested so far
+  std::uint64_t majorant_exceeded = 0;  // candidates whose rate exceeded the cell majorant so far
+  double collision_energy_change = 0;   // sum of the kinetic-energy change of every collision so far
+  // Per-cell moments (cell_count entries), updated every `run.moments_every` steps and at every
+  // sampled step (000 Sec. IV.A: "updated every 4 time steps").
+  const CellMoments* cells = nullptr;
   std::size_t cell_count = 0;
-  const CellMoments* global = nullptr;  // moments of all particles as of the last update
-  QuantityBoard* quantities = nullptr;
-  PhiloxKey key{0u, 0u};        // the run's stream key
+  // Moments of all particles as of the same update; in a slab, temperature is T-bar (Eq. 4.8).
+  const CellMoments* global = nullptr;
+  // Fresh moments of the current state: valid in Diagnostic::sample (nullptr elsewhere).
+  const SampledMoments* moments = nullptr;
+  // The sum of the constant accelerations that forcings declare (Forcing::acceleration); the
+  // host integrates it during free flight.
+  Vec3 body_acceleration{0, 0, 0};
+  // Boundary tallies: [0] y_min, [1] y_max (slab only; boundary_count = 0 otherwise).
+  const BoundaryTally* boundaries = nullptr;
+  std::size_t boundary_count = 0;
+  // Energy added by each stage so far.
+  const EnergyLedgerEntry* energy_ledger = nullptr;
+  std::size_t energy_ledger_size = 0;
+  // True when this step lies in the run's steady averaging window (run.average_after): diagnostics
+  // that keep their own steady-state statistics accumulate only then.
+  bool in_average_window = false;
+  // The random streams of the plugin being called, for this step (set by the host per call).
+  const Streams* streams = nullptr;
+  // Published model quantities (read-only during the run).
+  const QuantityBoard* quantities = nullptr;
 
-  // s(t): accepted collisions divided by the number of particles (000, text after Fig. 4).
+  // s(t): accepted collisions divided by the number of particles (000, text after Fig. 4); each
+  // collision involves two particles, so the mean number of collisions a particle took part in
+  // is 2 s.
   double collisions_per_particle() const {
-    return system->particles ? collisions / static_cast<double>(system->particles) : 0.0;
+    return system->particles ? static_cast<double>(collisions) / static_cast<double>(system->particles) : 0.0;
   }
   double time_in_tau0() const { return time / system->time_unit0; }
-  // The stream for (purpose, unit) at this step.
-  Rng rng(StreamPurpose purpose, std::uint32_t unit) const { return Rng(key, purpose, unit, step); }
 };
 
 }  // namespace gdsmc

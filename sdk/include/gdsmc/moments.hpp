@@ -12,19 +12,6 @@
 
 namespace gdsmc {
 
-struct VelocityMoments {
-  std::size_t count = 0;
-  double mean[3] = {0, 0, 0};      // u
-  double second[3][3] = {};        // <V_a V_b>, V = v - u
-  double temperature = 0;          // T = (m/3) <V^2>                          (000 Eq. 4.15)
-  double fourth = 0;               // <V^4>
-  double sixth = 0;                // <V^6>
-  // a2 = <V^4> / (15 (T/m)^2) - 1                                              (000 Eq. 4.17)
-  double a2() const { return fourth / (15.0 * temperature * temperature) - 1.0; }
-  // a3 = -<V^6> / (105 (T/m)^3) + 1 + 3 a2                                     (000 Eq. 4.18)
-  double a3() const { return -sixth / (105.0 * temperature * temperature * temperature) + 1.0 + 3.0 * a2(); }
-};
-
 // Moments of the particles listed in `members` (nullptr: all of particles). Two passes in a fixed
 // order, so the result is bit-reproducible.
 inline VelocityMoments velocity_moments(const ParticleSpan& p, const std::uint32_t* members = nullptr,
@@ -81,11 +68,13 @@ inline double relative_speed_cube_ratio(const ParticleSpan& p, double temperatur
   return sum / static_cast<double>(pairs) / (32.0 / std::sqrt(M_PI) * temperature * std::sqrt(temperature));
 }
 
-// Positions uniform in the box (y centred on 0, as the slab convention of 000 Sec. IV.A) and
-// velocities from a Maxwellian at `temperature` with zero mean (000 Eq. 2.14).
-inline void sample_maxwellian(const SystemInfo& sys, const ParticleSpan& p, double temperature, Rng& rng) {
+// Positions uniform in the box (slab convention: x in [0, Lx), y in [-Ly/2, Ly/2), z in [0, Lz))
+// and velocities from a Maxwellian at `temperature` with zero mean (000 Eq. 2.14), each particle
+// from its own stream, so the state does not depend on storage order.
+inline void sample_maxwellian(const SystemInfo& sys, const ParticleSpan& p, double temperature, const Streams& streams) {
   const double sd = std::sqrt(temperature / sys.mass);
   for (std::size_t i = 0; i < p.count; ++i) {
+    Rng rng = streams.for_particle(p.id[i]);
     p.x[i] = sys.box[0] * rng.uniform();
     p.y[i] = sys.box[1] * rng.uniform() - 0.5 * sys.box[1];
     p.z[i] = sys.box[2] * rng.uniform();

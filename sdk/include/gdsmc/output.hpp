@@ -19,7 +19,14 @@ class GDSMC_API OutputSink {
   virtual std::size_t series(const std::string& name, const std::string& unit, const std::string& doc) = 0;
   virtual void append(std::size_t series_id, double value) = 0;
 
-  // A whole array (a profile, a matrix) with its shape, row-major.
+  // Declare a profile series (call from Diagnostic::begin): at each record the diagnostic appends
+  // one value per sampling bin along y (SystemInfo::bins); the host writes a (record x bin)
+  // dataset with the bin centres and, like series, realization averages and steady means.
+  virtual std::size_t profile(const std::string& name, const std::string& unit, const std::string& doc) = 0;
+  // Append one record of a profile: SystemInfo::bins values.
+  virtual void append_profile(std::size_t profile_id, const double* values) = 0;
+
+  // A whole array (a matrix, a final profile) with its shape, row-major.
   virtual void array(const std::string& name, const std::vector<double>& data,
                      const std::vector<std::size_t>& shape, const std::string& unit, const std::string& doc) = 0;
   // A histogram: bin edges (size = values.size() + 1) and values.

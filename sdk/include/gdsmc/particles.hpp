@@ -2,6 +2,7 @@
 // pointers to contiguous arrays and work on whole spans at once.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -22,7 +23,15 @@ struct AttributeSpec {
 
 struct ParticleSpan {
   std::size_t count = 0;
-  // Positions (reduced length units). Unused (but allocated) in homogeneous systems.
+  // Each particle's identity: fixed for the whole run whatever the storage order (key of its
+  // random streams, Streams::for_particle).
+  const std::uint64_t* id = nullptr;
+  // The collision cell (slab: the layer along y, 000 Eq. 4.3) each particle sat in at the last
+  // sort; all 0 in a homogeneous system.
+  const std::uint32_t* cell = nullptr;
+  // Positions (reduced length units). Slab: x in [0, Lx), y in [-Ly/2, Ly/2], z in [0, Lz).
+  // Homogeneous systems do not move particles; positions are then only what the initial state
+  // wrote.
   double* x = nullptr;
   double* y = nullptr;
   double* z = nullptr;

@@ -1,6 +1,7 @@
 // gdsmc SDK: the five plugin kinds, the descriptor every plugin binary exports, and the
 // registration macro.
 #pragma once
+#include <concepts>
 #include <cstdint>
 #include <string>
 #include <type_traits>
@@ -37,13 +38,17 @@ inline const char* to_string(PluginKind k) {
   return "unknown";
 }
 
+// Thread context of every call (CLAP style): [setup] single-threaded, before the first step;
+// [step] single-threaded, once per step; [worker] may run concurrently on worker threads with
+// other calls of the same object: must not modify the object.
+
 // Common base of everything a plugin makes.
 class GDSMC_API PluginObject {
  public:
   virtual ~PluginObject() = default;
-  // Extra per-particle attributes this object needs the host to store.
+  // [setup] Extra per-particle attributes this object needs the host to store.
   virtual std::vector<AttributeSpec> attributes() const { return {}; }
-  // Publish named model quantities (e.g. "restitution") before the run starts.
+  // [setup] Publish named model quantities (e.g. "restitution") before the run starts.
   virtual void publish(QuantityBoard&) const {}
 };
 
@@ -52,12 +57,13 @@ struct CellCollision {
   ParticleSpan particles;
   const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: all of them
   std::uint32_t count = 0;                 // N_c
-  double volume = 0;                       // cell volume
+  std::uint32_t index = 0;                 // the cell (layer) index
+  double volume = 0;                       // cell volume (slab: A delta y)
   double sigma = 1;                        // diameter
   double dt = 0;
   double majorant = 0;                     // w: upper estimate of the acceptance rate in this cell
   double remainder = 0;                    // fractional candidate carried between steps (in/out)
-  Rng* rng = nullptr;
+  Rng* rng = nullptr;                      // this cell's stream at this step
   // Results, written by the rule:
   std::uint64_t candidates = 0;
   std::uint64_t accepted = 0;
@@ -69,15 +75,19 @@ struct CellCollision {
 
 class GDSMC_API CollisionRule : public PluginObject {
  public:
-  // The whole collision stage of one cell: called once per cell per step.
-  virtual void collide_cell(CellCollision& cell) = 0;
+  // [setup] Look up per-particle attributes once. The host never moves particle storage during a
+  // run, so pointers taken here stay valid.
+  virtual void bind(const ParticleSpan& particles) = 0;
+  // [worker] The whole collision stage of one cell: called once per cell per step; cells are
+  // independent and may be processed in any order or concurrently.
+  virtual void collide_cell(CellCollision& cell) const = 0;
   // The collision kernel for one pair, B(g, sigma_hat) >= 0 (the rate per unit solid angle,
   // in units of sigma^2 * speed). For conformance checks and diagnostics, not for the hot loop.
   virtual double pair_rate(const Vec3& g, const Vec3& sigma_hat) const = 0;
   // One collision of particles i and j with impact direction sigma_hat; returns the kinetic
-  // energy change the rule declares. For conformance checks, not for the hot loop.
+  // energy change the rule declares. For conformance checks, not for the hot loop (bind first).
   virtual double collide_pair(const ParticleSpan& particles, std::uint32_t i, std::uint32_t j,
-                              const Vec3& sigma_hat, Rng& rng) = 0;
+                              const Vec3& sigma_hat, double sigma, Rng& rng) const = 0;
 };
 
 // What a forcing promises to conserve (checked by the conformance suite).
@@ -93,35 +103,72 @@ class GDSMC_API Forcing : public PluginObject {
     after_collisions = 1,  // e.g. thermostats, stochastic replacement
   };
   virtual Stage stage() const { return Stage::before_streaming; }
-  // Update velocities of all particles over ctx.dt. rng is this forcing's stream for this step.
-  virtual void apply(const StepContext& ctx, const ParticleSpan& particles, Rng& rng) = 0;
+  // [setup] A forcing that is a constant acceleration g (a body force per unit mass) returns true
+  // and sets g: the host then integrates it exactly during free flight, x += v t + g t^2/2,
+  // v += g t, across wall hits too (004 Eqs. 10-12), and never calls apply().
+  virtual bool acceleration(Vec3& g) const { (void)g; return false; }
+  // [step] Update velocities of all particles over ctx.dt; ctx.streams are this forcing's
+  // streams. Returns the kinetic energy it added to the gas, sum of (m/2)(v'^2 - v^2) (m = 1):
+  // the host's energy ledger records it, and conformance checks it against the particles.
+  virtual double apply(const StepContext& ctx, const ParticleSpan& particles) = 0;
   virtual Conservation conserves() const { return {}; }
   // Order in dt of the integration error of one step (0: exact; used by conformance).
   virtual int order() const { return 1; }
 };
 
+// A particle meeting a boundary plane during free flight, as the host's mover hands it over.
+struct WallHit {
+  std::uint64_t id = 0;      // the particle's identity
+  int side = 0;              // -1: the plane y = -Ly/2 (y_min); +1: y = +Ly/2 (y_max)
+  Vec3 position{0, 0, 0};    // on the plane (in); for a transfer, the re-entry point (out)
+  Vec3 velocity{0, 0, 0};    // at the hit, the acceleration applied up to it (in); after (out)
+  double time = 0;           // of the hit (reduced units, from the start of the run)
+  double remaining = 0;      // flight time left in this step: the host streams it afterwards
+};
+
+enum class HitResult : std::uint32_t {
+  reflected = 0,    // re-emitted into the gas from the same plane: velocity points inward
+  transferred = 1,  // re-entered through the opposite plane (periodic, Lees-Edwards):
+                    // position.y on that plane, velocity pointing inward from it
+};
+
 class GDSMC_API Boundary : public PluginObject {
  public:
-  // Called after free streaming: bring every particle back inside the domain.
-  virtual void apply(const StepContext& ctx, const ParticleSpan& particles, Rng& rng) = 0;
+  // [setup] Check the run: throw ParameterError (with this plugin's parameter) if the boundary
+  // cannot serve it, e.g. Lees-Edwards with a body acceleration.
+  virtual void begin(const SystemInfo& system, const QuantityBoard& quantities, const Vec3& body_acceleration) {
+    (void)system; (void)quantities; (void)body_acceleration;
+  }
+  // True for boundaries that transfer particles to the opposite plane (periodic, Lees-Edwards):
+  // both y planes must then be this plugin with the same parameters.
+  virtual bool transfers() const { return false; }
+  // [worker] One interaction, at the exact crossing time; rng is the particle's boundary stream
+  // for this step (continued over all its hits in the step). One call per hit, not per particle
+  // per step: hits are events, and their physics (a Rayleigh draw, two Gaussians) costs more
+  // than the call.
+  virtual HitResult interact(const StepContext& ctx, WallHit& hit, Rng& rng) const = 0;
 };
 
 class GDSMC_API InitialState : public PluginObject {
  public:
-  // Fill positions, velocities and declared attributes of all particles.
-  virtual void generate(const SystemInfo& system, const ParticleSpan& particles, Rng& rng) = 0;
+  // [setup] Fill positions, velocities and declared attributes of all particles; streams give
+  // each particle its own stream (Streams::for_particle(particles.id[i])); quantities are what
+  // the other plugins published (e.g. a Lees-Edwards boundary's "shear_rate").
+  virtual void generate(const SystemInfo& system, const QuantityBoard& quantities, const ParticleSpan& particles,
+                        const Streams& streams) = 0;
 };
 
 class GDSMC_API Diagnostic : public PluginObject {
  public:
-  // Declare series, write constant metadata. Called once before the first step.
+  // [setup] Declare series and profiles, write constant metadata.
   virtual void begin(const SystemInfo& system, const QuantityBoard& quantities, OutputSink& out) = 0;
-  // Accumulate from the current state (every `sample_every` steps).
+  // [step] Accumulate from the current state (every `sample_every` steps). ctx.moments holds the
+  // moments of this state, computed once for every diagnostic.
   virtual void sample(const StepContext& ctx, const ParticleSpan& particles) = 0;
-  // Append one value to each declared series (every `record_every` steps), usually the mean of
-  // the samples since the last record.
+  // [step] Append one value to each declared series (every `record_every` steps), usually the
+  // mean of the samples since the last record.
   virtual void record(const StepContext& ctx, OutputSink& out) = 0;
-  // After the last step: final arrays, scalars and summary lines.
+  // [step] After the last step: final arrays, scalars and summary lines.
   virtual void finish(const StepContext& ctx, OutputSink& out) { (void)ctx; (void)out; }
 };
 
@@ -136,7 +183,21 @@ struct PluginDescriptor {
   PluginObject* (*create)(const Params&) = nullptr;  // may throw ParameterError
 };
 
-// A fingerprint of what silently breaks layouts between a host and a plugin built apart.
+// The interfaces a plugin is compiled against, as text: any change to a virtual signature above
+// must be written here too, so that the fingerprint changes with it.
+inline constexpr const char abi_interfaces[] =
+    "PluginObject{attributes,publish};"
+    "CollisionRule{bind(ParticleSpan),collide_cell(CellCollision&)const,pair_rate(Vec3,Vec3),"
+    "collide_pair(ParticleSpan,u32,u32,Vec3,double,Rng&)const};"
+    "Forcing{stage,acceleration(Vec3&),apply(StepContext,ParticleSpan)->double,conserves,order};"
+    "Boundary{begin(SystemInfo,QuantityBoard,Vec3),transfers,interact(StepContext,WallHit&,Rng&)const};"
+    "InitialState{generate(SystemInfo,QuantityBoard,ParticleSpan,Streams)};"
+    "Diagnostic{begin(SystemInfo,QuantityBoard,OutputSink&),sample,record,finish};"
+    "OutputSink{series,append,profile,append_profile,array,histogram,scalar,attribute,summary}";
+
+// A fingerprint of what silently breaks layouts between a host and a plugin built apart: struct
+// sizes, the standard library's ABI, and the interface text above. It does not name the
+// compiler: g++ and clang++ on the same libstdc++ produce the same layouts.
 constexpr std::uint64_t abi_fingerprint() {
   std::uint64_t h = 1469598103934665603ull;
   auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
@@ -144,6 +205,13 @@ constexpr std::uint64_t abi_fingerprint() {
   mix(sizeof(StepContext));
   mix(sizeof(SystemInfo));
   mix(sizeof(CellCollision));
+  mix(sizeof(CellMoments));
+  mix(sizeof(SampledMoments));
+  mix(sizeof(BoundaryTally));
+  mix(sizeof(WallHit));
+  mix(sizeof(Rng));
+  mix(sizeof(Streams));
+  mix(sizeof(AttributeSpec));
   mix(sizeof(ParamSpec));
   mix(sizeof(Params));
   mix(sizeof(PluginDescriptor));
@@ -152,9 +220,7 @@ constexpr std::uint64_t abi_fingerprint() {
 #if defined(_GLIBCXX_USE_CXX11_ABI)
   mix(_GLIBCXX_USE_CXX11_ABI);
 #endif
-#if defined(__GNUC__)
-  mix(__GNUC__);
-#endif
+  for (char c : abi_interfaces) mix(static_cast<unsigned char>(c));
   return h;
 }
 
@@ -173,8 +239,13 @@ inline constexpr const char* plugin_entry_symbol = "gdsmc_plugin_entry";
 
 template <class Rule>
 class CollisionRuleAdapter;  // collision.hpp
+struct PairContext;          // collision.hpp
 
 namespace detail {
+template <class R>
+concept IsCollisionRuleStruct = requires(const R& r, Vec3& v, const Vec3& s, PairContext& pair) {
+  { r.collide(v, v, s, pair) } -> std::convertible_to<double>;
+};
 template <class T>
 PluginObject* create_object(const Params& p) {
   if constexpr (std::is_base_of_v<PluginObject, T>) {
@@ -182,6 +253,12 @@ PluginObject* create_object(const Params& p) {
   } else {
     return new CollisionRuleAdapter<T>(T(p));
   }
+}
+template <class T>
+constexpr int kind_bases() {
+  return int(std::is_base_of_v<CollisionRule, T>) + int(std::is_base_of_v<Forcing, T>) +
+         int(std::is_base_of_v<Boundary, T>) + int(std::is_base_of_v<InitialState, T>) +
+         int(std::is_base_of_v<Diagnostic, T>);
 }
 template <class T>
 constexpr PluginKind kind_of() {
@@ -198,6 +275,13 @@ constexpr PluginKind kind_of() {
 // rule struct (see collision.hpp).
 template <class T>
 PluginDescriptor describe() {
+  static_assert(!std::is_base_of_v<PluginObject, T> || detail::kind_bases<T>() == 1,
+                "GDSMC_PLUGIN(T): a class deriving from PluginObject must derive from exactly one of "
+                "Forcing, Boundary, InitialState, Diagnostic (a collision rule is a plain struct, "
+                "see gdsmc/collision.hpp)");
+  static_assert(std::is_base_of_v<PluginObject, T> || detail::IsCollisionRuleStruct<T>,
+                "GDSMC_PLUGIN(T): T is neither a plugin class nor a collision rule struct with "
+                "double collide(Vec3&, Vec3&, const Vec3&, PairContext&) const");
   PluginDescriptor d;
   d.kind = detail::kind_of<T>();
   d.name = T::name;

@@ -1,8 +1,8 @@
 // gdsmc SDK: counter-based random numbers (Philox4x32-10, Salmon et al., SC'11).
 //
 // Every piece of work draws from its own stream, identified by
-//   key     = (run seed, realization)
-//   counter = (purpose, unit, step, position in the stream)
+//   key     = (run seed, realization, step)
+//   counter = (purpose, plugin instance, 64-bit unit, position in the stream)
 // so that results depend only on *what* is computed, never on which thread or process computes it.
 #pragma once
 #include <array>
@@ -41,25 +41,42 @@ inline PhiloxKey stream_key(std::uint64_t seed, std::uint32_t realization) {
   return {c[0], c[1]};
 }
 
-// What a stream is for; the engine and plugins use distinct purposes so streams never overlap.
+// What a stream is for. Together with the plugin instance and a 64-bit unit (a particle's
+// identity, a cell's index) it names a stream; distinct names never share a block.
 enum class StreamPurpose : std::uint32_t {
   initial_state = 1,
   collisions = 2,
-  forcing = 3,  // unit = forcing index in the pipeline * 2^16 + block
+  forcing = 3,
   boundary = 4,
   diagnostic = 5,
-  conformance = 6,
-  user = 100,
+  host = 6,  // the host's own draws (conformance checks, benchmarks, tests)
 };
 
-// A stream of random numbers. Cheap to construct; copyable; never shared between threads.
+// The key of one step of a run: a second Philox block mixes the step into the run's key, so the
+// 128-bit counter is free for (purpose, instance, unit, position).
+inline PhiloxKey step_stream_key(PhiloxKey run_key, std::uint64_t step) {
+  const PhiloxCounter c = philox4x32_10(
+      {static_cast<std::uint32_t>(step), static_cast<std::uint32_t>(step >> 32), 0x73746570u /* "step" */,
+       0x6b657973u /* "keys" */},
+      run_key);
+  return {c[0], c[1]};
+}
+
+namespace host {
+class StreamFactory;  // the host's only way to make streams (framework/engine/streams.hpp)
+}
+
+class Streams;
+
+// A stream of random numbers. Copyable; never shared between threads. Plugins receive streams
+// from the host (Streams below, or as an argument); they cannot name another plugin's streams.
+//
+// Counter layout (SDK 2.0): c[0] = position in the stream (blocks of 4 x 32 bits), c[1], c[2] =
+// the 64-bit unit, c[3] = purpose (8 bits) << 24 | plugin instance (24 bits); the step is in the
+// key (step_stream_key).
 class Rng {
  public:
   Rng() = default;
-  Rng(PhiloxKey key, StreamPurpose purpose, std::uint32_t unit, std::uint64_t step)
-      : key_(key),
-        ctr_{0u, unit, static_cast<std::uint32_t>(step),
-             (static_cast<std::uint32_t>(purpose) << 24) ^ static_cast<std::uint32_t>(step >> 32)} {}
 
   std::uint32_t next_u32() {
     if (used_ == 4) refill();
@@ -116,6 +133,12 @@ class Rng {
   }
 
  private:
+  friend class Streams;
+  friend class host::StreamFactory;
+  Rng(PhiloxKey step_key, StreamPurpose purpose, std::uint32_t instance, std::uint64_t unit)
+      : key_(step_key),
+        ctr_{0u, static_cast<std::uint32_t>(unit), static_cast<std::uint32_t>(unit >> 32),
+             (static_cast<std::uint32_t>(purpose) << 24) | (instance & 0xFFFFFFu)} {}
   void refill() {
     block_ = philox4x32_10(ctr_, key_);
     ++ctr_[0];
@@ -127,6 +150,26 @@ class Rng {
   unsigned used_ = 4;
   bool has_spare_ = false;
   double spare_ = 0.0;
+};
+
+// The streams of one plugin instance at one step, handed to it by the host: one per particle
+// (keyed by its identity, so that no result depends on storage order, threads or ranks) and one
+// per unit the plugin chooses (a cell, a sub-task). Cheap to copy.
+class Streams {
+ public:
+  Streams() = default;
+  // The stream of particle `id` (ParticleSpan::id) for this plugin at this step.
+  Rng for_particle(std::uint64_t id) const { return Rng(key_, purpose_, instance_, id); }
+  // A stream for any other unit of work (a cell index, a sample number) at this step.
+  Rng for_unit(std::uint64_t unit) const { return Rng(key_, purpose_, instance_ | 0x800000u, unit); }
+
+ private:
+  friend class host::StreamFactory;
+  Streams(PhiloxKey step_key, StreamPurpose purpose, std::uint32_t instance)
+      : key_(step_key), purpose_(purpose), instance_(instance & 0x7FFFFFu) {}
+  PhiloxKey key_{0u, 0u};
+  StreamPurpose purpose_ = StreamPurpose::host;
+  std::uint32_t instance_ = 0;
 };
 
 }  // namespace gdsmc
