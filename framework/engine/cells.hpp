@@ -1,0 +1,61 @@
+// Collision cells: the M layers of a slab along y (000 Eqs. 4.3-4.7), or the single cell of a
+// homogeneous system. Particles stay where they are in storage; a stable counting sort lists each
+// layer's members in increasing particle index (= identity order), so per-cell work does not
+// depend on the order in which cells are processed.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <gdsmc/context.hpp>
+#include <gdsmc/particles.hpp>
+
+namespace gdsmc::host {
+
+class CellGrid {
+ public:
+  // A homogeneous system: one cell holding everyone (members() is then nullptr).
+  void homogeneous(std::size_t particles, double volume);
+  // A slab of `layers` layers of width height/layers along y in [-height/2, height/2].
+  void slab(std::size_t particles, std::size_t layers, double height, double cross_section);
+
+  std::size_t count() const { return layers_; }
+  bool is_slab() const { return slab_; }
+  double cell_volume() const { return cell_volume_; }
+  // The layer of a position y (clamped: y = +height/2 belongs to the top layer).
+  std::uint32_t layer_of(double y) const {
+    const double f = (y - y_min_) * inv_width_;
+    if (!(f > 0)) return 0;
+    const auto k = static_cast<std::size_t>(f);
+    return static_cast<std::uint32_t>(k < layers_ ? k : layers_ - 1);
+  }
+
+  // Counting sort of the particles by the layer index already stored in cell[] (the mover writes
+  // it); fills the member lists. No allocation.
+  void sort(const std::uint32_t* cell, std::size_t n);
+  // Recompute cell[] from y, then sort (after the initial state, or in tests).
+  void assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n);
+
+  const std::uint32_t* members(std::size_t c) const { return slab_ ? members_.data() + offsets_[c] : nullptr; }
+  std::uint32_t members_count(std::size_t c) const { return slab_ ? offsets_[c + 1] - offsets_[c] : total_; }
+
+  // Moments of every cell (000 Eqs. 4.4-4.6) and of the whole system; in a slab the global
+  // temperature is T-bar = sum_I N_I T_I / N (Eq. 4.8) and the global mean the mean of all.
+  void cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
+                    CellMoments& global) const;
+  // The shared moments of a sampled step: peculiar velocities relative to each particle's cell
+  // mean (computed fresh here), cumulants, pressure tensor, kinetic energy.
+  void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out) const;
+
+ private:
+  bool slab_ = false;
+  std::size_t layers_ = 1;
+  std::uint32_t total_ = 0;
+  double y_min_ = 0, inv_width_ = 0, cell_volume_ = 0;
+  std::vector<std::uint32_t> offsets_;        // layers + 1
+  std::vector<std::uint32_t> fill_;           // layers (scratch)
+  std::vector<std::uint32_t> members_;        // particles
+  mutable std::vector<double> scratch_mean_;  // 3 * layers (sampled_moments)
+};
+
+}  // namespace gdsmc::host

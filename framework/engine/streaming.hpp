@@ -1,0 +1,59 @@
+// Free flight of a slab's particles over one step, exact for a constant body acceleration
+// (x += v t + g t^2/2, v += g t), with every crossing of y = +-Ly/2 handed to that side's boundary
+// plugin at the exact crossing time and the rest of the step streamed afterwards (004 Eqs. 6-12;
+// several hits per step when the gap is small). x and z are periodic. The mover also writes each
+// particle's layer for the counting sort and tallies what every boundary exchanges with the gas.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include <gdsmc/plugin.hpp>
+
+#include "engine/cells.hpp"
+#include "engine/streams.hpp"
+
+namespace gdsmc::host {
+
+// What one step of streaming added to the gas: per boundary (0: y_min, 1: y_max) and by the body
+// acceleration during flight.
+struct StreamingTally {
+  std::array<BoundaryTally, 2> sides{};
+  double acceleration_energy = 0;  // sum of (m/2)(v'^2 - v^2) from g during flight, m = 1
+};
+
+class Mover {
+ public:
+  struct Side {
+    const Boundary* boundary = nullptr;
+    std::string name;  // for messages: "boundaries.y_min (plugin 'diffuse_wall', file:line)"
+  };
+  // box: Lx, Ly, Lz; g: the summed body acceleration; sides[0] y_min, sides[1] y_max.
+  Mover(const double box[3], const Vec3& g, std::array<Side, 2> sides);
+
+  // Streams every particle over dt from time t0, writes cell[] from the final y, and adds to
+  // `tally`. ctx is what boundaries see (time, dt, system). Throws std::runtime_error naming the
+  // boundary when a plugin returns an impossible state or a particle cannot leave the walls.
+  void stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, double t0, double dt,
+              const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally) const;
+
+  static constexpr int max_hits_per_step = 100000;
+
+ private:
+  template <bool Accelerated>
+  void stream_block(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, std::size_t begin,
+                    std::size_t end, double t0, double dt, const StepContext& ctx, const StreamFactory& streams,
+                    StreamingTally& tally) const;
+  // The flight of one particle that leaves [-Ly/2, Ly/2] during the step, hit by hit.
+  void fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, double dt, const StepContext& ctx,
+                     const StreamFactory& streams, StreamingTally& tally) const;
+  double lx_, ly_, lz_, half_;
+  Vec3 g_;
+  std::array<Side, 2> sides_;
+};
+
+// The first time t in (0, t_max] at which y0 + v t + g t^2/2 reaches `plane`, or a negative value
+// if it does not within t_max. A start exactly on the plane does not count as a crossing at t = 0.
+double first_crossing(double y0, double v, double g, double plane, double t_max);
+
+}  // namespace gdsmc::host
