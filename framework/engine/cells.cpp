@@ -21,8 +21,7 @@ void CellGrid::slab(std::size_t particles, std::size_t layers, double height, do
   slab_ = true;
   layers_ = layers;
   total_ = static_cast<std::uint32_t>(particles);
-  y_min_ = -0.5 * height;
-  inv_width_ = static_cast<double>(layers) / height;
+  height_ = height;
   cell_volume_ = cross_section * height / static_cast<double>(layers);
   offsets_.assign(layers + 1, 0);
   fill_.assign(layers, 0);
@@ -109,14 +108,16 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
       s[2] += p.vz[i];
       v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
     }
+    const double inv_n = n ? 1.0 / n : 0.0;
     for (int a = 0; a < 3; ++a) {
       g[a] += s[a];
-      u[3 * c + a] = n ? s[a] / n : 0.0;
+      u[3 * c + a] = s[a] * inv_n;
     }
   }
   const double inv = 1.0 / static_cast<double>(p.count);
   for (int a = 0; a < 3; ++a) m.mean[a] = g[a] * inv;
   out.kinetic_energy = 0.5 * v2;  // 004 Eq. A1 (m = 1)
+  out.cell_mean_velocity = u;
   // Pass 2: moments of the local peculiar velocities V = v - u_I.
   double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0, v4 = 0, v6 = 0;
   for (std::size_t c = 0; c < layers_; ++c) {

@@ -22,9 +22,10 @@ class CellGrid {
   std::size_t count() const { return layers_; }
   bool is_slab() const { return slab_; }
   double cell_volume() const { return cell_volume_; }
-  // The layer of a position y (clamped: y = +height/2 belongs to the top layer).
+  // The layer of a position y (clamped: y = +height/2 belongs to the top layer); the same
+  // arithmetic as SystemInfo::layer_of, so plugins and the host agree to the last bit.
   std::uint32_t layer_of(double y) const {
-    const double f = (y - y_min_) * inv_width_;
+    const double f = (y + 0.5 * height_) / height_ * static_cast<double>(layers_);
     if (!(f > 0)) return 0;
     const auto k = static_cast<std::size_t>(f);
     return static_cast<std::uint32_t>(k < layers_ ? k : layers_ - 1);
@@ -51,7 +52,7 @@ class CellGrid {
   bool slab_ = false;
   std::size_t layers_ = 1;
   std::uint32_t total_ = 0;
-  double y_min_ = 0, inv_width_ = 0, cell_volume_ = 0;
+  double height_ = 1, cell_volume_ = 0;
   std::vector<std::uint32_t> offsets_;        // layers + 1
   std::vector<std::uint32_t> fill_;           // layers (scratch)
   std::vector<std::uint32_t> members_;        // particles

@@ -36,6 +36,15 @@ struct SystemInfo {
   double bin_width() const { return box[1] / static_cast<double>(bins); }
   double bin_centre(std::size_t b) const { return -0.5 * box[1] + (static_cast<double>(b) + 0.5) * bin_width(); }
   double cross_section() const { return box[0] * box[2]; }                      // A of 000 Eq. 4.2
+  // The layer / sampling bin holding a position y (clamped into range, y = +Ly/2 in the last one).
+  std::size_t layer_of(double y) const { return index_along_y(y, cells); }
+  std::size_t bin_of(double y) const { return index_along_y(y, bins); }
+  std::size_t index_along_y(double y, std::size_t divisions) const {
+    const double f = (y + 0.5 * box[1]) / box[1] * static_cast<double>(divisions);
+    if (!(f > 0)) return 0;
+    const auto k = static_cast<std::size_t>(f);
+    return k < divisions ? k : divisions - 1;
+  }
 };
 
 // Velocity moments of a set of particles (000 Eqs. 4.15-4.18); V is the peculiar velocity.
@@ -68,6 +77,9 @@ struct CellMoments {
 // a2, a3 are the cumulants of the local peculiar velocities.
 struct SampledMoments {
   VelocityMoments local;           // local.mean: the mean velocity of all particles
+  // The fresh mean velocity of every cell that `local` subtracts: u_I at index 3 I + a (cell_count
+  // cells); per-particle diagnostics use it to form exactly the same peculiar velocities.
+  const double* cell_mean_velocity = nullptr;
   double number_density = 0;       // n-bar
   double kinetic_energy = 0;       // E = (m/2) sum_i v_i^2, laboratory velocities (004 Eq. A1)
 };
@@ -113,8 +125,9 @@ struct StepContext {
   std::uint64_t candidates = 0;         // candidate pairs tested so far
   std::uint64_t majorant_exceeded = 0;  // candidates whose rate exceeded the cell majorant so far
   double collision_energy_change = 0;   // sum of the kinetic-energy change of every collision so far
-  // Per-cell moments (cell_count entries), updated every `run.moments_every` steps and at every
-  // sampled step (000 Sec. IV.A: "updated every 4 time steps").
+  // Per-cell moments (cell_count entries), updated every `run.moments_every` steps (000 Sec.
+  // IV.A: "updated every 4 time steps"); sampling never changes them, so diagnostics cannot
+  // change the dynamics.
   const CellMoments* cells = nullptr;
   std::size_t cell_count = 0;
   // Moments of all particles as of the same update; in a slab, temperature is T-bar (Eq. 4.8).

@@ -12,3 +12,4 @@
 #include "gdsmc/series.hpp"
 #include "gdsmc/vec3.hpp"
 #include "gdsmc/version.hpp"
+#include "gdsmc/walls.hpp"
