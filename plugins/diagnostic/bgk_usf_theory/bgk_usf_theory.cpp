@@ -41,7 +41,7 @@ struct BgkSteady {
 class BgkUsfTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "bgk_usf_theory";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "BGK-like kinetic model of USF (refs. [4, 7] of paper 000): steady a*, stresses, a2, a3 and the transient";
   static constexpr const char* documentation =
@@ -56,7 +56,9 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
       "  eta* = 1/(beta (1+x)^2),  Psi_1 = -2/(beta^2 (1+x)^3),  T_s/T0 = (a tau0 c 5 sqrt(pi)/8 / a*)^2,\n"
       "and the higher moments follow from a triangular recursion, giving a2 and a3 (derivation:\n"
       "docs/bgk-usf.md). Written as scalars bgk_* and summary lines beside the measured time averages\n"
-      "over samples with s >= average_after (measured_*_mean, measured_*_standard_error).\n"
+      "over the samples in the run's steady averaging window (run.average_after; ctx.in_average_window,\n"
+      "no parameter of its own) (measured_*_mean, measured_*_standard_error); the measured moments are\n"
+      "the host's of each sample (ctx.moments).\n"
       "With transient: true the model's moment equations\n"
       "  dP_ij/dt = -a (delta_ix P_yj + delta_jx P_yi) - beta nu(T) (P_ij - nT delta_ij) - zeta0(T) P_ij\n"
       "are integrated (RK4, sub-steps <= 0.01/(beta nu + zeta0 + |a|)) from the pressure tensor measured\n"
@@ -64,20 +66,16 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
       "[T0], minus_Pxy_over_nT_bgk, N1_over_nT_bgk, a_star_bgk, eta_star_bgk, s0_bgk (= (1/sqrt(pi))\n"
       "int dt/tau(T_bgk), the BGK clock the paper plots against s and s'/beta), beside the measured\n"
       "temperature, minus_Pxy_over_nT, N1_over_nT. Needs 'restitution' (collision rule) and reads\n"
-      "'shear_rate' (0 if no uniform_shear forcing).";
+      "'shear_rate' (uniform_shear or lees_edwards; 0 if none).";
   static std::vector<gdsmc::ParamSpec> parameters() {
-    return {gdsmc::ParamSpec::real("average_after", "collisions per particle s after which measured steady averages are taken")
-                .at_least(0.0)
-                .default_value(20.0),
-            gdsmc::ParamSpec::real("viscosity_factor", "c in tau_eta = c (5 sqrt(pi)/8) tau (Eq. 2.18: 1.016)").range(0.5, 2.0).default_value(1.016),
+    return {gdsmc::ParamSpec::real("viscosity_factor", "c in tau_eta = c (5 sqrt(pi)/8) tau (Eq. 2.18: 1.016)").range(0.5, 2.0).default_value(1.016),
             gdsmc::ParamSpec::choice("beta_model", {"from_collision", "linear", "quadratic"},
                                      "beta in the model: the rule's 'rate_factor' (else linear), (1+alpha)/2, or (1+alpha)(2+alpha)/6")
                 .default_value("from_collision"),
             gdsmc::ParamSpec::boolean("transient", "integrate the model's moment equations beside the run").default_value(true)};
   }
   explicit BgkUsfTheory(const gdsmc::Params& p)
-      : average_after_(p.real("average_after")),
-        c_eta_(p.real("viscosity_factor")),
+      : c_eta_(p.real("viscosity_factor")),
         beta_model_(p.string("beta_model")),
         transient_(p.boolean("transient")) {}
 
@@ -152,8 +150,8 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
     }
   }
 
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    const auto m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
     const double T = m.temperature;
     const double pxy = -m.second[0][1] / T, n1 = (m.second[0][0] - m.second[1][1]) / T;
     if (transient_) {
@@ -170,7 +168,7 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
       for (int k = 0; k < kSeries; ++k) sums_[k] += s[k];
       ++samples_;
     }
-    if (ctx.collisions_per_particle() >= average_after_) {
+    if (ctx.in_average_window) {
       const double a_star = a_ * gdsmc::viscosity_time_over_tau(c_eta_) * tau_of(T);
       const double n2 = (m.second[2][2] - m.second[1][1]) / T;
       const double v[kMeasured] = {a_star, pxy, n1, n2, pxy / a_star, -n1 / (a_star * a_star), m.a2(), m.a3(), T / t0_};
@@ -195,15 +193,15 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
       const std::string n = names[k];
       out.scalar("bgk_" + n, bgk, k == 8 ? "T0" : "1", std::string("steady BGK-model ") + docs[k] + " (docs/bgk-usf.md)");
       out.scalar("measured_" + n + "_mean", measured_[k].mean(), k == 8 ? "T0" : "1",
-                 std::string("measured ") + docs[k] + " averaged over s >= average_after");
+                 std::string("measured ") + docs[k] + " averaged over the averaging window");
       out.scalar("measured_" + n + "_standard_error", measured_[k].standard_error(), k == 8 ? "T0" : "1",
                  "batch-means standard error");
     }
     out.scalar("bgk_x", st_.x, "1", "zeta0/(beta nu) of the model");
     out.scalar("bgk_beta", beta_, "1", "beta used in the model");
     char buf[400];
-    std::snprintf(buf, sizeof buf, "bgk_usf_theory: alpha = %g, beta = %g: steady BGK (docs/bgk-usf.md) vs measured over s >= %g (%zu samples):",
-                  alpha_, beta_, average_after_, measured_[0].count());
+    std::snprintf(buf, sizeof buf, "bgk_usf_theory: alpha = %g, beta = %g: steady BGK (docs/bgk-usf.md) vs measured in the averaging window (%zu samples):",
+                  alpha_, beta_, measured_[0].count());
     out.summary(buf);
     for (int k = 0; k < kMeasured; ++k) {
       const double bgk = k < 8 ? steady_[k] : steady_T_;
@@ -216,7 +214,7 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
  private:
   static constexpr int kSeries = 9;
   static constexpr int kMeasured = 9;
-  double average_after_, c_eta_;
+  double c_eta_;
   std::string beta_model_;
   bool transient_;
   double alpha_ = 1, a_ = 0, beta_ = 1, lambda0_ = 1, tau0_ = 1, t0_ = 1;

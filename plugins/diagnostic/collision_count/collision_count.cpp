@@ -26,15 +26,16 @@ class CollisionCount final : public gdsmc::Diagnostic {
   }
   void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan&) override {}
   void record(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
-    out.append(n_, ctx.collisions);
-    out.append(acc_, ctx.candidates > 0 ? ctx.collisions / ctx.candidates : 0.0);
-    out.append(exc_, ctx.majorant_exceeded);
+    const auto collisions = static_cast<double>(ctx.collisions), candidates = static_cast<double>(ctx.candidates);
+    out.append(n_, collisions);
+    out.append(acc_, ctx.candidates > 0 ? collisions / candidates : 0.0);
+    out.append(exc_, static_cast<double>(ctx.majorant_exceeded));
   }
   void finish(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
     if (ctx.majorant_exceeded > 0) {
       char buf[200];
       std::snprintf(buf, sizeof buf, "collision_count: %.0f of %.3g candidates exceeded the majorant (raised each time)",
-                    ctx.majorant_exceeded, ctx.candidates);
+                    static_cast<double>(ctx.majorant_exceeded), static_cast<double>(ctx.candidates));
       out.summary(buf);
     }
   }

@@ -9,12 +9,13 @@ namespace {
 class CoolingRate final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cooling_rate";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Cooling rate zeta from the collisional energy loss, beside zeta0 (Eqs. 2.9, 2.16)";
   static constexpr const char* documentation =
       "Between consecutive records the host's running sum of the kinetic-energy change declared by\n"
       "every accepted collision (ctx.collision_energy_change, m = 1) changes by dE_coll over the time\n"
-      "dt_w; with T_w the mean temperature of the window's samples,\n"
+      "dt_w; with T_w the mean temperature of the window's samples (the host's ctx.moments: T of all\n"
+      "particles in a homogeneous system, T-bar of Eq. 4.8 in a slab),\n"
       "  zeta = -(dE_coll/dt_w) / ((3/2) N T_w)                                (paper 000, Eq. 2.9)\n"
       "and, beside it, the local-equilibrium value zeta0 = 2(1-alpha^2)/(3 sqrt(pi) tau(T_w)),\n"
       "tau(T) = lambda0/sqrt(2T/m) (Eq. 2.16), with alpha the collision rule's 'restitution'.\n"
@@ -22,16 +23,13 @@ class CoolingRate final : public gdsmc::Diagnostic {
       "sqrt(pi)), constant) per tau(T); zeta_over_zeta0 (= <V12^3>/<V12^3>_0 for IHS by Eq. 2.10). The\n"
       "first record (t = 0) has no window and is NaN. Noisy: only colliding pairs contribute (Sec.\n"
       "V.B); use long record windows. For the EHS rule the collisions are elastic, zeta = 0, and the\n"
-      "cooling is the drag's 2 gamma = zeta0 (or the refined value). After the run, over windows\n"
-      "starting at s >= average_after: zeta_tau_mean = -sum dE_coll / ((3/2) N sum T_w dt_w / tau(T_w))\n"
+      "cooling is the drag's 2 gamma = zeta0 (or the refined value). After the run, over the record\n"
+      "windows that lie in the run's steady averaging window (run.average_after; the host sets\n"
+      "ctx.in_average_window, this diagnostic has no parameter of its own): zeta_tau_mean = -sum dE_coll / ((3/2) N sum T_w dt_w / tau(T_w))\n"
       "(ratio of sums), its batch-means standard error from the per-window values, and\n"
       "zeta_over_zeta0_mean = zeta_tau_mean / zeta0_tau.";
-  static std::vector<gdsmc::ParamSpec> parameters() {
-    return {gdsmc::ParamSpec::real("average_after", "collisions per particle s after which the steady averages are taken")
-                .at_least(0.0)
-                .default_value(20.0)};
-  }
-  explicit CoolingRate(const gdsmc::Params& p) : average_after_(p.real("average_after")) {}
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit CoolingRate(const gdsmc::Params&) {}
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
     const double* a = board.find("restitution");
@@ -47,9 +45,8 @@ class CoolingRate final : public gdsmc::Diagnostic {
     ids_[3] = out.series("zeta0_tau", "1", "zeta0 times tau(T) = 2(1-alpha^2)/(3 sqrt(pi))");
     ids_[4] = out.series("zeta_over_zeta0", "1", "zeta/zeta0 (= <V12^3>/<V12^3>_0 for IHS, Eq. 2.10)");
   }
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    (void)ctx;
-    T_sum_ += gdsmc::velocity_moments(p).temperature;
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    T_sum_ += ctx.moments->local.temperature;
     ++T_count_;
   }
   void record(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
@@ -61,7 +58,7 @@ class CoolingRate final : public gdsmc::Diagnostic {
     if (have_last_ && dt > 0 && Tw > 0) {
       zeta = -(dE / dt) / (1.5 * N_ * Tw);
       zeta_tau = zeta * tau;
-      if (last_s_ >= average_after_) {
+      if (last_in_window_ && ctx.in_average_window) {  // the whole record window is steady
         loss_ += -dE;
         weight_ += 1.5 * N_ * Tw * dt / tau;
         per_window_.add(zeta_tau);
@@ -74,31 +71,30 @@ class CoolingRate final : public gdsmc::Diagnostic {
     out.append(ids_[4], zeta_tau / zeta0_tau_);
     last_energy_ = ctx.collision_energy_change;
     last_time_ = ctx.time;
-    last_s_ = ctx.collisions_per_particle();
+    last_in_window_ = ctx.in_average_window;
     have_last_ = true;
     T_sum_ = 0;
     T_count_ = 0;
   }
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
     const double zt = weight_ > 0 ? loss_ / weight_ : std::nan("");
-    out.scalar("zeta_tau_mean", zt, "1", "steady zeta tau(T) over windows starting at s >= average_after (ratio of sums)");
+    out.scalar("zeta_tau_mean", zt, "1", "steady zeta tau(T) over the record windows in the averaging window (ratio of sums)");
     out.scalar("zeta_tau_standard_error", per_window_.standard_error(), "1", "batch-means standard error from the per-window values");
     out.scalar("zeta_over_zeta0_mean", zt / zeta0_tau_, "1", "zeta_tau_mean / zeta0_tau");
     char buf[300];
     std::snprintf(buf, sizeof buf,
-                  "cooling_rate: over s >= %g (%zu windows): zeta tau = %.5f +- %.5f, zeta0 tau = %.5f, zeta/zeta0 = %.4f (alpha = %g)",
-                  average_after_, per_window_.count(), zt, per_window_.standard_error(), zeta0_tau_, zt / zeta0_tau_, alpha_);
+                  "cooling_rate: in the averaging window (%zu windows): zeta tau = %.5f +- %.5f, zeta0 tau = %.5f, zeta/zeta0 = %.4f (alpha = %g)",
+                  per_window_.count(), zt, per_window_.standard_error(), zeta0_tau_, zt / zeta0_tau_, alpha_);
     out.summary(buf);
   }
 
  private:
-  double average_after_;
   double alpha_ = 1, N_ = 1, lambda0_ = 1, tau0_ = 1, zeta0_tau_ = 0;
   std::size_t ids_[5] = {};
   double T_sum_ = 0;
   std::size_t T_count_ = 0;
-  bool have_last_ = false;
-  double last_energy_ = 0, last_time_ = 0, last_s_ = 0;
+  bool have_last_ = false, last_in_window_ = false;
+  double last_energy_ = 0, last_time_ = 0;
   double loss_ = 0, weight_ = 0;
   gdsmc::BatchMeans per_window_;
 };

@@ -6,20 +6,23 @@ namespace {
 class Cumulants final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cumulants";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Cumulants a2 and a3 of the velocity distribution";
   static constexpr const char* documentation =
       "a2 = (m^2 / 15 T^2) <V^4> - 1 and a3 = -(m^3 / 105 T^3) <V^6> + 1 + 3 a2\n"
       "(paper 000, Eqs. 4.17-4.18; the Sonine coefficients of paper 001, Eq. 2.9). Both vanish\n"
-      "for a Maxwellian. Series a2, a3 (dimensionless).";
+      "for a Maxwellian. V is the velocity relative to the local flow (the mean of all particles in a\n"
+      "homogeneous system, of the particle's layer in a slab) and T the matching temperature (T-bar of\n"
+      "Eq. 4.8 in a slab), as the host computes them once per sample (ctx.moments). Series a2, a3\n"
+      "(dimensionless).";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Cumulants(const gdsmc::Params&) {}
 
   void begin(const gdsmc::SystemInfo&, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
     window_.declare(out, {{"a2", "1", "fourth cumulant (000 Eq. 4.17)"}, {"a3", "1", "sixth cumulant (000 Eq. 4.18)"}});
   }
-  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
-    const auto m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
     window_.add({m.a2(), m.a3()});
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }

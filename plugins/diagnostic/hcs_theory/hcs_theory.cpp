@@ -17,7 +17,7 @@ double sonine_a2(double alpha) {
 class HcsTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "hcs_theory";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Haff's law and first-Sonine a2 of the HCS beside the measured T and a2";
   static constexpr const char* documentation =
       "For a freely cooling gas of inelastic hard spheres (restitution alpha, read from the\n"
@@ -27,14 +27,12 @@ class HcsTheory final : public gdsmc::Diagnostic {
       "  (3 sqrt(pi)) (paper 001, Eqs. 2.14-2.15 with d = 3; paper 000, Eq. 2.16);\n"
       "  a2 = 16 (1-alpha)(1-2 alpha^2) / (25 + 24d - alpha(57 - 8d) - 2(1-alpha) alpha^2)  (001, 2.16).\n"
       "Series: temperature [T0] (measured), temperature_haff [T0], a2 (measured), a2_sonine.\n"
-      "Scalars after the run: a2_mean and a2_standard_error over the samples with s >= average_after\n"
-      "(batch means), temperature_ratio_to_haff at the last sample.";
-  static std::vector<gdsmc::ParamSpec> parameters() {
-    return {gdsmc::ParamSpec::real("average_after", "collisions per particle s after which a2 is time-averaged")
-                .at_least(0.0)
-                .default_value(10.0)};
-  }
-  explicit HcsTheory(const gdsmc::Params& p) : average_after_(p.real("average_after")) {}
+      "T and a2 are the host's moments of the sample (ctx.moments). Scalars after the run: a2_mean and\n"
+      "a2_standard_error over the samples in the run's steady averaging window (run.average_after;\n"
+      "ctx.in_average_window, no parameter of its own) (batch means), temperature_ratio_to_haff at the\n"
+      "last sample.";
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit HcsTheory(const gdsmc::Params&) {}
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
     const double* alpha = board.find("restitution");
@@ -60,8 +58,8 @@ class HcsTheory final : public gdsmc::Diagnostic {
     return t1_ / (f * f);
   }
 
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    const auto m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
     const double T = m.temperature / t0_;
     if (!have_first_) {
       t1_ = T;
@@ -72,27 +70,26 @@ class HcsTheory final : public gdsmc::Diagnostic {
     last_time_ = ctx.time;
     last_s_ = ctx.collisions_per_particle();
     const double a2 = m.a2();
-    if (last_s_ >= average_after_) a2_avg_.add(a2);
+    if (ctx.in_average_window) a2_avg_.add(a2);
     window_.add({T, haff(ctx.time), a2, a2_theory_});
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
 
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
     const double ratio = last_T_ / haff(last_time_);
-    out.scalar("a2_mean", a2_avg_.mean(), "1", "time average of the measured a2 over s >= average_after");
+    out.scalar("a2_mean", a2_avg_.mean(), "1", "time average of the measured a2 over the averaging window");
     out.scalar("a2_standard_error", a2_avg_.standard_error(), "1", "batch-means standard error of a2_mean");
     out.scalar("temperature_ratio_to_haff", ratio, "1", "measured T / Haff's-law T at the last sample");
     char buf[256];
     std::snprintf(buf, sizeof buf, "hcs_theory: at t = %.4g tau0 (s = %.4g): T/T0 = %.6g, Haff's law %.6g (ratio %.4f)",
                   last_time_ / tau0_, last_s_, last_T_, haff(last_time_), ratio);
     out.summary(buf);
-    std::snprintf(buf, sizeof buf, "hcs_theory: a2 over s >= %g (%zu samples): %.5f +- %.5f; first Sonine, 001 Eq. (2.16): %.5f (alpha = %g)",
-                  average_after_, a2_avg_.count(), a2_avg_.mean(), a2_avg_.standard_error(), a2_theory_, alpha_);
+    std::snprintf(buf, sizeof buf, "hcs_theory: a2 in the averaging window (%zu samples): %.5f +- %.5f; first Sonine, 001 Eq. (2.16): %.5f (alpha = %g)",
+                  a2_avg_.count(), a2_avg_.mean(), a2_avg_.standard_error(), a2_theory_, alpha_);
     out.summary(buf);
   }
 
  private:
-  double average_after_;
   double alpha_ = 1, a2_theory_ = 0, t0_ = 1, tau0_ = 1, zeta0_tau0_ = 0;
   bool have_first_ = false;
   double t1_ = 1, time1_ = 0, last_T_ = 1, last_time_ = 0, last_s_ = 0;

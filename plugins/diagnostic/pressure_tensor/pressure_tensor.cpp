@@ -1,4 +1,4 @@
-// Kinetic pressure tensor of a homogeneous system.
+// Kinetic pressure tensor of the whole system (the mean P-bar of 000 Eq. 4.9 in a slab).
 #include <gdsmc/gdsmc.hpp>
 
 namespace {
@@ -6,11 +6,14 @@ namespace {
 class PressureTensor final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "pressure_tensor";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n T0) of the whole system";
   static constexpr const char* documentation =
       "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
-      "relative to the mean (paper 000, Eq. 4.16). Series P_xx, P_yy, P_zz, P_xy, P_xz, P_yz in\n"
+      "relative to the local flow (paper 000, Eq. 4.16): the mean of all particles in a homogeneous\n"
+      "system; in a slab the mean of the particle's layer, so that P is the mean pressure tensor P-bar\n"
+      "of Eq. (4.9) and T is T-bar (Eq. 4.8). From the moments the host computes once per sample\n"
+      "(ctx.moments). Series P_xx, P_yy, P_zz, P_xy, P_xz, P_yz in\n"
       "units of n T0, plus the reduced forms P_xy/(nT) and (P_xx - P_yy)/(nT), (P_zz - P_yy)/(nT)\n"
       "with the current temperature T, as the papers plot them.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
@@ -28,8 +31,8 @@ class PressureTensor final : public gdsmc::Diagnostic {
                           {"N1_over_nT", "1", "reduced normal stress difference (P_xx - P_yy) / (n T)"},
                           {"N2_over_nT", "1", "reduced normal stress difference (P_zz - P_yy) / (n T)"}});
   }
-  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
-    const auto m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
     // P / n = m <V V> with m = 1; divided by T0 or by T.
     const double (&s)[3][3] = m.second;
     const double T = m.temperature;

@@ -10,12 +10,14 @@ namespace {
 class ShearRheology final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "shear_rheology";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "USF rheology: a* = a tau_eta, -P_xy/nT, normal stress differences, eta*, Psi_1, Psi_2";
   static constexpr const char* documentation =
-      "Uses the shear rate a published by the uniform_shear forcing ('shear_rate') and, at each sample,\n"
+      "Uses the shear rate a published as 'shear_rate' (uniform_shear forcing, or a lees_edwards\n"
+      "boundary in a slab) and, at each sample,\n"
       "the temperature T and kinetic pressure tensor P = n m <V V> of the particles (paper 000,\n"
-      "Eqs. 4.15-4.16):\n"
+      "Eqs. 4.15-4.16; in a slab T-bar and P-bar of Eqs. 4.8-4.9, V relative to each layer's flow), from\n"
+      "the host's moments of the sample (ctx.moments):\n"
       "  tau(T)   = lambda0 / sqrt(2T/m)                       (Eqs. 2.12, 4.22)\n"
       "  tau_eta  = 1.016 (5 sqrt(pi)/8) tau(T)                  (Eq. 2.18)\n"
       "  a*       = a tau_eta                                   (Eq. 5.2)\n"
@@ -25,20 +27,17 @@ class ShearRheology final : public gdsmc::Diagnostic {
       "  cooling_rate's zeta (IHS) or with zeta0 tau = 2(1-alpha^2)/(3 sqrt(pi)) (EHS with gamma = zeta0/2).\n"
       "Series (window means): temperature [T0], a_star, minus_Pxy_over_nT, N1_over_nT = (P_xx-P_yy)/nT,\n"
       "N2_over_nT = (P_zz-P_yy)/nT, eta_star, Psi1, Psi2, heating_rate, heating_rate_tau. After the run:\n"
-      "<column>_mean and <column>_standard_error over the samples with s >= average_after (batch\n"
-      "means), and a summary line.";
-  static std::vector<gdsmc::ParamSpec> parameters() {
-    return {gdsmc::ParamSpec::real("average_after", "collisions per particle s after which the steady averages are taken")
-                .at_least(0.0)
-                .default_value(20.0)};
-  }
-  explicit ShearRheology(const gdsmc::Params& p) : average_after_(p.real("average_after")) {}
+      "<column>_mean and <column>_standard_error over the samples in the run's steady averaging window\n"
+      "(run.average_after; ctx.in_average_window, no parameter of its own) (batch means), and a\n"
+      "summary line.";
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit ShearRheology(const gdsmc::Params&) {}
 
   static constexpr int kColumns = 10;
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
     const double* a = board.find("shear_rate");
     if (!a)
-      throw gdsmc::ParameterError("plugin", "shear_rheology needs a forcing that publishes 'shear_rate' (uniform_shear)");
+      throw gdsmc::ParameterError("plugin", "shear_rheology needs a plugin that publishes 'shear_rate' (uniform_shear or lees_edwards)");
     a_ = *a;
     lambda0_ = sys.mean_free_path0;
     tau0_ = sys.time_unit0;
@@ -59,8 +58,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
     std::snprintf(buf, sizeof buf, "%.10g", a_ * tau0_);
     out.attribute("shear_rate_tau0", buf);
   }
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    const auto m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
     const double T = m.temperature;
     const double tau = gdsmc::characteristic_time(lambda0_, T);
     const double a_star = a_ * gdsmc::viscosity_time_over_tau() * tau;  // a tau_eta, Eqs. 2.18, 5.2
@@ -69,28 +68,27 @@ class ShearRheology final : public gdsmc::Diagnostic {
     const double v[kColumns] = {T / t0_, a_star, -pxy, n1, n2, -pxy / a_star, -n1 / (a_star * a_star), n2 / (a_star * a_star),
                                 heating * tau0_, heating * tau};
     window_.add(std::vector<double>(v, v + kColumns));
-    if (ctx.collisions_per_particle() >= average_after_)
+    if (ctx.in_average_window)
       for (int k = 0; k < kColumns; ++k) avg_[k].add(v[k]);
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
     for (int k = 0; k < kColumns; ++k) {
-      out.scalar(names_[k] + "_mean", avg_[k].mean(), k == 0 ? "T0" : k == 8 ? "1/tau0" : "1", names_[k] + " averaged over s >= average_after");
+      out.scalar(names_[k] + "_mean", avg_[k].mean(), k == 0 ? "T0" : k == 8 ? "1/tau0" : "1", names_[k] + " averaged over the averaging window");
       out.scalar(names_[k] + "_standard_error", avg_[k].standard_error(), k == 0 ? "T0" : k == 8 ? "1/tau0" : "1",
                  "batch-means standard error of " + names_[k] + "_mean");
     }
     char buf[400];
     std::snprintf(buf, sizeof buf,
-                  "shear_rheology: over s >= %g (a tau0 = %g, %zu samples): a* = %.4f +- %.4f, -P_xy/nT = %.4f +- %.4f, "
+                  "shear_rheology: in the averaging window (a tau0 = %g, %zu samples): a* = %.4f +- %.4f, -P_xy/nT = %.4f +- %.4f, "
                   "(P_xx-P_yy)/nT = %.4f +- %.4f, (P_zz-P_yy)/nT = %.4f +- %.4f, eta* = %.4f, Psi1 = %.4f, Psi2 = %.4f",
-                  average_after_, a_ * tau0_, avg_[1].count(), avg_[1].mean(), avg_[1].standard_error(), avg_[2].mean(),
+                  a_ * tau0_, avg_[1].count(), avg_[1].mean(), avg_[1].standard_error(), avg_[2].mean(),
                   avg_[2].standard_error(), avg_[3].mean(), avg_[3].standard_error(), avg_[4].mean(), avg_[4].standard_error(),
                   avg_[5].mean(), avg_[6].mean(), avg_[7].mean());
     out.summary(buf);
   }
 
  private:
-  double average_after_;
   double a_ = 0, lambda0_ = 1, tau0_ = 1, t0_ = 1;
   std::vector<std::string> names_;
   gdsmc::WindowAverage window_;

@@ -6,12 +6,14 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
-      "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the mean (paper 000, Eq. 4.15).\n"
-      "Series: temperature [T0], mean_velocity_x/y/z [sqrt(2 T0 / m)]. Each record is the mean\n"
-      "of the samples taken since the previous record.";
+      "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
+      "the mean of all particles in a homogeneous system; in a slab the mean of the particle's layer,\n"
+      "so that T is T-bar of Eq. (4.8). Read from the moments the host computes once per sample\n"
+      "(ctx.moments). Series: temperature [T0], mean_velocity_x/y/z [sqrt(2 T0 / m)] (the mean velocity\n"
+      "of all particles). Each record is the mean of the samples taken since the previous record.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Temperature(const gdsmc::Params&) {}
 
@@ -23,8 +25,8 @@ class Temperature final : public gdsmc::Diagnostic {
                           {"mean_velocity_y", "sqrt(2 T0/m)", "y component of the mean velocity"},
                           {"mean_velocity_z", "sqrt(2 T0/m)", "z component of the mean velocity"}});
   }
-  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
-    const auto m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
     window_.add({m.temperature / t0_, m.mean[0] / v0_, m.mean[1] / v0_, m.mean[2] / v0_});
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }

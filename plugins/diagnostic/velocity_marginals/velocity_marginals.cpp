@@ -11,11 +11,15 @@ namespace {
 class VelocityMarginals final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "velocity_marginals";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Steady marginals g_x^(+-)(C_x), g_y^(+-)(C_y), F(C) as histograms (Eqs. 3.18-3.20)";
   static constexpr const char* documentation =
       "Reduced velocities C = V / sqrt(2T/m) at the current T (paper 000, Eqs. 3.16, 5.2), with f* normalized\n"
-      "to 1. Histograms accumulated over every sample with s >= average_after and written at the end:\n"
+      "to 1; V relative to the local flow (the mean of all particles in a homogeneous system, of the\n"
+      "particle's layer in a slab, u_I as of the host's last moment update, where T is T-bar of\n"
+      "Eq. 4.8). Histograms accumulated over every sample\n"
+      "in the run's steady averaging window (run.average_after; ctx.in_average_window, no parameter of\n"
+      "its own) and written at the end:\n"
       "  g_x_plus / g_x_minus (C_x)  = int dC_z int dC_y Theta(+-C_y) f*(C)     (Eq. 3.18)\n"
       "  g_y_plus / g_y_minus (C_y)  = int dC_z int dC_x Theta(+-C_x) f*(C)     (Eq. 3.19)\n"
       "  F (C)                      = C^2 int dC_hat f*(C)                      (Eq. 3.20)\n"
@@ -29,14 +33,11 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
       "a check of the run: the scalar symmetry_defect is max |g_x^(+)(C_x) - g_x^(-)(-C_x)| over bins.\n"
       "No time series.";
   static std::vector<gdsmc::ParamSpec> parameters() {
-    return {gdsmc::ParamSpec::real("average_after", "collisions per particle s after which samples are accumulated")
-                .at_least(0.0)
-                .default_value(20.0),
-            gdsmc::ParamSpec::real("c_max", "histogram range: |C_x|, |C_y| < c_max and C < c_max").above(0.0).default_value(5.0),
+    return {gdsmc::ParamSpec::real("c_max", "histogram range: |C_x|, |C_y| < c_max and C < c_max").above(0.0).default_value(5.0),
             gdsmc::ParamSpec::integer("bins", "bins of each histogram (even, so that C = 0 is an edge)").range(2.0, 1e6).default_value(100)};
   }
   explicit VelocityMarginals(const gdsmc::Params& p)
-      : average_after_(p.real("average_after")), c_max_(p.real("c_max")), bins_(static_cast<std::size_t>(p.integer("bins"))) {
+      : c_max_(p.real("c_max")), bins_(static_cast<std::size_t>(p.integer("bins"))) {
     if (bins_ % 2 != 0) throw gdsmc::ParameterError("bins", "bins must be even so that C = 0 is a bin edge (Eq. 5.3 mirrors bins)");
     gxp_.assign(bins_, 0);
     gxm_.assign(bins_, 0);
@@ -47,8 +48,9 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
 
   void begin(const gdsmc::SystemInfo&, const gdsmc::QuantityBoard&, gdsmc::OutputSink&) override {}
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    if (ctx.collisions_per_particle() < average_after_ || p.count == 0) return;
-    const auto m = gdsmc::velocity_moments(p);
+    if (!ctx.in_average_window || p.count == 0) return;
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
+    const bool slab = ctx.system->geometry == gdsmc::Geometry::slab;
     if (!(m.temperature > 0)) return;
     const double scale = 1.0 / std::sqrt(2.0 * m.temperature);
     const double nb = static_cast<double>(bins_);
@@ -58,7 +60,8 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
       return (b >= 0 && b < nb) ? static_cast<long>(b) : -1;
     };
     for (std::size_t i = 0; i < p.count; ++i) {
-      const double cx = (p.vx[i] - m.mean[0]) * scale, cy = (p.vy[i] - m.mean[1]) * scale, cz = (p.vz[i] - m.mean[2]) * scale;
+      const double* u = slab ? ctx.cells[p.cell[i]].mean_velocity : m.mean;  // the local flow
+      const double cx = (p.vx[i] - u[0]) * scale, cy = (p.vy[i] - u[1]) * scale, cz = (p.vz[i] - u[2]) * scale;
       const long bx = sym_bin(cx), by = sym_bin(cy);
       if (bx >= 0) (cy > 0 ? gxp_ : gxm_)[bx] += 1;  // C_y = 0 exactly has measure zero
       else ++outside_x_;
@@ -109,19 +112,19 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
     out.histogram("F", edges, scaled(F_, norm), "1", "1", "F(C) = C^2 int dC_hat f*(C) (Eq. 3.20)");
     out.histogram("F_local_equilibrium", edges, Fle, "1", "1", "bin average of 4 C^2 exp(-C^2)/sqrt(pi)");
     out.attribute("edges", doc_c);
-    out.scalar("samples", static_cast<double>(samples_), "1", "samples accumulated (s >= average_after)");
+    out.scalar("samples", static_cast<double>(samples_), "1", "samples accumulated (in the averaging window)");
     const double tot = total_ > 0 ? total_ : 1.0;
     out.scalar("fraction_outside", (outside_x_ + outside_y_ + outside_c_) / (3.0 * tot), "1",
                "mean fraction of particle samples beyond c_max (of the three kinds of histogram)");
     out.scalar("symmetry_defect", defect, "1", "max over bins of |g_x^(+)(C_x) - g_x^(-)(-C_x)| (0 by Eq. 3.21, up to noise)");
     char buf[200];
-    std::snprintf(buf, sizeof buf, "velocity_marginals: %zu samples over s >= %g; symmetry defect (3.21) %.3g",
-                  samples_, average_after_, defect);
+    std::snprintf(buf, sizeof buf, "velocity_marginals: %zu samples in the averaging window; symmetry defect (3.21) %.3g",
+                  samples_, defect);
     out.summary(buf);
   }
 
  private:
-  double average_after_, c_max_;
+  double c_max_;
   std::size_t bins_;
   std::vector<double> gxp_, gxm_, gyp_, gym_, F_;
   double outside_x_ = 0, outside_y_ = 0, outside_c_ = 0, total_ = 0;

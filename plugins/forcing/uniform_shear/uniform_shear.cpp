@@ -19,7 +19,8 @@ class UniformShear final : public gdsmc::Forcing {
       "gas at the rate dE/dt = -a Omega P_xy (viscous heating; -(2a/3n) P_xy = zeta T in a steady\n"
       "state). Total momentum changes by -a dt sum V_y: conserved only if the mean V_y is zero (it\n"
       "stays zero in a USF run, but the forcing does not enforce it), so nothing is declared\n"
-      "conserved. shear_rate: a bare number is a tau0 (a in units of 1/tau0), or give\n"
+      "conserved. apply() returns the kinetic energy it added, sum (1/2)(V_x'^2 - V_x^2) (m = 1), for\n"
+      "the host's energy ledger. shear_rate: a bare number is a tau0 (a in units of 1/tau0), or give\n"
       "{value: X, unit: 1/tau0 | reduced}. Publishes 'shear_rate' (reduced units) for diagnostics\n"
       "(shear_rheology, bgk_usf_theory). Combined with drag (Eq. 4.22) the order of the two forcings\n"
       "does not matter: the drag scales V_x and V_y by the same factor.";
@@ -32,11 +33,17 @@ class UniformShear final : public gdsmc::Forcing {
 
   void publish(gdsmc::QuantityBoard& board) const override { board.publish("shear_rate", a_); }
 
-  void apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p, gdsmc::Rng&) override {
+  double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     const double k = a_ * ctx.dt;
     double* const vx = p.vx;
     const double* const vy = p.vy;
-    for (std::size_t i = 0; i < p.count; ++i) vx[i] -= k * vy[i];  // Eq. (4.21)
+    double energy = 0;  // sum (1/2)(V_x'^2 - V_x^2) = sum dV_x (V_x + dV_x/2), m = 1
+    for (std::size_t i = 0; i < p.count; ++i) {
+      const double dvx = -k * vy[i];  // Eq. (4.21)
+      energy += dvx * (vx[i] + 0.5 * dvx);
+      vx[i] += dvx;
+    }
+    return energy;
   }
   gdsmc::Conservation conserves() const override { return {}; }
   int order() const override { return 0; }

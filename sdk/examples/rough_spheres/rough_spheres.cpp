@@ -14,15 +14,15 @@
 // beta = -1 is the smooth sphere (no spin change), beta = +1 the perfectly rough one; with
 // alpha = beta = 1 the total (translational + rotational) energy is conserved.
 //
-// Lengths are in units of sigma (the gdsmc reduced units), so sigma = 1 in the formulas and the
-// angular velocity is stored in reduced units (speed / sigma).
+// sigma is the run's diameter, which the host passes with every pair (PairContext::sigma); the
+// angular velocity is stored in reduced units (speed / length).
 #include <gdsmc/gdsmc.hpp>
 
 namespace {
 
 struct RoughSpheres {
   static constexpr const char* name = "rough_spheres";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Rough inelastic hard spheres: normal (alpha) and tangential (beta) restitution";
   static constexpr const char* documentation =
       "Rough hard spheres (Huthmann & Zippelius, PRE 56, R6275 (1997); Luding et al., PRE 58,\n"
@@ -30,10 +30,10 @@ struct RoughSpheres {
       "collision G_n' = -alpha G_n and G_t' = -beta G_t, through the impulse\n"
       "  J = -(1+alpha)/2 (g.s) s - eta_t G_t,  eta_t = kappa (1+beta) / (2 (1+kappa)),\n"
       "  v1' = v1 + J, v2' = v2 - J, w_i' = w_i + 2/(kappa sigma) s x J,\n"
-      "with the moment of inertia I = kappa m sigma^2 / 4. Momentum is conserved; the returned energy\n"
+      "with the moment of inertia I = kappa m sigma^2 / 4 and sigma the run's diameter (PairContext::sigma). Momentum is conserved; the returned energy\n"
       "change is that of the translational kinetic energy, J.g + J.J (the rotational part is in the\n"
       "attribute). Declares the per-particle attribute 'angular_velocity' (3 components, reduced\n"
-      "units with sigma = 1). Publishes normal_restitution, tangential_restitution and\n"
+      "units: speed / length). Publishes normal_restitution, tangential_restitution and\n"
       "moment_of_inertia_factor (kappa) for the rotational_temperature diagnostic.";
 
   static std::vector<gdsmc::ParamSpec> parameters() {
@@ -49,18 +49,19 @@ struct RoughSpheres {
       : alpha(p.real("alpha")), beta(p.real("beta")), kappa(p.real("kappa")) {
     if (kappa <= 0) throw gdsmc::ParameterError("kappa", "kappa must be > 0 (a sphere with no moment of inertia)");
     eta_t = kappa * (1.0 + beta) / (2.0 * (1.0 + kappa));
-    spin_factor = 2.0 / kappa;  // 2 / (kappa sigma), sigma = 1
+    spin_factor = 2.0 / kappa;  // 2 / (kappa sigma) times sigma: divided by pair.sigma in collide()
   }
 
   std::vector<gdsmc::AttributeSpec> attributes() const {
-    return {{"angular_velocity", 3, "sqrt(T_u/m)/sigma (reduced)", "angular velocity w of each sphere"}};
+    return {{"angular_velocity", 3, "sqrt(T_u/m)/length (reduced)", "angular velocity w of each sphere"}};
   }
   void publish(gdsmc::QuantityBoard& board) const {
     board.publish("normal_restitution", alpha);
     board.publish("tangential_restitution", beta);
     board.publish("moment_of_inertia_factor", kappa);
   }
-  // Called before each cell: look the attribute up once.
+  // Called once before the first step (storage never moves): look the attribute up here. collide()
+  // runs concurrently for different cells and only reads these members.
   void bind(const gdsmc::ParticleSpan& p) {
     omega = p.attribute("angular_velocity");
     count = p.count;
@@ -74,12 +75,12 @@ struct RoughSpheres {
     const gdsmc::Vec3 w1{wx[i], wy[i], wz[i]}, w2{wx[j], wy[j], wz[j]};
     const gdsmc::Vec3 g = v1 - v2;
     const double gn = dot(g, s);
-    const gdsmc::Vec3 G = g + 0.5 * cross(w1 + w2, s);  // sigma = 1
+    const gdsmc::Vec3 G = g + (0.5 * pair.sigma) * cross(w1 + w2, s);
     const gdsmc::Vec3 Gt = G - dot(G, s) * s;
     const gdsmc::Vec3 J = (-0.5 * (1.0 + alpha) * gn) * s - eta_t * Gt;
     v1 += J;
     v2 -= J;
-    const gdsmc::Vec3 dw = spin_factor * cross(s, J);
+    const gdsmc::Vec3 dw = (spin_factor / pair.sigma) * cross(s, J);  // 2/(kappa sigma) s x J
     wx[i] = w1.x + dw.x; wy[i] = w1.y + dw.y; wz[i] = w1.z + dw.z;
     wx[j] = w2.x + dw.x; wy[j] = w2.y + dw.y; wz[j] = w2.z + dw.z;
     return dot(J, g) + dot(J, J);  // change of translational kinetic energy (m = 1)

@@ -12,11 +12,14 @@ namespace {
 class SpeedDistribution final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "speed_distribution";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Histogram of the reduced speed c = |V|/sqrt(2T/m) against the Maxwellian";
   static constexpr const char* documentation =
-      "At every sample, the reduced speeds c = |v - u| / sqrt(2T/m) of all particles (T and u of\n"
-      "that sample) are binned on [0, c_max) in `bins` bins. Output (group of this diagnostic):\n"
+      "At every sample, the reduced speeds c = |v - u| / sqrt(2T/m) of all particles are binned on\n"
+      "[0, c_max) in `bins` bins. T is that sample's temperature (ctx.moments, computed once by the\n"
+      "host; T-bar of 000 Eq. 4.8 in a slab) and u the local flow: the mean of all particles in a\n"
+      "homogeneous system, the particle's layer mean u_I in a slab (ctx.cells, as of the host's last\n"
+      "moment update). Output (group of this diagnostic):\n"
       "  series  mean_speed [1]        <c> of each sample, averaged over the record window\n"
       "                                (Maxwellian: 2/sqrt(pi) = 1.128)\n"
       "  series  tail_fraction [1]     fraction of particles with c > c_tail\n"
@@ -40,13 +43,15 @@ class SpeedDistribution final : public gdsmc::Diagnostic {
                           {"tail_fraction", "1", "fraction of particles with c > c_tail"}});
     out.attribute("c_definition", "c = |v - u| / sqrt(2 T / m), T and u of the sample");
   }
-  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
-    const gdsmc::VelocityMoments m = gdsmc::velocity_moments(p);
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
+    const bool slab = ctx.system->geometry == gdsmc::Geometry::slab;
     const double inv_scale = 1.0 / std::sqrt(2.0 * m.temperature);
     const double width = c_max_ / static_cast<double>(bins_);
     double sum = 0, tail = 0;
     for (std::size_t i = 0; i < p.count; ++i) {
-      const double dx = p.vx[i] - m.mean[0], dy = p.vy[i] - m.mean[1], dz = p.vz[i] - m.mean[2];
+      const double* u = slab ? ctx.cells[p.cell[i]].mean_velocity : m.mean;  // the local flow
+      const double dx = p.vx[i] - u[0], dy = p.vy[i] - u[1], dz = p.vz[i] - u[2];
       const double c = std::sqrt(dx * dx + dy * dy + dz * dz) * inv_scale;
       sum += c;
       tail += c > c_tail_;
