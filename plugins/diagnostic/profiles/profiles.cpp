@@ -1,0 +1,171 @@
+// Hydrodynamic profiles of a slab along y: density, flow, temperature, pressure tensor, heat flux,
+// normal stress differences and local Knudsen number per sampling bin, window-averaged.
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <vector>
+
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+// Per-bin window sums, in this order, kAcc doubles per bin.
+enum Acc : std::size_t { kN, kSx, kSy, kSz, kSxx, kSyy, kSzz, kSxy, kSxz, kSyz, kWx, kWy, kAcc };
+
+// The profiles written at each record, in this order.
+enum Prof : std::size_t { n_, ux, uy, uz, T_, Pxx, Pyy, Pzz, Pxy, Pxz, Pyz, qx, qy, N1, N2, Kn, kProf };
+
+struct ProfileColumn {
+  const char* name;
+  const char* unit;
+  const char* doc;
+};
+
+constexpr ProfileColumn kColumns[kProf] = {
+    {"n", "n0", "number density n(y) = <1>_y (004 Eqs. 13-14); n0 = N / volume, the mean density"},
+    {"u_x", "sqrt(2T0/m)", "flow velocity u_x(y) = <v_x>_y / n (004 Eq. 15)"},
+    {"u_y", "sqrt(2T0/m)", "flow velocity u_y(y) (004 Eq. 15)"},
+    {"u_z", "sqrt(2T0/m)", "flow velocity u_z(y) (004 Eq. 15)"},
+    {"T", "T0", "granular temperature T(y) = m <|v - u|^2>_y / (3 n) (004 Eq. 16, 000 Eq. 4.6)"},
+    {"P_xx", "n0 T0", "pressure tensor P_xx(y) = <m V_x V_x>_y, V = v - u (004 Eq. 31, 000 Eq. 4.7)"},
+    {"P_yy", "n0 T0", "pressure tensor P_yy(y) (004 Eq. 31)"},
+    {"P_zz", "n0 T0", "pressure tensor P_zz(y) (004 Eq. 31)"},
+    {"P_xy", "n0 T0", "pressure tensor P_xy(y), the shear stress (004 Eq. 31)"},
+    {"P_xz", "n0 T0", "pressure tensor P_xz(y) (004 Eq. 31)"},
+    {"P_yz", "n0 T0", "pressure tensor P_yz(y) (004 Eq. 31)"},
+    {"q_x", "n0 T0 sqrt(2T0/m)", "heat flux q_x(y) = <(m/2) |V|^2 V_x>_y"},
+    {"q_y", "n0 T0 sqrt(2T0/m)", "heat flux q_y(y) = <(m/2) |V|^2 V_y>_y"},
+    {"N1", "1", "first normal stress difference (P_xx - P_yy) / p, p = tr P / 3 (004 Eq. 34)"},
+    {"N2", "1", "second normal stress difference (P_yy - P_zz) / p (004 Eq. 35)"},
+    {"Kn", "1", "local Knudsen number lambda(y) / Ly, lambda(y) = 1 / (sqrt(2) pi n(y) sigma^2) (004 Eq. 21)"},
+};
+
+class Profiles final : public gdsmc::Diagnostic {
+ public:
+  static constexpr const char* name = "profiles";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary =
+      "Profiles along y per sampling bin: n, u, T, P_ij, q_x, q_y, N1, N2, Kn (window averages)";
+  static constexpr const char* documentation =
+      "Slab systems only. The sampling bins are system.bins layers of equal width dy along y, of\n"
+      "volume V_bin = dy Lx Lz. Each record is the window average since the previous record in the\n"
+      "sense of paper 004 Eq. (13): over the N_t samples of the window,\n"
+      "  <psi>_y = (1 / (N_t V_bin)) sum_t sum_{i in bin} psi(v_i(t)),\n"
+      "accumulated as the sums of 1, v_a, v_a v_b and |v|^2 v_a per bin (particle-index order). At the\n"
+      "record, with N_b the count summed over the window and u taken from the same window:\n"
+      "  n(y) = N_b / (N_t V_bin)                                   (004 Eq. 14, per unit mass)\n"
+      "  u(y) = sum v / N_b                                          (004 Eq. 15)\n"
+      "  P_ab(y) = (m / (N_t V_bin)) sum (v_a - u_a)(v_b - u_b)      (004 Eq. 31, 000 Eq. 4.7)\n"
+      "  T(y) = tr P / (3 n)                                         (004 Eq. 16, 000 Eq. 4.6)\n"
+      "  q_a(y) = (m / (2 N_t V_bin)) sum |v - u|^2 (v_a - u_a)      (a = x, y)\n"
+      "  N1 = (P_xx - P_yy) / p,  N2 = (P_yy - P_zz) / p,  p = tr P / 3   (004 Eqs. 34-35)\n"
+      "  Kn(y) = lambda(y) / Ly,  lambda(y) = 1 / (sqrt(2) pi n(y) sigma^2)   (004 Eq. 21, W = Ly)\n"
+      "The peculiar sums are expanded around the window mean, e.g. sum V_a V_b = sum v_a v_b -\n"
+      "N_b u_a u_b. Profiles (record x bin): n [n0 = N / volume], u_x, u_y, u_z [sqrt(2T0/m)],\n"
+      "T [T0], P_xx, P_yy, P_zz, P_xy, P_xz, P_yz [n0 T0], q_x, q_y [n0 T0 sqrt(2T0/m)], N1, N2, Kn [1].\n"
+      "A bin that no particle visited in the window has n = 0 and NaN for every other profile; a\n"
+      "window without samples gives NaN everywhere. Array bin_centre [lambda0]: the bin centres.";
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit Profiles(const gdsmc::Params&) {}
+
+  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
+    if (sys.geometry != gdsmc::Geometry::slab)
+      throw std::runtime_error("profiles: needs a slab system (system.domain: slab)");
+    bins_ = sys.bins;
+    half_ = 0.5 * sys.box[1];
+    inv_width_ = 1.0 / sys.bin_width();
+    mass_ = sys.mass;
+    bin_volume_ = sys.bin_width() * sys.cross_section();
+    n0_ = sys.number_density;
+    t0_ = sys.initial_temperature;
+    v0_ = std::sqrt(2.0 * sys.initial_temperature / sys.mass);
+    sigma_ = sys.sigma;
+    width_ = sys.box[1];
+    acc_.assign(bins_ * kAcc, 0.0);
+    values_.assign(bins_ * kProf, 0.0);
+    samples_ = 0;
+    for (std::size_t k = 0; k < kProf; ++k) ids_[k] = out.profile(kColumns[k].name, kColumns[k].unit, kColumns[k].doc);
+    std::vector<double> centres(bins_);
+    for (std::size_t b = 0; b < bins_; ++b) centres[b] = sys.bin_centre(b) / sys.mean_free_path0;
+    out.array("bin_centre", centres, {bins_}, "lambda0", "centres of the sampling bins along y");
+  }
+
+  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
+    for (std::size_t i = 0; i < p.count; ++i) {
+      double* a = &acc_[bin(p.y[i]) * kAcc];
+      const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
+      const double v2 = vx * vx + vy * vy + vz * vz;
+      a[kN] += 1.0;
+      a[kSx] += vx; a[kSy] += vy; a[kSz] += vz;
+      a[kSxx] += vx * vx; a[kSyy] += vy * vy; a[kSzz] += vz * vz;
+      a[kSxy] += vx * vy; a[kSxz] += vx * vz; a[kSyz] += vy * vz;
+      a[kWx] += v2 * vx; a[kWy] += v2 * vy;
+    }
+    ++samples_;
+  }
+
+  void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
+    for (std::size_t b = 0; b < bins_; ++b) compute_bin(&acc_[b * kAcc], b);
+    for (std::size_t k = 0; k < kProf; ++k) out.append_profile(ids_[k], &values_[k * bins_]);
+    acc_.assign(acc_.size(), 0.0);
+    samples_ = 0;
+  }
+
+ private:
+  std::size_t bin(double y) const {
+    const double s = (y + half_) * inv_width_;
+    if (!(s > 0)) return 0;
+    const auto b = static_cast<std::size_t>(s);
+    return b < bins_ ? b : bins_ - 1;
+  }
+
+  // The record-time formulas of the documentation, for one bin's window sums.
+  void compute_bin(const double* a, std::size_t b) {
+    double v[kProf];
+    const double nan = std::nan("");
+    const double N = a[kN];
+    if (samples_ == 0 || N == 0) {
+      for (double& x : v) x = nan;
+      if (samples_ > 0) v[n_] = 0.0;
+    } else {
+      const double norm = 1.0 / (static_cast<double>(samples_) * bin_volume_);  // 1 / (N_t V_bin)
+      const double n = N * norm;
+      const double u[3] = {a[kSx] / N, a[kSy] / N, a[kSz] / N};
+      // sum V_a V_b = sum v_a v_b - N u_a u_b
+      const double cxx = a[kSxx] - N * u[0] * u[0], cyy = a[kSyy] - N * u[1] * u[1], czz = a[kSzz] - N * u[2] * u[2];
+      const double cxy = a[kSxy] - N * u[0] * u[1], cxz = a[kSxz] - N * u[0] * u[2], cyz = a[kSyz] - N * u[1] * u[2];
+      // sum |V|^2 V_a = sum |v|^2 v_a - u_a sum |v|^2 - 2 u_b sum v_b v_a + 2 N |u|^2 u_a
+      const double K = a[kSxx] + a[kSyy] + a[kSzz];
+      const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+      const double hx = a[kWx] - u[0] * K - 2.0 * (u[0] * a[kSxx] + u[1] * a[kSxy] + u[2] * a[kSxz]) + 2.0 * N * uu * u[0];
+      const double hy = a[kWy] - u[1] * K - 2.0 * (u[0] * a[kSxy] + u[1] * a[kSyy] + u[2] * a[kSyz]) + 2.0 * N * uu * u[1];
+      const double pn = mass_ * norm;  // P_ab = m sum V_a V_b / (N_t V_bin)
+      const double P[6] = {pn * cxx, pn * cyy, pn * czz, pn * cxy, pn * cxz, pn * cyz};
+      const double p = (P[0] + P[1] + P[2]) / 3.0;
+      const double lambda = 1.0 / (std::sqrt(2.0) * M_PI * n * sigma_ * sigma_);
+      const double nT0 = n0_ * t0_;
+      v[n_] = n / n0_;
+      v[ux] = u[0] / v0_;
+      v[uy] = u[1] / v0_;
+      v[uz] = u[2] / v0_;
+      v[T_] = p / n / t0_;
+      for (std::size_t k = 0; k < 6; ++k) v[Pxx + k] = P[k] / nT0;
+      v[qx] = 0.5 * pn * hx / (nT0 * v0_);
+      v[qy] = 0.5 * pn * hy / (nT0 * v0_);
+      v[N1] = (P[0] - P[1]) / p;
+      v[N2] = (P[1] - P[2]) / p;
+      v[Kn] = lambda / width_;
+    }
+    for (std::size_t k = 0; k < kProf; ++k) values_[k * bins_ + b] = v[k];
+  }
+
+  std::size_t bins_ = 1, samples_ = 0;
+  double half_ = 0, inv_width_ = 1, mass_ = 1, bin_volume_ = 1, n0_ = 1, t0_ = 1, v0_ = 1, sigma_ = 1, width_ = 1;
+  std::vector<double> acc_;     // bins x kAcc window sums
+  std::vector<double> values_;  // kProf x bins: the record being written
+  std::size_t ids_[kProf] = {};
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(Profiles)
