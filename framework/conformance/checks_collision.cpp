@@ -59,6 +59,109 @@ std::vector<PairCase> pair_cases(const CollisionRule& rule, Rng& rng, std::size_
   return cases;
 }
 
+namespace {
+
+// A random 4-particle state around the pair case: slots i and j hold the pair's velocities.
+void fill_case(const ParticleSpan& p, const PairCase& pc, std::uint32_t i, std::uint32_t j, Rng& case_rng) {
+  const double scale = std::max({norm(pc.v1), norm(pc.v2), 1e-300});
+  for (std::size_t k = 0; k < 4; ++k) {
+    p.x[k] = case_rng.uniform();
+    p.y[k] = case_rng.uniform();
+    p.z[k] = case_rng.uniform();
+    p.set_velocity(k, gaussian(case_rng, scale));
+  }
+  p.set_velocity(i, pc.v1);
+  p.set_velocity(j, pc.v2);
+  for (std::size_t a = 0; a < p.attribute_count; ++a)
+    for (std::size_t e = 0; e < 4 * static_cast<std::size_t>(p.attribute_specs[a].components); ++e)
+      p.attribute_data[a][e] = scale * case_rng.normal();
+}
+
+void copy_all(const ParticleSpan& from, const ParticleSpan& to) {
+  for (std::size_t k = 0; k < from.count; ++k) {
+    to.x[k] = from.x[k]; to.y[k] = from.y[k]; to.z[k] = from.z[k];
+    to.vx[k] = from.vx[k]; to.vy[k] = from.vy[k]; to.vz[k] = from.vz[k];
+  }
+  for (std::size_t a = 0; a < from.attribute_count; ++a)
+    std::copy(from.attribute_data[a], from.attribute_data[a] + from.count * from.attribute_specs[a].components,
+              to.attribute_data[a]);
+}
+
+// pair_rate finite and >= 0 along the case's direction, its opposite and a random one.
+void check_rate(CollisionRule& rule, const PairCase& pc, Rng& case_rng, PairReport& r) {
+  const Vec3 g = pc.v1 - pc.v2;
+  const Vec3 other = case_rng.unit_vector();
+  for (const Vec3& d : {pc.s, -1.0 * pc.s, other}) {
+    const double rate = rule.pair_rate(g, d);
+    if (!std::isfinite(rate) || rate < 0) {
+      r.rate = fmt("pair_rate(g = %s, sigma_hat = %s) = %g (must be finite and >= 0) for a %s pair", vec_text(g).c_str(),
+                   vec_text(d).c_str(), rate, pc.what);
+      break;
+    }
+  }
+}
+
+void check_finite(const ParticleSpan& p, const PairCase& pc, double declared, const Vec3& w1, const Vec3& w2,
+                  PairReport& r) {
+  std::string bad;
+  if (!std::isfinite(declared)) bad = fmt("returned the energy change %g", declared);
+  else if (!all_finite(&w1.x, 1) || !all_finite(&w1.y, 1) || !all_finite(&w1.z, 1) || !all_finite(&w2.x, 1) ||
+           !all_finite(&w2.y, 1) || !all_finite(&w2.z, 1))
+    bad = "produced the velocities " + vec_text(w1) + ", " + vec_text(w2);
+  else {
+    const std::string n = nonfinite_in(p);
+    if (!n.empty()) bad = "produced " + n;
+  }
+  if (!bad.empty()) r.nonfinite = bad + " for the " + case_text(pc);
+}
+
+// Mass / locality: nothing but the velocities and attributes of i and j may change.
+void check_locality(const ParticleSpan& p, const ParticleSpan& b, std::uint32_t i, std::uint32_t j, PairReport& r) {
+  for (std::size_t k = 0; k < 4 && r.locality.empty(); ++k) {
+    if (p.x[k] != b.x[k] || p.y[k] != b.y[k] || p.z[k] != b.z[k])
+      r.locality = fmt("moved particle %zu (a collision changes velocities only)", k);
+    else if (k != i && k != j && (p.vx[k] != b.vx[k] || p.vy[k] != b.vy[k] || p.vz[k] != b.vz[k]))
+      r.locality = fmt("changed the velocity of particle %zu, which is not in the colliding pair (%u, %u)", k, i, j);
+    for (std::size_t a = 0; a < p.attribute_count && r.locality.empty() && k != i && k != j; ++a)
+      for (int comp = 0; comp < p.attribute_specs[a].components; ++comp) {
+        const std::size_t e = static_cast<std::size_t>(comp) * p.count + k;
+        if (std::memcmp(&p.attribute_data[a][e], &b.attribute_data[a][e], sizeof(double)) != 0) {
+          r.locality = fmt("changed attribute '%s' of particle %zu, which is not in the colliding pair",
+                           p.attribute_specs[a].name.c_str(), k);
+          break;
+        }
+      }
+  }
+}
+
+void check_momentum(const PairCase& pc, const Vec3& w1, const Vec3& w2, PairReport& r) {
+  const Vec3 dp = (w1 + w2) - (pc.v1 + pc.v2);
+  const double tol = 64 * kEps * (norm(pc.v1) + norm(pc.v2) + norm(w1) + norm(w2)) + 1e-300;
+  const double ratio = std::isfinite(norm(dp)) ? norm(dp) / tol : std::numeric_limits<double>::infinity();
+  if (ratio > r.worst_momentum) {
+    r.worst_momentum = ratio;
+    r.momentum_excess = norm(dp);
+    r.momentum_case = case_text(pc) + fmt(": |p' - p| = %.3g, round-off tolerance %.3g", norm(dp), tol);
+  }
+}
+
+void check_energy(const PairCase& pc, double declared, const Vec3& w1, const Vec3& w2, PairReport& r) {
+  const double e0 = 0.5 * (dot(pc.v1, pc.v1) + dot(pc.v2, pc.v2));
+  const double e1 = 0.5 * (dot(w1, w1) + dot(w2, w2));
+  const double diff = (e1 - e0) - declared;
+  const double tol = 64 * kEps * (e0 + e1 + std::fabs(declared)) + 1e-300;
+  const double ratio = std::isfinite(diff) ? std::fabs(diff) / tol : std::numeric_limits<double>::infinity();
+  r.energy_declared_total += declared;
+  if (ratio > r.worst_energy) {
+    r.worst_energy = ratio;
+    r.energy_excess = std::fabs(diff);
+    r.energy_case = case_text(pc) + fmt(": actual change of kinetic energy %.10g, declared %.10g (tolerance %.3g)",
+                                        e1 - e0, declared, tol);
+  }
+}
+
+}  // namespace
+
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
                       std::size_t random_pairs) {
   const PhiloxKey key = stream_key(seed, 0);
@@ -72,105 +175,20 @@ PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& att
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const PairCase& pc = cases[c];
     const std::uint32_t i = c % 2 ? 3 : 0, j = c % 2 ? 1 : 2;  // vary the slots
-    const double scale = std::max({norm(pc.v1), norm(pc.v2), 1e-300});
-    for (std::size_t k = 0; k < 4; ++k) {
-      p.x[k] = case_rng.uniform();
-      p.y[k] = case_rng.uniform();
-      p.z[k] = case_rng.uniform();
-      p.set_velocity(k, gaussian(case_rng, scale));
-    }
-    p.set_velocity(i, pc.v1);
-    p.set_velocity(j, pc.v2);
-    for (std::size_t a = 0; a < p.attribute_count; ++a)
-      for (std::size_t e = 0; e < 4 * static_cast<std::size_t>(p.attribute_specs[a].components); ++e)
-        p.attribute_data[a][e] = scale * case_rng.normal();
+    fill_case(p, pc, i, j, case_rng);
     ParticleStore before_store;
     before_store.allocate(4, attributes);
     const ParticleSpan b = before_store.span();
-    auto copy_all = [](const ParticleSpan& from, const ParticleSpan& to) {
-      for (std::size_t k = 0; k < from.count; ++k) {
-        to.x[k] = from.x[k]; to.y[k] = from.y[k]; to.z[k] = from.z[k];
-        to.vx[k] = from.vx[k]; to.vy[k] = from.vy[k]; to.vz[k] = from.vz[k];
-      }
-      for (std::size_t a = 0; a < from.attribute_count; ++a)
-        std::copy(from.attribute_data[a], from.attribute_data[a] + from.count * from.attribute_specs[a].components,
-                  to.attribute_data[a]);
-    };
     copy_all(p, b);
-
-    const Vec3 g = pc.v1 - pc.v2;
-    if (r.rate.empty()) {
-      const Vec3 other = case_rng.unit_vector();
-      for (const Vec3& d : {pc.s, -1.0 * pc.s, other}) {
-        const double rate = rule.pair_rate(g, d);
-        if (!std::isfinite(rate) || rate < 0) {
-          r.rate = fmt("pair_rate(g = %s, sigma_hat = %s) = %g (must be finite and >= 0) for a %s pair", vec_text(g).c_str(),
-                       vec_text(d).c_str(), rate, pc.what);
-          break;
-        }
-      }
-    }
+    if (r.rate.empty()) check_rate(rule, pc, case_rng, r);
 
     const double declared = rule.collide_pair(p, i, j, pc.s, rule_rng);
     ++r.cases;
     const Vec3 w1 = p.velocity(i), w2 = p.velocity(j);
-    // finite
-    if (r.nonfinite.empty()) {
-      std::string bad;
-      if (!std::isfinite(declared)) bad = fmt("returned the energy change %g", declared);
-      else if (!all_finite(&w1.x, 1) || !all_finite(&w1.y, 1) || !all_finite(&w1.z, 1) || !all_finite(&w2.x, 1) ||
-               !all_finite(&w2.y, 1) || !all_finite(&w2.z, 1))
-        bad = "produced the velocities " + vec_text(w1) + ", " + vec_text(w2);
-      else {
-        const std::string n = nonfinite_in(p);
-        if (!n.empty()) bad = "produced " + n;
-      }
-      if (!bad.empty()) r.nonfinite = bad + " for the " + case_text(pc);
-    }
-    // mass / locality: nothing but the velocities and attributes of i and j may change
-    if (r.locality.empty()) {
-      for (std::size_t k = 0; k < 4 && r.locality.empty(); ++k) {
-        if (p.x[k] != b.x[k] || p.y[k] != b.y[k] || p.z[k] != b.z[k])
-          r.locality = fmt("moved particle %zu (a collision changes velocities only)", k);
-        else if (k != i && k != j && (p.vx[k] != b.vx[k] || p.vy[k] != b.vy[k] || p.vz[k] != b.vz[k]))
-          r.locality = fmt("changed the velocity of particle %zu, which is not in the colliding pair (%u, %u)", k, i, j);
-        for (std::size_t a = 0; a < p.attribute_count && r.locality.empty() && k != i && k != j; ++a)
-          for (int comp = 0; comp < p.attribute_specs[a].components; ++comp) {
-            const std::size_t e = static_cast<std::size_t>(comp) * p.count + k;
-            if (std::memcmp(&p.attribute_data[a][e], &b.attribute_data[a][e], sizeof(double)) != 0) {
-              r.locality = fmt("changed attribute '%s' of particle %zu, which is not in the colliding pair",
-                               p.attribute_specs[a].name.c_str(), k);
-              break;
-            }
-          }
-      }
-    }
-    // momentum
-    {
-      const Vec3 dp = (w1 + w2) - (pc.v1 + pc.v2);
-      const double tol = 64 * kEps * (norm(pc.v1) + norm(pc.v2) + norm(w1) + norm(w2)) + 1e-300;
-      const double ratio = std::isfinite(norm(dp)) ? norm(dp) / tol : std::numeric_limits<double>::infinity();
-      if (ratio > r.worst_momentum) {
-        r.worst_momentum = ratio;
-        r.momentum_excess = norm(dp);
-        r.momentum_case = case_text(pc) + fmt(": |p' - p| = %.3g, round-off tolerance %.3g", norm(dp), tol);
-      }
-    }
-    // energy
-    {
-      const double e0 = 0.5 * (dot(pc.v1, pc.v1) + dot(pc.v2, pc.v2));
-      const double e1 = 0.5 * (dot(w1, w1) + dot(w2, w2));
-      const double diff = (e1 - e0) - declared;
-      const double tol = 64 * kEps * (e0 + e1 + std::fabs(declared)) + 1e-300;
-      const double ratio = std::isfinite(diff) ? std::fabs(diff) / tol : std::numeric_limits<double>::infinity();
-      r.energy_declared_total += declared;
-      if (ratio > r.worst_energy) {
-        r.worst_energy = ratio;
-        r.energy_excess = std::fabs(diff);
-        r.energy_case = case_text(pc) + fmt(": actual change of kinetic energy %.10g, declared %.10g (tolerance %.3g)",
-                                            e1 - e0, declared, tol);
-      }
-    }
+    if (r.nonfinite.empty()) check_finite(p, pc, declared, w1, w2, r);
+    if (r.locality.empty()) check_locality(p, b, i, j, r);
+    check_momentum(pc, w1, w2, r);
+    check_energy(pc, declared, w1, w2, r);
   }
   return r;
 }
