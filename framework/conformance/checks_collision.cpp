@@ -216,32 +216,34 @@ RuleUnderTest rule_under_test(const Subject& s) {
   return r;
 }
 
-Result check_collision_finite(const Subject& s) {
+// The pair suite on the rule built from its defaults (each collision.* check reads one property).
+PairReport pair_report(const Subject& s) {
   auto t = rule_under_test(s);
-  const PairReport r = pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+  return pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+}
+
+Result check_collision_finite(const Subject& s) {
+  const PairReport r = pair_report(s);
   if (!r.nonfinite.empty()) return fail("NaN or infinity: collide " + r.nonfinite);
   return pass(fmt("%zu pairs (random, zero relative velocity, grazing, speeds 1e6 and 1e-8): velocities, attributes "
                   "and declared energy changes finite", r.cases));
 }
 
 Result check_collision_mass(const Subject& s) {
-  auto t = rule_under_test(s);
-  const PairReport r = pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+  const PairReport r = pair_report(s);
   if (!r.locality.empty()) return fail("mass: collide_pair " + r.locality);
   return pass(fmt("%zu pairs: the particle count is fixed and only the colliding pair changes (mass conserved)", r.cases));
 }
 
 Result check_collision_momentum(const Subject& s) {
-  auto t = rule_under_test(s);
-  const PairReport r = pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+  const PairReport r = pair_report(s);
   if (r.worst_momentum > 1) return fail("momentum not conserved: " + r.momentum_case);
   return pass(fmt("%zu pairs: momentum conserved to round-off (worst %.2g of the tolerance 64 eps |v|)", r.cases,
                   r.worst_momentum));
 }
 
 Result check_collision_energy(const Subject& s) {
-  auto t = rule_under_test(s);
-  const PairReport r = pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+  const PairReport r = pair_report(s);
   if (r.worst_energy > 1) return fail("energy change differs from the declared one: " + r.energy_case);
   return pass(fmt("%zu pairs: the kinetic-energy change equals the declared one to round-off (worst %.2g of the "
                   "tolerance); mean declared change %.4g per random pair", r.cases, r.worst_energy,
@@ -249,8 +251,7 @@ Result check_collision_energy(const Subject& s) {
 }
 
 Result check_collision_rate(const Subject& s) {
-  auto t = rule_under_test(s);
-  const PairReport r = pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+  const PairReport r = pair_report(s);
   if (!r.rate.empty()) return fail("collision rate invalid: " + r.rate);
   return pass(fmt("pair_rate finite and >= 0 for %zu pairs in 3 directions each", r.cases));
 }
