@@ -40,9 +40,10 @@
 #include <gdsmc/collision.hpp>
 #include <gdsmc/moments.hpp>
 
-#include "engine.hpp"
-#include "loader.hpp"
-#include "pipeline.hpp"
+#include "config/pipeline.hpp"
+#include "engine/engine.hpp"
+#include "engine/majorant.hpp"
+#include "plugins/loader.hpp"
 
 namespace {
 
@@ -51,8 +52,6 @@ using namespace gdsmc;
 constexpr double kT0 = 1.0;
 constexpr double kDensity = 1e-3;  // n sigma^3, as in configs/hcs.yaml (the cost does not depend on it)
 constexpr double kSigma = 1.0;
-constexpr double kInitialMajorantRatio = 6.0 * M_SQRT2;  // as framework/engine.cpp
-constexpr double kMajorantHeadroom = 1.05;               // as framework/engine.cpp
 constexpr double kCollisionFractionPerCall = 0.01;       // ~N/100 accepted collisions per call
 constexpr double kRescaleBelow = 0.8;                    // rescale velocities when T < 0.8 T0
 constexpr std::uint64_t kSeed = 2026;
@@ -154,7 +153,7 @@ struct Cell {
   std::uint32_t n;
   double volume;
   double temperature = kT0;  // followed exactly from the declared energy changes (m = 1, u = 0)
-  double majorant_ratio = kInitialMajorantRatio;
+  double majorant_ratio = gdsmc::host::kInitialMajorantRatio;
   double remainder = 0;
   PhiloxKey key;
   std::uint64_t step = 0;
@@ -213,7 +212,7 @@ struct Cell {
     c.rng = &rng;
     collide(c);
     remainder = c.remainder;
-    if (c.max_rate > c.majorant) majorant_ratio = kMajorantHeadroom * c.max_rate / thermal_speed;
+    if (c.max_rate > c.majorant) majorant_ratio = gdsmc::host::kMajorantHeadroom * c.max_rate / thermal_speed;
     candidates += c.candidates;
     accepted += c.accepted;
     exceeded += c.majorant_exceeded;

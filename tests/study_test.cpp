@@ -2,7 +2,8 @@
 // steady averages (framework/study.cpp, framework/engine.cpp).
 #include <gtest/gtest.h>
 
-#include "study.hpp"
+#include "output/hdf5_file.hpp"
+#include "study/study.hpp"
 #include "test_support.hpp"
 
 namespace gdsmc::test {

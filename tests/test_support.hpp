@@ -24,9 +24,10 @@
 #include <thread>
 #include <vector>
 
-#include "engine.hpp"
-#include "loader.hpp"
-#include "pipeline.hpp"
+#include "config/pipeline.hpp"
+#include "engine/engine.hpp"
+#include "plugins/loader.hpp"
+#include "plugins/registry.hpp"
 
 extern char** environ;
 

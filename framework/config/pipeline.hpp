@@ -6,25 +6,18 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <gdsmc/context.hpp>
 #include <gdsmc/params.hpp>
 
-#include "loader.hpp"
+#include "config/errors.hpp"
+#include "config/suggest.hpp"
+#include "config/units.hpp"
+#include "plugins/registry.hpp"
 
 namespace gdsmc::host {
-
-class PipelineError : public std::runtime_error {
- public:
-  explicit PipelineError(std::vector<std::string> messages);
-  const std::vector<std::string>& messages() const { return messages_; }
-
- private:
-  std::vector<std::string> messages_;
-};
 
 // One plugin as the pipeline uses it.
 struct PluginUse {
@@ -91,6 +84,10 @@ struct Pipeline {
   std::filesystem::path output_file;
   bool output_particles = false;  // write the final particle state (/particles)
   std::shared_ptr<PluginRegistry> registry;
+  // Problems that do not refuse the pipeline but that the user should see: plugin files on the
+  // search path that could not be used (and are so shadowed by others or missing), `plugins:`
+  // entries that do not exist.
+  std::vector<std::string> warnings;
 
   double mean_free_path0() const;  // lambda0 = 1 / (sqrt(2) pi n sigma^2)
   double time_unit0() const;       // tau0 = lambda0 / sqrt(2 T0 / m)
@@ -99,16 +96,11 @@ struct Pipeline {
 };
 
 // Read, check and resolve a pipeline. `overrides` are "key.path=value" strings (--set); `extra_plugin_paths` come first in the search path.
+// `registry`, when given, is used instead of building one from the search path (the cases of a
+// sweep share their base pipeline's registry, so no library is loaded twice).
 // Throws PipelineError with every problem found.
 Pipeline load_pipeline(const std::filesystem::path& file, const std::vector<std::string>& overrides,
-                       const std::vector<std::filesystem::path>& extra_plugin_paths = {});
-
-// Closest names to `word` among `candidates` (edit distance), best first, at most 3.
-std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& candidates);
-
-// Convert a value given in `unit` for a parameter of dimension `d` into reduced units.
-// Returns nullopt (and sets `valid` to the accepted units) for an unknown unit.
-std::optional<double> to_reduced(double value, const std::string& unit, Dimension d, double lambda0, double tau0,
-                                 double T0, double sigma, std::string& valid);
+                       const std::vector<std::filesystem::path>& extra_plugin_paths = {},
+                       std::shared_ptr<PluginRegistry> registry = nullptr);
 
 }  // namespace gdsmc::host

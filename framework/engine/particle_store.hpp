@@ -15,17 +15,21 @@ class ParticleStore {
     n_ = n;
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->assign(n, 0.0);
     specs_ = attributes;
-    for (std::size_t a = 0; a < specs_.size(); ++a) {
-      if (specs_[a].components < 1) throw std::runtime_error("attribute '" + specs_[a].name + "' declares no components");
-      for (std::size_t b = 0; b < a; ++b)
-        if (specs_[a].name == specs_[b].name)
-          throw std::runtime_error("two plugins declare the per-particle attribute '" + specs_[a].name + "'");
-    }
+    check_attributes(specs_);
     data_.assign(specs_.size(), {});
     pointers_.assign(specs_.size(), nullptr);
     for (std::size_t a = 0; a < specs_.size(); ++a) {
       data_[a].assign(n * static_cast<std::size_t>(specs_[a].components), 0.0);
       pointers_[a] = data_[a].data();
+    }
+  }
+  // Throws unless every attribute has components and the names are unique.
+  static void check_attributes(const std::vector<AttributeSpec>& specs) {
+    for (std::size_t a = 0; a < specs.size(); ++a) {
+      if (specs[a].components < 1) throw std::runtime_error("attribute '" + specs[a].name + "' declares no components");
+      for (std::size_t b = 0; b < a; ++b)
+        if (specs[a].name == specs[b].name)
+          throw std::runtime_error("two plugins declare the per-particle attribute '" + specs[a].name + "'");
     }
   }
   ParticleSpan span() {

@@ -1,35 +1,14 @@
-// Finding, loading and checking plugin binaries (Boost.DLL), and making objects that keep their
-// library loaded.
+// The plugin search path and every plugin found on it (the first of a name wins), with the
+// warnings about files that could not be used.
 #pragma once
 #include <filesystem>
 #include <map>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include <gdsmc/plugin.hpp>
-
-namespace boost::dll {
-class shared_library;
-}
+#include "plugins/loader.hpp"
 
 namespace gdsmc::host {
-
-// Thrown when a file cannot be used as a plugin; the message names the file and what to do.
-class PluginLoadError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-struct LoadedPlugin {
-  std::filesystem::path file;
-  std::shared_ptr<boost::dll::shared_library> library;
-  const PluginDescriptor* descriptor = nullptr;
-  std::uint32_t abi_major = 0, abi_minor = 0;
-};
-
-// Load one shared library and check it is a gdsmc plugin of a compatible ABI.
-LoadedPlugin load_plugin(const std::filesystem::path& file);
 
 // Every plugin found on a search path; the first of a name wins.
 class PluginRegistry {
@@ -55,9 +34,5 @@ class PluginRegistry {
   std::vector<std::string> warnings_;
   std::vector<std::filesystem::path> seen_;
 };
-
-// Make an object with the plugin's factory. The returned pointer owns a reference to the library,
-// so the library outlives every object made from it.
-std::shared_ptr<PluginObject> create_object(const LoadedPlugin& plugin, const Params& params);
 
 }  // namespace gdsmc::host

@@ -1,8 +1,5 @@
-// Results held in memory during a run and written to one HDF5 file at the end, under a temporary
-// name that is renamed only on success.
+// What one diagnostic writes through the SDK sink, held in memory until the run ends.
 #pragma once
-#include <cstdint>
-#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -62,46 +59,5 @@ class DiagnosticOutput final : public OutputSink {
   std::string group_;
   std::vector<std::string>* summary_;
 };
-
-struct PluginProvenance {
-  std::string role, instance, plugin, version, file;
-  std::map<std::string, std::string> parameters;  // as resolved, reduced units
-};
-
-// A per-particle dataset of the final state: shape [components, N] (or [N] for one component).
-struct ParticleDataset {
-  std::string name, unit, doc;
-  int components = 1;
-  std::vector<double> data;
-};
-
-// One simulated case (one point of a sweep; all its realizations averaged).
-struct CaseOutput {
-  std::string group;                            // "" for a single case (written at the root), else "cases/<k>"
-  std::map<std::string, std::string> attributes;  // e.g. the sweep values of this case
-  std::map<std::string, double> system;         // /system attributes
-  std::map<std::string, double> run;            // /run attributes
-  std::vector<PluginProvenance> plugins;
-  std::vector<DiagnosticOutput> diagnostics;
-  std::vector<ParticleDataset> particles;       // empty unless output.particles (realization 0)
-};
-
-// A column of the /summary table of a sweep: one entry per case.
-struct SummaryColumn {
-  std::string name, unit, doc;
-  std::vector<double> values;       // numeric column, or
-  std::vector<std::string> labels;  // text column (when values is empty)
-};
-
-struct StudyOutput {
-  std::map<std::string, std::string> root_attributes;
-  std::map<std::string, double> root_numbers;
-  std::vector<CaseOutput> cases;
-  std::vector<SummaryColumn> summary;
-};
-
-// Write under "<file>.partial-<pid>" and rename to `file` on success. On failure, no file is left
-// under either name and the error is thrown.
-void write_hdf5(const std::filesystem::path& file, const StudyOutput& out);
 
 }  // namespace gdsmc::host

@@ -10,9 +10,10 @@
 #include <gdsmc/moments.hpp>
 #include <gdsmc/plugin.hpp>
 
-#include "output.hpp"
-#include "particle_store.hpp"
-#include "pipeline.hpp"
+#include "config/pipeline.hpp"
+#include "engine/particle_store.hpp"
+#include "output/diagnostic_output.hpp"
+#include "output/records.hpp"
 
 namespace gdsmc::host {
 
@@ -32,6 +33,11 @@ class Engine {
   // Builds every plugin object, allocates and fills the particles, lets diagnostics declare
   // their output. Throws std::runtime_error naming the plugin on any failure.
   explicit Engine(const Pipeline& pipeline, std::uint32_t realization = 0);
+
+  // What `gdsmc validate` checks: every plugin object constructs, declares its attributes,
+  // publishes its quantities and (diagnostics) begins, for the pipeline's system; no particle
+  // is allocated and no initial state is generated. Throws like the constructor.
+  static void check_setup(const Pipeline& pipeline);
 
   // Steps until the stop condition (or until *interrupt becomes true, then throws Interrupted).
   void run(const std::function<void(const Progress&)>& report = {}, double report_interval_seconds = 1.0,
@@ -61,11 +67,17 @@ class Engine {
     std::uint64_t samples = 0;
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
   };
+  enum class Setup { full, objects_only };
+  Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup);
+  // The stages of construction, in order.
+  void build_objects();
+  void publish(const std::vector<AttributeSpec>& attributes, Setup setup);
+  void generate_initial_state();
+  void begin_diagnostics();
+
   void update_moments();
   void sample_and_record(bool force_record);
-  bool finished() const;
-  void check_steady();
-  double stop_fraction() const;
+  Progress progress(double elapsed_seconds) const;
 
   const Pipeline& pipeline_;
   SystemInfo system_;

@@ -1,25 +1,46 @@
-#include "engine.hpp"
+#include "engine/engine.hpp"
 
 #include <chrono>
 #include <cmath>
 
+#include "engine/majorant.hpp"
+#include "engine/stop.hpp"
+#include "output/particle_dump.hpp"
+#include "output/provenance.hpp"
+
 namespace gdsmc::host {
 
 namespace {
-// Initial majorant of the hard-sphere acceptance rate |g| in units of sqrt(T/m): for a Maxwellian
-// |g| / sqrt(T/m) is sqrt(2) chi_3, which exceeds 6 sqrt(2) with probability ~1e-7 per candidate.
-// Exceedances are counted and raise the ratio (see CellCollision::majorant_exceeded).
-constexpr double kInitialMajorantRatio = 6.0 * M_SQRT2;
-constexpr double kMajorantHeadroom = 1.05;
-
 std::string where_text(const PluginUse& u) {
   return "plugin '" + u.plugin->descriptor->name + "' (" + u.path + ", " + u.where.str() + ")";
 }
 }  // namespace
 
-Engine::Engine(const Pipeline& p, std::uint32_t realization) : pipeline_(p), majorant_ratio_(kInitialMajorantRatio) {
-  system_ = p.system_info(p.particles, realization);
+Engine::Engine(const Pipeline& p, std::uint32_t realization) : Engine(p, realization, Setup::full) {}
 
+void Engine::check_setup(const Pipeline& p) { Engine check(p, 0, Setup::objects_only); }
+
+Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
+    : pipeline_(p), majorant_ratio_(kInitialMajorantRatio) {
+  system_ = p.system_info(p.particles, realization);
+  build_objects();
+  std::vector<AttributeSpec> attributes;
+  for (const auto& o : objects_)
+    for (auto& a : o->attributes()) attributes.push_back(std::move(a));
+  publish(attributes, setup);
+  ctx_.system = &system_;
+  ctx_.quantities = &board_;
+  ctx_.key = stream_key(p.seed, realization);
+  ctx_.cells = &global_;
+  ctx_.cell_count = 1;
+  ctx_.global = &global_;
+  if (setup == Setup::full) generate_initial_state();
+  begin_diagnostics();
+  if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
+}
+
+void Engine::build_objects() {
+  const Pipeline& p = pipeline_;
   auto make = [&](const PluginUse& u) -> PluginObject* {
     try {
       objects_.push_back(create_object(*u.plugin, u.params));
@@ -39,33 +60,32 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization) : pipeline_(p), maj
   if (!p.boundaries.empty())
     throw std::runtime_error("boundaries are given but this version runs homogeneous systems only");
   for (const auto& u : p.diagnostics) slots_.push_back(DiagnosticSlot{static_cast<Diagnostic*>(make(u)), &u});
+}
 
-  std::vector<AttributeSpec> attributes;
-  for (const auto& o : objects_)
-    for (auto& a : o->attributes()) attributes.push_back(std::move(a));
-  store_.allocate(p.particles, attributes);
+// Particles (full setup only) and the attributes, then every object publishes its quantities.
+void Engine::publish(const std::vector<AttributeSpec>& attributes, Setup setup) {
+  if (setup == Setup::full) store_.allocate(pipeline_.particles, attributes);
+  else ParticleStore::check_attributes(attributes);
   for (const auto& o : objects_) o->publish(board_);
+}
 
-  ctx_.system = &system_;
-  ctx_.quantities = &board_;
-  ctx_.key = stream_key(p.seed, realization);
-  ctx_.cells = &global_;
-  ctx_.cell_count = 1;
-  ctx_.global = &global_;
-
+void Engine::generate_initial_state() {
   {
     Rng rng(ctx_.key, StreamPurpose::initial_state, 0, 0);
     try {
       initial_state_->generate(system_, store_.span(), rng);
     } catch (const std::exception& e) {
-      throw std::runtime_error(where_text(p.initial_state) + ": " + e.what());
+      throw std::runtime_error(where_text(pipeline_.initial_state) + ": " + e.what());
     }
   }
   update_moments();
   if (!(global_.temperature > 0) || !std::isfinite(global_.temperature))
-    throw std::runtime_error(where_text(p.initial_state) + " produced a state with temperature " +
+    throw std::runtime_error(where_text(pipeline_.initial_state) + " produced a state with temperature " +
                              std::to_string(global_.temperature) + "; a positive finite temperature is needed");
+}
 
+void Engine::begin_diagnostics() {
+  const Pipeline& p = pipeline_;
   if (p.stop_steady)
     for (std::size_t k = 0; k < slots_.size(); ++k)
       if (slots_[k].use->instance_name == p.stop_steady->group) steady_slot_ = static_cast<int>(k);
@@ -74,13 +94,10 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization) : pipeline_(p), maj
     outputs_.emplace_back(slot.use->instance_name, &summary_);
     try {
       slot.object->begin(system_, board_, outputs_.back());
-    } catch (const ParameterError& e) {
-      throw std::runtime_error(where_text(*slot.use) + ": " + e.what());
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(*slot.use) + ": " + e.what());
     }
   }
-  sample_and_record(true);  // the initial state is the first record of every diagnostic
 }
 
 void Engine::update_moments() {
@@ -160,68 +177,28 @@ void Engine::sample_and_record(bool force_record) {
     slot.time_sum = slot.s_sum = 0;
     slot.samples = 0;
     slot.last_record_step = ctx_.step;
-    if (static_cast<int>(k) == steady_slot_) check_steady();
+    if (static_cast<int>(k) == steady_slot_)
+      if (const auto steady = is_steady(*pipeline_.stop_steady, outputs_[k])) steady_ = *steady;
   }
 }
 
-void Engine::check_steady() {
-  // Means of the series over the windows (s - 2W, s - W] and (s - W, s] of the last record.
-  const SteadyStop& st = *pipeline_.stop_steady;
-  const DiagnosticOutput& out = outputs_[static_cast<std::size_t>(steady_slot_)];
-  const DiagnosticOutput::Column* col = nullptr;
-  for (const auto& c : out.columns)
-    if (c.name == st.column) col = &c;
-  if (!col) {
-    throw std::runtime_error("run.stop.steady: diagnostic '" + st.group + "' has no series '" + st.column + "'");
-  }
-  const auto& s = out.collisions_per_particle;
-  if (s.empty() || s.back() < 2 * st.window) return;
-  double sum[2] = {0, 0};
-  std::size_t n[2] = {0, 0};
-  for (std::size_t k = s.size(); k-- > 0;) {
-    const double age = s.back() - s[k];
-    if (age >= 2 * st.window) break;
-    const int w = age < st.window ? 1 : 0;
-    sum[w] += col->values[k];
-    ++n[w];
-  }
-  if (n[0] < 3 || n[1] < 3) return;
-  const double older = sum[0] / static_cast<double>(n[0]), newer = sum[1] / static_cast<double>(n[1]);
-  steady_ = std::fabs(newer - older) <= st.tolerance * std::fabs(newer);
-}
-
-bool Engine::finished() const {
-  if (steady_) return true;
-  if (pipeline_.stop_collisions_per_particle && ctx_.collisions_per_particle() >= *pipeline_.stop_collisions_per_particle)
-    return true;
-  if (pipeline_.stop_time_tau0 && ctx_.time_in_tau0() >= *pipeline_.stop_time_tau0 * (1.0 - 1e-12)) return true;
-  return false;
-}
-
-double Engine::stop_fraction() const {
-  double f = 0;
-  if (pipeline_.stop_collisions_per_particle)
-    f = std::max(f, ctx_.collisions_per_particle() / *pipeline_.stop_collisions_per_particle);
-  if (pipeline_.stop_time_tau0) f = std::max(f, ctx_.time_in_tau0() / *pipeline_.stop_time_tau0);
-  return std::min(1.0, f);
+Progress Engine::progress(double elapsed) const {
+  Progress pr;
+  pr.fraction = stop_fraction(pipeline_, ctx_);
+  pr.time_tau0 = ctx_.time_in_tau0();
+  pr.collisions_per_particle = ctx_.collisions_per_particle();
+  pr.temperature_over_T0 = global_.temperature / system_.initial_temperature;
+  pr.elapsed_seconds = elapsed;
+  pr.remaining_seconds = pr.fraction > 0 ? elapsed * (1.0 - pr.fraction) / pr.fraction : -1.0;
+  pr.steps = ctx_.step;
+  return pr;
 }
 
 void Engine::run(const std::function<void(const Progress&)>& report, double interval, const std::atomic<bool>* interrupt) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto last_report = start;
-  auto progress = [&](double elapsed) {
-    Progress pr;
-    pr.fraction = stop_fraction();
-    pr.time_tau0 = ctx_.time_in_tau0();
-    pr.collisions_per_particle = ctx_.collisions_per_particle();
-    pr.temperature_over_T0 = global_.temperature / system_.initial_temperature;
-    pr.elapsed_seconds = elapsed;
-    pr.remaining_seconds = pr.fraction > 0 ? elapsed * (1.0 - pr.fraction) / pr.fraction : -1.0;
-    pr.steps = ctx_.step;
-    return pr;
-  };
-  while (!finished()) {
+  while (!finished(pipeline_, ctx_, steady_)) {
     if (interrupt && interrupt->load(std::memory_order_relaxed)) throw Interrupted();
     step();
     if (!std::isfinite(global_.temperature) || global_.temperature <= 0)
@@ -267,38 +244,9 @@ CaseOutput Engine::output() {
              {"collision_energy_change", ctx_.collision_energy_change},
              {"wall_seconds", wall_seconds_},
              {"reached_steady_state", steady_ ? 1.0 : 0.0}};
-  auto prov = [&](const std::string& role, const PluginUse& u) {
-    PluginProvenance pp{role, u.instance_name, u.plugin->descriptor->name, u.plugin->descriptor->version,
-                        u.plugin->file.string(), {}};
-    for (const auto& [k, e] : u.params.entries()) pp.parameters[k] = value_text(e.value);
-    out.plugins.push_back(std::move(pp));
-  };
-  prov("initial_state", pipeline_.initial_state);
-  prov("collision", pipeline_.collision);
-  for (const auto& u : pipeline_.forcings) prov(u.path, u);
-  for (const auto& u : pipeline_.diagnostics) prov(u.path, u);
+  out.plugins = plugin_provenance(pipeline_);
   out.diagnostics = outputs_;
-  if (pipeline_.output_particles) {
-    const ParticleSpan s = store_.span();
-    const double length = system_.mean_free_path0, speed = std::sqrt(2.0 * system_.initial_temperature / system_.mass);
-    auto column = [&](const char* name, const double* v, double scale, const char* unit, const char* doc) {
-      ParticleDataset d{name, unit, doc, 1, std::vector<double>(v, v + s.count)};
-      for (double& x : d.data) x /= scale;
-      out.particles.push_back(std::move(d));
-    };
-    column("x", s.x, length, "lambda0", "final position x");
-    column("y", s.y, length, "lambda0", "final position y");
-    column("z", s.z, length, "lambda0", "final position z");
-    column("vx", s.vx, speed, "sqrt(2T0/m)", "final velocity x");
-    column("vy", s.vy, speed, "sqrt(2T0/m)", "final velocity y");
-    column("vz", s.vz, speed, "sqrt(2T0/m)", "final velocity z");
-    for (std::size_t a = 0; a < s.attribute_count; ++a) {
-      const AttributeSpec& spec = s.attribute_specs[a];
-      const double* data = s.attribute_data[a];
-      out.particles.push_back(ParticleDataset{spec.name, spec.unit, spec.doc, spec.components,
-                                              std::vector<double>(data, data + s.count * spec.components)});
-    }
-  }
+  if (pipeline_.output_particles) out.particles = particle_datasets(store_.span(), system_);
   return out;
 }
 

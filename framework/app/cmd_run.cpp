@@ -1,0 +1,140 @@
+// `gdsmc run` and `gdsmc validate`.
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "app/progress.hpp"
+#include "output/hdf5_file.hpp"
+#include "study/study.hpp"
+
+namespace gdsmc::host {
+
+namespace fs = std::filesystem;
+
+const char* const kRunHelp = R"(gdsmc run PIPELINE.yaml [options]
+
+Runs the pipeline and writes one HDF5 file (the pipeline's output.file, default
+<pipeline name>.h5 in the current directory). The file is written under a temporary name and
+renamed when complete: a failed or interrupted run leaves nothing under the final name.
+
+Options:
+  --set key.path=value   override a pipeline value before checking it, e.g.
+                         --set collision.alpha=0.5  --set run.particles=20000
+                         --set diagnostics[1].average_after=5 (lists by index)
+  --output FILE          write to FILE instead of output.file
+  --quiet                no progress and no summary (errors are still printed)
+  --plugin-path P        a plugin directory or .so file searched first (repeatable)
+
+Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
+a plain line every 10 s otherwise. The summary after the run goes to stdout.
+)";
+
+const char* const kValidateHelp = R"(gdsmc validate PIPELINE.yaml [--set key.path=value]... [--plugin-path P]...
+
+Checks the pipeline without running it: YAML syntax, every key, every plugin and parameter
+(type, range, unit), and that every plugin accepts its parameters and sets up (every plugin
+object is constructed and every diagnostic begins; no particles are allocated and the initial
+state is not generated, so a large N is checked as quickly as a small one). Every problem is
+reported with file:line:column. Exit 0 when valid, 1 otherwise. Plugin files on the search path
+that could not be loaded (and are therefore shadowed or missing) are reported as warnings.
+)";
+
+int usage_error(const std::string& message) {
+  std::cerr << "gdsmc: " << message << "\n(see `gdsmc --help`)\n";
+  return 2;
+}
+
+void print_errors(const std::vector<std::string>& messages) {
+  for (const auto& m : messages) std::cerr << "error: " << m << "\n";
+  std::cerr << "gdsmc: " << messages.size() << (messages.size() == 1 ? " error" : " errors") << "; nothing was run or written\n";
+}
+
+void print_warnings(const std::vector<std::string>& messages) {
+  for (const auto& m : messages) std::cerr << "warning: " << m << "\n";
+}
+
+namespace {
+
+// Load the pipeline and every case of its sweep and set each up once before anything runs
+// (a run builds every engine; validate only the plugin objects). Returns 0, or the exit status.
+int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases) {
+  try {
+    p = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
+  } catch (const PipelineError& e) {
+    print_errors(e.messages());
+    return 1;
+  }
+  print_warnings(p.warnings);
+  if (!o.output.empty()) p.output_file = o.output;
+  if (run_it) {
+    const fs::path dir = fs::absolute(p.output_file).parent_path();
+    if (!fs::is_directory(dir)) {
+      print_errors({"output file " + p.output_file.string() + ": the directory " + dir.string() + " does not exist"});
+      return 1;
+    }
+  }
+  try {
+    cases = expand_cases(p, o.sets, o.plugin_paths);
+    for (const auto& c : cases) {
+      if (run_it) Engine check(c.pipeline, 0);
+      else Engine::check_setup(c.pipeline);
+    }
+  } catch (const PipelineError& e) {
+    print_errors(e.messages());
+    return 1;
+  } catch (const std::exception& e) {
+    print_errors({p.file.string() + ": " + e.what()});
+    return 1;
+  }
+  return 0;
+}
+
+void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& result) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "gdsmc: %s: %zu case(s) x %u realization(s), %llu steps, %.4g collisions in %.2f s (%.3g collisions/s)",
+                p.file.filename().c_str(), cases, p.realizations, static_cast<unsigned long long>(result.steps),
+                result.collisions, result.wall_seconds, result.wall_seconds > 0 ? result.collisions / result.wall_seconds : 0.0);
+  std::cout << buf << "\n";
+  for (const auto& line : result.summary) std::cout << line << "\n";
+  std::cout << "output: " << fs::absolute(p.output_file).string() << "\n";
+}
+
+}  // namespace
+
+int cmd_run(const Options& o, bool run_it) {
+  if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
+  Pipeline p;
+  std::vector<StudyCase> cases;
+  if (const int status = prepare(o, run_it, p, cases)) return status;
+  if (!run_it) {
+    std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
+              << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
+              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string() << ")\n";
+    return 0;
+  }
+  install_interrupt_handlers();
+  const bool tty = ::isatty(STDERR_FILENO);
+  std::function<void(const StudyProgress&)> report;
+  if (!o.quiet) report = progress_reporter(tty);
+  StudyResult result;
+  try {
+    result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted);
+    if (report && tty) std::cerr << "\n";
+    write_hdf5(p.output_file, result.output);
+  } catch (const Engine::Interrupted&) {
+    if (report && tty) std::cerr << "\n";
+    std::cerr << "gdsmc: interrupted; no output written\n";
+    return 130;
+  } catch (const std::exception& e) {
+    if (report && tty) std::cerr << "\n";
+    print_errors({p.file.string() + ": " + e.what()});
+    return 1;
+  }
+  if (!o.quiet) print_summary(p, cases.size(), result);
+  return 0;
+}
+
+}  // namespace gdsmc::host

@@ -1,0 +1,44 @@
+#include "app/progress.hpp"
+
+#include <csignal>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace gdsmc::host {
+
+std::atomic<bool> g_interrupted{false};
+
+namespace {
+extern "C" void on_signal(int) { g_interrupted.store(true); }
+}  // namespace
+
+void install_interrupt_handlers() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+
+std::string format_seconds(double s) {
+  char buf[64];
+  if (s < 0) return "?";
+  if (s < 90) std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 5400) std::snprintf(buf, sizeof buf, "%.0fm%02.0fs", std::floor(s / 60), std::fmod(s, 60.0));
+  else std::snprintf(buf, sizeof buf, "%.1fh", s / 3600);
+  return buf;
+}
+
+std::function<void(const StudyProgress&)> progress_reporter(bool tty) {
+  return [tty](const StudyProgress& sp) {
+    const Progress& pr = sp.progress;
+    char line[384];
+    std::string run = sp.runs > 1 ? "run " + std::to_string(sp.run + 1) + "/" + std::to_string(sp.runs) + " " : "";
+    if (!sp.label.empty()) run += "(" + sp.label + ") ";
+    std::snprintf(line, sizeof line, "[%3.0f%%] %ss = %-8.4g t = %-9.4g tau0  T/T0 = %-10.4g elapsed %s, left ~%s",
+                  100 * sp.fraction, run.c_str(), pr.collisions_per_particle, pr.time_tau0, pr.temperature_over_T0,
+                  format_seconds(pr.elapsed_seconds).c_str(), format_seconds(sp.remaining_seconds).c_str());
+    if (tty) std::cerr << "\r" << line << "\033[K" << std::flush;
+    else std::cerr << line << "\n";
+  };
+}
+
+}  // namespace gdsmc::host

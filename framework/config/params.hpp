@@ -1,0 +1,25 @@
+// Plugin entries of a pipeline: the plugin they name, their parameters checked against the
+// plugin's ParamSpec list (type, range, unit) and converted to reduced units.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "config/pipeline.hpp"
+#include "config/yaml_reader.hpp"
+
+namespace gdsmc::host {
+
+// Keys of a plugin entry that belong to the pipeline, not to the plugin's parameters.
+const std::vector<std::string>& reserved_keys(PluginKind kind);
+// The union over the kinds: no plugin may name a parameter like this.
+const std::vector<std::string>& all_reserved_keys();
+
+// Check one plugin entry (a bare name or {plugin: NAME, ...}) and test-construct the plugin.
+// Returns nullopt after recording every problem in `c`.
+std::optional<PluginUse> check_plugin(Checker& c, const Pipeline& p, const YAML::Node& node, const std::string& path,
+                                      PluginKind kind);
+
+}  // namespace gdsmc::host

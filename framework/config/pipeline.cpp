@@ -1,0 +1,182 @@
+#include "config/pipeline.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "config/overrides.hpp"
+#include "config/params.hpp"
+#include "config/sections.hpp"
+#include "config/yaml_reader.hpp"
+
+namespace gdsmc::host {
+
+namespace fs = std::filesystem;
+
+SystemInfo Pipeline::system_info(std::size_t n, std::uint32_t realization) const {
+  SystemInfo sys;
+  sys.particles = n;
+  sys.number_density = number_density;
+  sys.sigma = sigma;
+  sys.mass = 1.0;
+  sys.initial_temperature = temperature;
+  sys.mean_free_path0 = mean_free_path0();
+  sys.time_unit0 = time_unit0();
+  sys.volume = static_cast<double>(n) / number_density;
+  sys.geometry = geometry;
+  sys.box[0] = sys.box[1] = sys.box[2] = std::cbrt(sys.volume);
+  sys.cells = 1;
+  sys.seed = seed;
+  sys.realization = realization;
+  return sys;
+}
+
+double Pipeline::mean_free_path0() const { return 1.0 / (std::sqrt(2.0) * M_PI * number_density * sigma * sigma); }
+double Pipeline::time_unit0() const { return mean_free_path0() / std::sqrt(2.0 * temperature); }
+
+namespace {
+
+// The file as read, parsed, with the --set overrides applied (source and resolved text kept in p).
+YAML::Node read_document(const fs::path& file, const std::vector<std::string>& overrides, Pipeline& p) {
+  if (std::filesystem::is_directory(file))
+    throw PipelineError({file.string() + ": cannot read the pipeline file (it is a directory)"});
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw PipelineError({file.string() + ": cannot read the pipeline file (" + std::strerror(errno) + ")"});
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    p.source_text = ss.str();
+  }
+  YAML::Node root;
+  try {
+    root = YAML::Load(p.source_text);
+  } catch (const YAML::ParserException& e) {
+    throw PipelineError({file.string() + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                         ": malformed YAML: " + e.msg});
+  }
+  if (!root.IsMap())
+    throw PipelineError({file.string() + ":1:1: a pipeline is a YAML mapping with keys run, system, initial_state, "
+                                         "collision, diagnostics, ..."});
+  {
+    std::vector<std::string> errors;
+    for (const auto& o : overrides) apply_override(root, o, errors);
+    if (!errors.empty()) throw PipelineError(errors);
+  }
+  YAML::Emitter emitter;
+  emitter << root;
+  p.resolved_text = emitter.c_str();
+  return root;
+}
+
+// Plugin search path: --plugin-path, the pipeline's `plugins:` (relative to the file), then the defaults.
+void build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
+                    const std::vector<fs::path>& extra_plugin_paths, Pipeline& p) {
+  p.registry = std::make_shared<PluginRegistry>();
+  std::vector<std::string> load_errors;
+  auto add_path = [&](const fs::path& where, const std::string& origin) {
+    try {
+      p.registry->add(where);
+    } catch (const PluginLoadError& e) {
+      load_errors.push_back(origin + ": " + e.what());
+    }
+  };
+  for (const auto& extra : extra_plugin_paths) add_path(extra, "--plugin-path");
+  if (const YAML::Node pl = root["plugins"]) {
+    if (!pl.IsSequence()) {
+      c.error("plugins", pl, "expected a list of plugin directories or .so files");
+    } else {
+      for (std::size_t k = 0; k < pl.size(); ++k) {
+        fs::path d = pl[k].Scalar();
+        if (d.is_relative()) d = file.parent_path() / d;
+        const std::string where = c.where(item("plugins", k), pl[k]).str();
+        std::error_code ec;
+        if (!fs::exists(d, ec)) {
+          p.warnings.push_back(where + ": plugins[" + std::to_string(k) + "]: " + d.string() +
+                               " does not exist; no plugins are loaded from it");
+          continue;
+        }
+        add_path(d, where);
+      }
+    }
+  }
+  for (const auto& d : PluginRegistry::default_search_path()) add_path(d, "plugin search path");
+  for (const auto& e : load_errors) c.error(SourceLocation{}, "", e);
+  for (const auto& w : p.registry->warnings()) p.warnings.push_back(w);
+}
+
+// initial_state, collision, forcings, boundaries and diagnostics, checked against their plugins.
+void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pipeline& p) {
+  auto need = [&](const char* key) -> YAML::Node {
+    YAML::Node n = root[key];
+    if (!n) c.error(SourceLocation{file.string(), 1, 1}, key, std::string("missing required section '") + key + "'");
+    return n;
+  };
+  if (YAML::Node n = need("initial_state"))
+    if (auto u = check_plugin(c, p, n, "initial_state", PluginKind::initial_state)) p.initial_state = *u;
+  if (YAML::Node n = need("collision"))
+    if (auto u = check_plugin(c, p, n, "collision", PluginKind::collision_rule)) p.collision = *u;
+  auto list = [&](const char* key, PluginKind kind, std::vector<PluginUse>& into) {
+    const YAML::Node n = root[key];
+    if (!n || n.IsNull()) return;
+    if (!n.IsSequence()) {
+      c.error(key, n, "expected a list of plugin entries");
+      return;
+    }
+    for (std::size_t k = 0; k < n.size(); ++k)
+      if (auto u = check_plugin(c, p, n[k], item(key, k), kind)) into.push_back(*u);
+  };
+  list("forcings", PluginKind::forcing, p.forcings);
+  list("boundaries", PluginKind::boundary, p.boundaries);
+  list("diagnostics", PluginKind::diagnostic, p.diagnostics);
+  if (p.stop_steady) {
+    bool found = false;
+    for (const auto& d : p.diagnostics) found = found || d.instance_name == p.stop_steady->group;
+    if (!found)
+      c.error(SourceLocation{file.string(), 0, 0}, "run.stop.steady.series",
+              "no diagnostic writes the group '" + p.stop_steady->group + "'");
+  }
+  std::set<std::string> names;
+  for (const auto& d : p.diagnostics)
+    if (!names.insert(d.instance_name).second)
+      c.error(d.where, d.path, "two diagnostics write to the group '" + d.instance_name + "'; give one a `name:`");
+}
+
+}  // namespace
+
+Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& overrides,
+                       const std::vector<fs::path>& extra_plugin_paths, std::shared_ptr<PluginRegistry> registry) {
+  Pipeline p;
+  p.file = file;
+  p.overrides = overrides;
+  const YAML::Node root = read_document(file, overrides, p);
+
+  Checker c(file, overrides);
+  c.check_keys(root, "", {"run", "system", "initial_state", "collision", "forcings", "boundaries", "diagnostics",
+                          "output", "plugins", "sweep"});
+  auto need = [&](const char* key) -> YAML::Node {
+    YAML::Node n = root[key];
+    if (!n) c.error(SourceLocation{file.string(), 1, 1}, key, std::string("missing required section '") + key + "'");
+    return n;
+  };
+  if (registry) {
+    p.registry = std::move(registry);
+  } else {
+    build_registry(c, root, file, extra_plugin_paths, p);
+  }
+  if (YAML::Node run = need("run")) parse_run(c, run, p);
+  if (YAML::Node sys = need("system")) parse_system(c, sys, p);
+  if (YAML::Node out = root["output"]) parse_output(c, out, p);
+  if (p.output_file.empty()) p.output_file = file.stem().string() + ".h5";
+  if (const YAML::Node sw = root["sweep"]) parse_sweep(c, sw, p);
+  // Plugins need lambda0 and tau0 for their units: only check them once the system is sound.
+  if (p.number_density > 0) parse_plugins(c, root, file, p);
+  if (!c.errors().empty()) throw PipelineError(c.errors());
+  return p;
+}
+
+}  // namespace gdsmc::host

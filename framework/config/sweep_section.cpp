@@ -1,0 +1,49 @@
+// The `sweep:` section: value axes (key.path: [values]) and named variants.
+#include <set>
+
+#include "config/sections.hpp"
+
+namespace gdsmc::host {
+
+void parse_sweep(Checker& c, const YAML::Node& sw, Pipeline& p) {
+  if (!sw.IsMap()) {
+    c.error("sweep", sw, "expected a mapping: key.path: [values...], or AXIS: {VARIANT: {key.path: value, ...}, ...}");
+  } else {
+    std::set<std::string> axes;
+    for (auto it = sw.begin(); it != sw.end(); ++it) {
+      const std::string name = it->first.Scalar();
+      const std::string sub = "sweep." + name;
+      if (!axes.insert(name).second) c.error(sub, it->first, "duplicate sweep axis '" + name + "'");
+      SweepAxis axis;
+      axis.name = name;
+      const YAML::Node v = it->second;
+      if (v.IsSequence() && v.size() > 0) {
+        for (std::size_t k = 0; k < v.size(); ++k) {
+          YAML::Emitter e;
+          e << YAML::Flow << v[k];
+          axis.values.push_back({e.c_str(), {name + "=" + e.c_str()}});
+        }
+      } else if (v.IsMap() && v.size() > 0) {
+        for (auto vt = v.begin(); vt != v.end(); ++vt) {
+          SweepAxis::Value value{vt->first.Scalar(), {}};
+          if (!vt->second.IsMap()) {
+            c.error(sub + "." + value.label, vt->second, "a named variant is a mapping of key.path: value overrides");
+            continue;
+          }
+          for (auto ot = vt->second.begin(); ot != vt->second.end(); ++ot) {
+            YAML::Emitter e;
+            e << YAML::Flow << ot->second;
+            value.overrides.push_back(ot->first.Scalar() + "=" + e.c_str());
+          }
+          axis.values.push_back(std::move(value));
+        }
+      } else {
+        c.error(sub, v, "expected a non-empty list of values or a mapping of named variants");
+        continue;
+      }
+      p.sweep.push_back(std::move(axis));
+    }
+  }
+}
+
+}  // namespace gdsmc::host

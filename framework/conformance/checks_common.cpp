@@ -1,0 +1,381 @@
+// Checks every plugin kind gets: load, ABI, descriptor, schema, defaults, bounds, out-of-range and wrong-type values, determinism.
+#include "conformance/internal.hpp"
+
+namespace gdsmc::host::conformance {
+
+// --------------------------------------------------------------------------------------------
+// Generic checks
+
+// Loading and the ABI are checked by the loader's own steps (plugins/loader.hpp), so that the
+// conformance runner and the host refuse exactly the same files.
+Result check_load(const Subject& s) {
+  try {
+    auto lib = open_library(s.file);
+    (void)plugin_entry(*lib, s.file);
+  } catch (const PluginLoadError& e) {
+    return fail(e.what());
+  }
+  return pass("loads with every symbol resolved (rtld_now) and exports the gdsmc plugin entry");
+}
+
+Result check_abi(const Subject& s) {
+  auto lib = open_library(s.file);
+  const AbiCheck abi = host::check_abi(plugin_entry(*lib, s.file));
+  if (!abi.problem.empty()) return fail("wrong ABI version: " + abi.problem + " (" + abi.versions + "); " + abi.remedy);
+  return pass(abi.versions + "; layout fingerprint matches");
+}
+
+bool good_identifier(const std::string& n) {
+  if (n.empty()) return false;
+  for (char c : n)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) return false;
+  return true;
+}
+
+Result check_descriptor(const Subject& s) {
+  LoadedPlugin lp = load_plugin(s.file);
+  const PluginDescriptor& d = *lp.descriptor;
+  std::vector<std::string> problems;
+  const int k = static_cast<int>(d.kind);
+  if (k < 1 || k > 5) problems.push_back(fmt("kind %d is not a plugin kind", k));
+  if (!good_identifier(d.name)) problems.push_back("name '" + d.name + "' is not a plain identifier (letters, digits, _ or -)");
+  if (d.version.empty()) problems.push_back("no version");
+  if (d.summary.empty()) problems.push_back("no summary");
+  if (d.summary.find('\n') != std::string::npos) problems.push_back("the summary is more than one line");
+  if (d.documentation.empty()) problems.push_back("no documentation");
+  if (!d.create) problems.push_back("no factory");
+  if (!problems.empty()) return fail("descriptor incomplete: " + join(problems, "; "));
+  return pass(fmt("%s plugin '%s' version %s: name, summary, documentation (%zu characters), factory",
+                  to_string(d.kind), d.name.c_str(), d.version.c_str(), d.documentation.size()));
+}
+
+Result check_schema(const Subject& s) {
+  const auto& specs = s.desc().parameters;
+  std::vector<std::string> problems;
+  std::set<std::string> names;
+  const std::vector<std::string>& reserved = all_reserved_keys();
+  for (const auto& p : specs) {
+    const std::string who = "parameter '" + p.name + "'";
+    if (p.name.empty()) problems.push_back("a parameter has an empty name");
+    else if (!good_identifier(p.name)) problems.push_back(who + ": the name is not a plain identifier");
+    if (!names.insert(p.name).second) problems.push_back(who + " is declared twice");
+    if (std::find(reserved.begin(), reserved.end(), p.name) != reserved.end())
+      problems.push_back(who + ": the name is reserved by the pipeline");
+    if (p.doc.empty()) problems.push_back(who + " has no documentation");
+    if ((p.min || p.max) && p.type != ParamType::real && p.type != ParamType::integer)
+      problems.push_back(who + ": a range on a parameter that is not a number");
+    if (p.min && p.max && (*p.min > *p.max || (*p.min == *p.max && !(p.min_inclusive && p.max_inclusive))))
+      problems.push_back(who + ": the range " + p.range_text() + " is empty");
+    if (p.dimension != Dimension::none && p.type != ParamType::real)
+      problems.push_back(who + ": a unit on a parameter that is not real");
+    if (p.type == ParamType::choice) {
+      if (p.choices.empty()) problems.push_back(who + ": a choice with no choices");
+      std::set<std::string> c(p.choices.begin(), p.choices.end());
+      if (c.size() != p.choices.size()) problems.push_back(who + ": repeated choices");
+      if (c.count("")) problems.push_back(who + ": an empty choice");
+    }
+    if (!p.default_) continue;
+    const ParamValue& v = *p.default_;
+    bool type_ok = false;
+    double x = 0;
+    switch (p.type) {
+      case ParamType::real:
+        if (auto d = std::get_if<double>(&v)) type_ok = true, x = *d;
+        if (auto i = std::get_if<std::int64_t>(&v)) type_ok = true, x = static_cast<double>(*i);
+        break;
+      case ParamType::integer:
+        if (auto i = std::get_if<std::int64_t>(&v)) type_ok = true, x = static_cast<double>(*i);
+        break;
+      case ParamType::boolean: type_ok = std::holds_alternative<bool>(v); break;
+      case ParamType::string: type_ok = std::holds_alternative<std::string>(v); break;
+      case ParamType::choice:
+        type_ok = std::holds_alternative<std::string>(v);
+        if (type_ok && std::find(p.choices.begin(), p.choices.end(), std::get<std::string>(v)) == p.choices.end())
+          problems.push_back(who + ": the default '" + std::get<std::string>(v) + "' is not one of its choices");
+        break;
+    }
+    if (!type_ok) {
+      problems.push_back(who + ": the default " + value_text(v) + " is not of type " + to_string(p.type));
+      continue;
+    }
+    if (p.type == ParamType::real && !std::isfinite(x)) problems.push_back(who + ": the default is not finite");
+    if (p.type == ParamType::real || p.type == ParamType::integer) {
+      const bool low = p.min && (p.min_inclusive ? x < *p.min : x <= *p.min);
+      const bool high = p.max && (p.max_inclusive ? x > *p.max : x >= *p.max);
+      if (low || high) problems.push_back(who + ": the default " + value_text(v) + " is outside its range " + p.range_text());
+    }
+  }
+  if (!problems.empty()) return fail("parameter schema not well-formed: " + join(problems, "; "));
+  return pass(fmt("%zu parameters: names unique, documented, defaults typed and within their ranges", specs.size()));
+}
+
+// Build the plugin in a small pipeline and (when the host can run it) take a few steps.
+Result check_defaults(const Subject& s) {
+  const Assignment a = base_assignment(s);
+  std::unique_ptr<Pipeline> p;
+  try {
+    p = load_test_pipeline(s, a);
+  } catch (const PipelineError& e) {
+    auto own = own_errors(e, s.kind());
+    return fail("does not construct from its defaults (" + describe_assignment(s, a) + "): " +
+                join(own.empty() ? e.messages() : own, "; "));
+  }
+  if (s.kind() == PluginKind::boundary)
+    return pass("constructs from " + describe_assignment(s, a) + " (not stepped: the host runs homogeneous systems only)");
+  Engine engine(*p);
+  constexpr int steps = 10;
+  for (int k = 0; k < steps; ++k) engine.step();
+  const double T = engine.context().global ? engine.context().global->temperature : 0;
+  const std::string bad = nonfinite_in(engine.particles());
+  if (!bad.empty()) return fail("after a few steps of a pipeline with its defaults the state is not finite: " + bad);
+  if (!(T > 0) || !std::isfinite(T)) return fail(fmt("after a few steps with its defaults the temperature is %g", T));
+  return pass(fmt("constructs from %s; a %zu-particle pipeline sets up and runs %d steps", describe_assignment(s, a).c_str(),
+                  p->particles, steps));
+}
+
+struct Variant {
+  std::string label;
+  Assignment params;
+};
+
+// Values at and just inside the declared bounds, every choice and both booleans.
+std::vector<Variant> bound_variants(const Subject& s) {
+  const Assignment base = base_assignment(s);
+  std::vector<Variant> out;
+  auto add = [&](const ParamSpec& p, const std::string& value, const std::string& what) {
+    Variant v{p.name + " = " + value + " (" + what + ")", base};
+    v.params[p.name] = value;
+    out.push_back(std::move(v));
+  };
+  for (const auto& p : s.desc().parameters) {
+    if (s.user_params.count(p.name)) continue;  // fixed by --params
+    if (p.type == ParamType::real || p.type == ParamType::integer) {
+      const bool integer = p.type == ParamType::integer;
+      auto inside = [&](double bound, bool inclusive, double dir) {
+        if (inclusive) return bound;
+        if (integer) return dir > 0 ? std::floor(bound) + 1 : std::ceil(bound) - 1;
+        return bound + dir * std::max(1e-6, 1e-6 * std::fabs(bound));
+      };
+      auto text = [&](double v) { return integer ? fmt("%.0f", v) : num(v); };
+      if (p.min) add(p, text(inside(*p.min, p.min_inclusive, +1)), p.min_inclusive ? "lower bound" : "just above the lower bound");
+      if (p.max) add(p, text(inside(*p.max, p.max_inclusive, -1)), p.max_inclusive ? "upper bound" : "just below the upper bound");
+    } else if (p.type == ParamType::boolean) {
+      add(p, "true", "boolean");
+      add(p, "false", "boolean");
+    } else if (p.type == ParamType::choice) {
+      for (const auto& c : p.choices) add(p, quoted(c), "choice");
+    }
+  }
+  return out;
+}
+
+PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
+                      std::size_t random_pairs);
+std::string pair_failure(const PairReport& r);
+
+Result check_bounds(const Subject& s) {
+  const auto variants = bound_variants(s);
+  if (variants.empty()) return pass("no parameter with bounds or choices to vary");
+  std::size_t built = 0, refused = 0;
+  for (const auto& v : variants) {
+    std::unique_ptr<Pipeline> p;
+    try {
+      p = load_test_pipeline(s, v.params);
+    } catch (const PipelineError& e) {
+      const auto own = own_errors(e, s.kind());
+      const std::string m = join(own.empty() ? e.messages() : own, "; ");
+      if (m.find("refused parameter") != std::string::npos) {
+        ++refused;
+        continue;
+      }
+      return fail("with " + v.label + ", inside the declared range, the plugin failed instead of constructing or "
+                  "refusing the value with a ParameterError: " + m);
+    }
+    ++built;
+    if (s.kind() == PluginKind::collision_rule) {
+      auto obj = create_object(*p->collision.plugin, p->collision.params);
+      const std::string f = pair_failure(pair_suite(*static_cast<CollisionRule*>(obj.get()), obj->attributes(), s.cfg.seed, 2000));
+      if (!f.empty()) return fail("with " + v.label + ": " + f);
+    }
+  }
+  return pass(fmt("%zu values at or inside the bounds: %zu construct%s, %zu refused with a message", variants.size(),
+                  built, s.kind() == PluginKind::collision_rule ? " (and collide soundly)" : "", refused));
+}
+
+Result expect_refused(const Subject& s, const std::string& param, const std::string& value, const std::string& what,
+                      std::string& note) {
+  Assignment a = base_assignment(s);
+  a[param] = value;
+  try {
+    (void)load_test_pipeline(s, a);
+  } catch (const PipelineError& e) {
+    for (const auto& m : own_errors(e, s.kind()))
+      if (m.find("'" + param + "'") != std::string::npos || m.find("." + param + ":") != std::string::npos ||
+          m.find("." + param + ".") != std::string::npos) {
+        note = m;
+        return pass("");
+      }
+    return fail("parameter '" + param + "' = " + value + " (" + what + ") was refused without a message naming it: " +
+                join(e.messages(), "; "));
+  }
+  return fail("parameter '" + param + "' = " + value + " (" + what + ") was accepted");
+}
+
+Result check_out_of_range(const Subject& s) {
+  std::size_t n = 0;
+  std::string note;
+  for (const auto& p : s.desc().parameters) {
+    if (p.type == ParamType::real || p.type == ParamType::integer) {
+      const bool integer = p.type == ParamType::integer;
+      auto text = [&](double v) { return integer ? fmt("%.0f", v) : num(v); };
+      if (p.min) {
+        const double v = p.min_inclusive ? (integer ? std::ceil(*p.min) - 1 : *p.min - std::max(1.0, std::fabs(*p.min))) : *p.min;
+        Result r = expect_refused(s, p.name, text(v), "below its range " + p.range_text(), note);
+        if (r.status != Status::pass) return r;
+        ++n;
+      }
+      if (p.max) {
+        const double v = p.max_inclusive ? (integer ? std::floor(*p.max) + 1 : *p.max + std::max(1.0, std::fabs(*p.max))) : *p.max;
+        Result r = expect_refused(s, p.name, text(v), "above its range " + p.range_text(), note);
+        if (r.status != Status::pass) return r;
+        ++n;
+      }
+    } else if (p.type == ParamType::choice) {
+      Result r = expect_refused(s, p.name, "not_one_of_the_choices", "not a choice", note);
+      if (r.status != Status::pass) return r;
+      ++n;
+    }
+  }
+  // An unknown parameter must be refused as well.
+  {
+    Assignment a = base_assignment(s);
+    a["no_such_parameter_xyz"] = "1";
+    try {
+      (void)load_test_pipeline(s, a);
+      return fail("an unknown parameter 'no_such_parameter_xyz' was accepted");
+    } catch (const PipelineError& e) {
+      if (own_errors(e, s.kind()).empty()) return fail("an unknown parameter was refused without a message naming it");
+    }
+    ++n;
+  }
+  return pass(fmt("%zu out-of-range, invalid-choice or unknown values refused with a message (e.g. \"%s\")", n,
+                  note.empty() ? "unknown parameter" : note.c_str()));
+}
+
+Result check_wrong_type(const Subject& s) {
+  std::size_t n = 0;
+  std::string note;
+  for (const auto& p : s.desc().parameters) {
+    std::vector<std::string> values;
+    switch (p.type) {
+      case ParamType::real: values = {"not_a_number", "[1, 2]"}; break;
+      case ParamType::integer: values = {"0.5", "not_a_number"}; break;
+      case ParamType::boolean: values = {"not_a_boolean", "2"}; break;
+      case ParamType::string:
+      case ParamType::choice: values = {"[1, 2]", "{a: 1}"}; break;
+    }
+    for (const auto& v : values) {
+      Result r = expect_refused(s, p.name, v, std::string("wrong type for a ") + to_string(p.type), note);
+      if (r.status != Status::pass) return r;
+      ++n;
+    }
+  }
+  if (n == 0) return pass("no parameters");
+  return pass(fmt("%zu values of the wrong type refused with a message (e.g. \"%s\")", n, note.c_str()));
+}
+
+bool close(double a, double b, double rel, double abs) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  if (a == b) return true;
+  return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + abs;
+}
+
+// Compare two diagnostics' outputs; returns "" or where they differ. rel = abs = 0: bitwise.
+std::string compare_outputs(const DiagnosticOutput& a, const DiagnosticOutput& b, double rel, double abs) {
+  auto vec = [&](const std::string& what, const std::vector<double>& x, const std::vector<double>& y) -> std::string {
+    if (x.size() != y.size()) return fmt("%s has %zu values in one run and %zu in the other", what.c_str(), x.size(), y.size());
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const bool same = (rel == 0 && abs == 0) ? std::memcmp(&x[k], &y[k], sizeof(double)) == 0 : close(x[k], y[k], rel, abs);
+      if (!same) return fmt("%s[%zu] is %.17g in one run and %.17g in the other", what.c_str(), k, x[k], y[k]);
+    }
+    return "";
+  };
+  if (a.columns.size() != b.columns.size() || a.arrays.size() != b.arrays.size() ||
+      a.histograms.size() != b.histograms.size() || a.scalars.size() != b.scalars.size())
+    return "the two runs declared different datasets";
+  std::string d;
+  for (std::size_t k = 0; k < a.columns.size() && d.empty(); ++k)
+    d = vec("series '" + a.columns[k].name + "'", a.columns[k].values, b.columns[k].values);
+  for (std::size_t k = 0; k < a.arrays.size() && d.empty(); ++k)
+    d = vec("array '" + a.arrays[k].name + "'", a.arrays[k].data, b.arrays[k].data);
+  for (std::size_t k = 0; k < a.histograms.size() && d.empty(); ++k) {
+    d = vec("histogram '" + a.histograms[k].name + "' edges", a.histograms[k].edges, b.histograms[k].edges);
+    if (d.empty()) d = vec("histogram '" + a.histograms[k].name + "'", a.histograms[k].values, b.histograms[k].values);
+  }
+  for (std::size_t k = 0; k < a.scalars.size() && d.empty(); ++k)
+    d = vec("scalar '" + a.scalars[k].name + "'", {a.scalars[k].value}, {b.scalars[k].value});
+  return d;
+}
+
+std::string compare_particles(const ParticleSpan& a, const ParticleSpan& b) {
+  const std::pair<const char*, std::pair<const double*, const double*>> arrays[] = {
+      {"x", {a.x, b.x}}, {"y", {a.y, b.y}}, {"z", {a.z, b.z}}, {"vx", {a.vx, b.vx}}, {"vy", {a.vy, b.vy}}, {"vz", {a.vz, b.vz}}};
+  for (const auto& [name, d] : arrays)
+    for (std::size_t k = 0; k < a.count; ++k)
+      if (std::memcmp(&d.first[k], &d.second[k], sizeof(double)) != 0)
+        return fmt("%s of particle %zu is %.17g in one run and %.17g in the other", name, k, d.first[k], d.second[k]);
+  for (std::size_t at = 0; at < a.attribute_count; ++at) {
+    const std::size_t n = a.count * static_cast<std::size_t>(a.attribute_specs[at].components);
+    for (std::size_t k = 0; k < n; ++k)
+      if (std::memcmp(&a.attribute_data[at][k], &b.attribute_data[at][k], sizeof(double)) != 0)
+        return fmt("attribute '%s' entry %zu differs between the runs", a.attribute_specs[at].name.c_str(), k);
+  }
+  return "";
+}
+
+Result check_determinism(const Subject& s) {
+  const Assignment a = base_assignment(s);
+  constexpr int steps = 20;
+  if (s.kind() == PluginKind::boundary) {
+    auto run = [&]() {
+      auto h = make_harness(s, a, 500);
+      auto* b = static_cast<Boundary*>(h->subject.get());
+      const ParticleSpan p = h->span();
+      for (int k = 0; k < steps; ++k) {
+        const double dt = 0.5 * h->sys.time_unit0;
+        for (std::size_t i = 0; i < p.count; ++i) {
+          p.x[i] += p.vx[i] * dt;
+          p.y[i] += p.vy[i] * dt;
+          p.z[i] += p.vz[i] * dt;
+        }
+        h->ctx.dt = dt;
+        Rng rng = h->ctx.rng(StreamPurpose::boundary, 0);
+        b->apply(h->ctx, p, rng);
+        ++h->ctx.step;
+      }
+      return h;
+    };
+    auto h1 = run(), h2 = run();
+    const std::string d = compare_particles(h1->span(), h2->span());
+    if (!d.empty()) return fail("not deterministic: the same seed twice gives different results: " + d);
+    return pass(fmt("seed %llu twice: identical particles after %d boundary steps",
+                    static_cast<unsigned long long>(s.cfg.seed), steps));
+  }
+  auto p1 = load_test_pipeline(s, a), p2 = load_test_pipeline(s, a);
+  Engine e1(*p1), e2(*p2);
+  for (int k = 0; k < steps; ++k) {
+    e1.step();
+    e2.step();
+  }
+  std::string d = compare_particles(e1.particles(), e2.particles());
+  if (d.empty() && e1.context().collisions != e2.context().collisions)
+    d = fmt("%g collisions in one run and %g in the other", e1.context().collisions, e2.context().collisions);
+  if (d.empty() && s.kind() == PluginKind::diagnostic)
+    d = compare_outputs(e1.diagnostics().at(0), e2.diagnostics().at(0), 0, 0);
+  if (!d.empty()) return fail("not deterministic: the same seed twice gives different results: " + d);
+  return pass(fmt("seed %llu twice: bit-identical particles%s after %d steps of a %zu-particle pipeline",
+                  static_cast<unsigned long long>(s.cfg.seed),
+                  s.kind() == PluginKind::diagnostic ? " and output" : "", steps, p1->particles));
+}
+
+}  // namespace gdsmc::host::conformance

@@ -1,0 +1,292 @@
+// `gdsmc conformance PLUGIN.so`: the plugin conformance runner (see conformance.hpp).
+//
+// Every check runs in a child process (fork), reports PASS / FAIL / SKIP with a message naming
+// the plugin and the property, and a plugin that kills its process yields a CRASH line. Checks
+// use the host's own paths: the loader, load_pipeline() on a generated pipeline (the same
+// validation a user's pipeline gets) and the Engine, plus direct calls on plugin objects where a
+// property needs controlled input (random pairs for a collision rule, permuted particles for a
+// diagnostic, one step of dt against two of dt/2 for a forcing).
+#include "conformance/conformance.hpp"
+#include "conformance/internal.hpp"
+#include "app/cli.hpp"
+
+namespace gdsmc::host {
+
+using namespace conformance;
+
+namespace {
+
+const char* kHelp = R"(gdsmc conformance PLUGIN.so [options]
+
+Checks one plugin binary against the contract of its kind and prints one line per check:
+  PASS | FAIL | SKIP | CRASH   check-name   message naming the plugin and the property
+Every check runs in its own process: a plugin that crashes gives a CRASH line, not a dead
+runner. Exit status: 0 when nothing failed or crashed, 1 otherwise, 2 for a bad command line.
+
+Checks (by kind):
+  all kinds    load, abi_version, descriptor, parameter_schema, defaults_construct,
+               parameter_bounds (values at and inside the declared bounds construct or are
+               refused with a message), out_of_range_rejected, wrong_type_rejected, determinism
+  collision    collision.finite, collision.mass, collision.momentum, collision.energy,
+               collision.rate (on random pairs and edge cases: zero relative velocity, grazing,
+               huge and tiny speeds), collision.cell (collide_cell on a population)
+  forcing      forcing.conservation (what conserves() declares), forcing.order (one step of dt
+               against two of dt/2 scales as dt^(order+1))
+  boundary     boundary.containment (no particle lost or left outside), boundary.wall_flux
+  initial      initial.state (finite state, positive temperature)
+  diagnostic   diagnostic.output (one value per series per record, units given),
+               diagnostic.particle_order (values do not depend on the particle order)
+
+Options:
+  --params FILE.yaml   parameter values for the plugin (a mapping name: value, units as in a
+                       pipeline); required parameters without a default get in-range values
+  --context FILE.yaml  a pipeline whose initial_state and collision entries (and plugins: paths)
+                       are used around the plugin, e.g. for a diagnostic that needs the
+                       attributes of a particular collision rule (default: maxwellian and
+                       inelastic_hard_spheres from the plugin search path)
+  --seed N             seed of every random input (default 1); a failure names it
+  --only CHECK         run only CHECK (a name, or a prefix such as 'collision'); repeatable,
+                       comma-separated lists allowed
+  --plugin-path P      more plugin directories or files (for the context's plugins)
+  --list               list the checks that apply to the plugin and exit
+  --no-fork            run the checks in this process (for a debugger)
+  --timeout S          seconds allowed per check (default 120)
+)";
+// --------------------------------------------------------------------------------------------
+// Command line and driver
+
+struct Check {
+  std::string name;
+  std::function<Result(const Subject&)> run;
+};
+
+std::vector<Check> checks_for(PluginKind kind) {
+  std::vector<Check> c = {{"parameter_schema", check_schema},
+                          {"defaults_construct", check_defaults},
+                          {"parameter_bounds", check_bounds},
+                          {"out_of_range_rejected", check_out_of_range},
+                          {"wrong_type_rejected", check_wrong_type},
+                          {"determinism", check_determinism}};
+  switch (kind) {
+    case PluginKind::collision_rule:
+      c.insert(c.end(), {{"collision.finite", check_collision_finite},
+                         {"collision.mass", check_collision_mass},
+                         {"collision.momentum", check_collision_momentum},
+                         {"collision.energy", check_collision_energy},
+                         {"collision.rate", check_collision_rate},
+                         {"collision.cell", check_collision_cell}});
+      break;
+    case PluginKind::forcing:
+      c.insert(c.end(), {{"forcing.conservation", check_forcing_conservation}, {"forcing.order", check_forcing_order}});
+      break;
+    case PluginKind::boundary:
+      c.insert(c.end(), {{"boundary.containment", check_boundary_containment},
+                         {"boundary.wall_flux", check_boundary_wall_flux}});
+      break;
+    case PluginKind::initial_state: c.push_back({"initial.state", check_initial_state}); break;
+    case PluginKind::diagnostic:
+      c.insert(c.end(), {{"diagnostic.output", check_diagnostic_output},
+                         {"diagnostic.particle_order", check_diagnostic_order}});
+      break;
+  }
+  return c;
+}
+
+bool matches(const std::string& pattern, const std::string& name) {
+  return name == pattern || name.rfind(pattern + ".", 0) == 0;
+}
+bool selected(const Config& cfg, const std::string& name) {
+  if (cfg.only.empty()) return true;
+  for (const auto& o : cfg.only)
+    if (matches(o, name)) return true;
+  return false;
+}
+
+int usage(const std::string& m) {
+  std::cerr << "gdsmc conformance: " << m << "\n(see `gdsmc conformance --help`)\n";
+  return 2;
+}
+
+// Options of `gdsmc conformance`, through the host's one option parser (app/cli.hpp).
+// Returns -1 to go on, else the exit status (help printed, or a usage error).
+int parse_config(int argc, char** argv, Config& cfg) {
+  static const std::vector<OptionSpec> specs = {
+      {{"--help", "-h"}, ""},  {{"--list"}, ""},
+      {{"--no-fork"}, ""},     {{"--params"}, "a file"},
+      {{"--context"}, "a pipeline file"}, {{"--plugin-path"}, "a directory or file"},
+      {{"--seed"}, "a whole number"},     {{"--timeout"}, "a whole number"},
+      {{"--only"}, "a check name"}};
+  Args args;
+  std::string error;
+  if (!parse_args(argc, argv, 1, specs, args, error)) return usage(error);
+  if (args.has("--help")) {
+    std::cout << kHelp;
+    return 0;
+  }
+  cfg.list = args.has("--list");
+  cfg.fork = !args.has("--no-fork");
+  if (args.has("--params")) cfg.params_file = args.all("--params").back();
+  if (args.has("--context")) cfg.context_file = args.all("--context").back();
+  for (const auto& v : args.all("--plugin-path")) cfg.plugin_paths.emplace_back(v);
+  for (const char* opt : {"--seed", "--timeout"})
+    for (const auto& v : args.all(opt)) {
+      char* end = nullptr;
+      const unsigned long long x = std::strtoull(v.c_str(), &end, 10);
+      if (v.empty() || *end) return usage(std::string(opt) + ": '" + v + "' is not a whole number");
+      if (std::string(opt) == "--seed") cfg.seed = x;
+      else cfg.timeout = static_cast<int>(std::max(1ull, x));
+    }
+  for (const auto& v : args.all("--only")) {
+    std::stringstream ss(v);
+    for (std::string part; std::getline(ss, part, ',');)
+      if (!part.empty()) cfg.only.push_back(part);
+  }
+  if (args.positional.size() > 1)
+    return usage("one PLUGIN.so at a time (got '" + args.positional[0] + "' and '" + args.positional[1] + "')");
+  if (args.positional.empty()) return usage("give the plugin file to check: gdsmc conformance PLUGIN.so");
+  cfg.plugin = args.positional[0];
+  std::error_code ec;
+  if (!fs::is_regular_file(cfg.plugin, ec)) return usage(cfg.plugin.string() + ": no such file");
+  return -1;
+}
+
+// --params and --context. Returns -1 to go on, else the exit status of a usage error.
+int read_inputs(const Config& cfg, Subject& s) {
+  // Parameters and context are read up front: a mistake there is the user's, not the plugin's.
+  try {
+    if (cfg.params_file) {
+      const YAML::Node n = YAML::LoadFile(cfg.params_file->string());
+      if (n && !n.IsNull()) {
+        if (!n.IsMap()) return usage(cfg.params_file->string() + ": expected a mapping of parameter: value");
+        for (auto it = n.begin(); it != n.end(); ++it) {
+          const std::string key = it->first.Scalar();
+          if (key == "plugin" || key == "name") return usage(cfg.params_file->string() + ": '" + key + "' is not a parameter");
+          s.user_params[key] = yaml_text(it->second);
+        }
+      }
+    }
+    if (cfg.context_file) {
+      const YAML::Node n = YAML::LoadFile(cfg.context_file->string());
+      if (!n.IsMap()) return usage(cfg.context_file->string() + ": expected a pipeline");
+      if (n["initial_state"]) s.context_initial = yaml_text(n["initial_state"]);
+      if (n["collision"]) s.context_collision = yaml_text(n["collision"]);
+      if (const YAML::Node f = n["forcings"]; f && f.IsSequence())
+        for (const auto& e : f) s.context_forcings.push_back(yaml_text(e));
+      if (const YAML::Node pl = n["plugins"]; pl && pl.IsSequence())
+        for (const auto& e : pl) {
+          fs::path d = e.Scalar();
+          if (d.is_relative()) d = fs::absolute(*cfg.context_file).parent_path() / d;
+          s.context_paths.push_back(d);
+        }
+    }
+  } catch (const YAML::Exception& e) {
+    return usage(std::string("cannot read a YAML file: ") + e.what());
+  }
+
+  return -1;
+}
+
+// The result lines and their counts.
+struct Tally {
+  int failed = 0, passed = 0, skipped = 0;
+  void print(const std::string& check, const Result& r, const std::string& label) const {
+    std::string m = r.message;
+    std::replace(m.begin(), m.end(), '\n', ' ');
+    std::printf("%-5s  %-26s %s: %s\n", status_text(r.status), check.c_str(), label.c_str(), m.c_str());
+    std::fflush(stdout);
+  }
+  void count(const Result& r) {
+    if (r.status == Status::pass) ++passed;
+    else if (r.status == Status::skip) ++skipped;
+    else ++failed;
+  }
+};
+
+// Stage 1: load, ABI, descriptor, each isolated; the rest needs all three. Returns whether the plugin is usable.
+bool run_stage1(const Subject& s, Tally& tally, const std::string& file_label) {
+  const Config& cfg = s.cfg;
+  const std::vector<std::pair<std::string, std::function<Result(const Subject&)>>> stages = {
+      {"load", check_load}, {"abi_version", conformance::check_abi}, {"descriptor", check_descriptor}};
+  bool usable = true;
+  for (const auto& [name, fn] : stages) {
+    Result r;
+    if (usable) r = isolated([&, f = fn] { return f(s); }, cfg.fork, cfg.timeout);
+    else r = skip("needs a plugin that passes load, abi_version and descriptor");
+    if (r.status != Status::pass && r.status != Status::skip) usable = false;
+    if (!cfg.list) {
+      tally.print(name, r, file_label);
+      tally.count(r);
+    }
+  }
+  return usable;
+}
+
+// The checks of the plugin's kind (those selected by --only), each isolated.
+void run_checks(const Subject& s, const std::vector<Check>& checks, Tally& tally, const std::string& label) {
+  const Config& cfg = s.cfg;
+  bool constructed = true;
+  for (const auto& c : checks) {
+    if (!selected(cfg, c.name) && !(c.name == "defaults_construct" && !cfg.only.empty())) continue;
+    Result r;
+    const bool needs_object = c.name != "parameter_schema" && c.name != "defaults_construct";
+    if (needs_object && !constructed) r = skip("needs an object built from the defaults (see defaults_construct)");
+    else r = isolated([&] { return c.run(s); }, cfg.fork, cfg.timeout);
+    if (c.name == "defaults_construct") {
+      constructed = r.status != Status::fail;  // after a crash, let every check show its own crash
+      if (!selected(cfg, c.name) && constructed) continue;  // a silent prerequisite of --only
+    }
+    if (r.status == Status::fail || r.status == Status::crash)
+      r.message += fmt(" [reproduce: gdsmc conformance %s --seed %llu --only %s]", s.file.string().c_str(),
+                       static_cast<unsigned long long>(cfg.seed), c.name.c_str());
+    tally.print(c.name, r, label);
+    tally.count(r);
+  }
+}
+
+}  // namespace
+
+int run_conformance(int argc, char** argv) {
+  Config cfg;
+  if (const int status = parse_config(argc, argv, cfg); status >= 0) return status;
+  Subject s;
+  s.cfg = cfg;
+  s.file = fs::absolute(cfg.plugin);
+  if (const int status = read_inputs(cfg, s); status >= 0) return status;
+
+  const std::string file_label = "plugin file " + s.file.filename().string();
+  Tally tally;
+  if (!cfg.list)
+    std::printf("gdsmc conformance: %s (seed %llu, host %s, SDK ABI %u.%u)\n", s.file.string().c_str(),
+                static_cast<unsigned long long>(cfg.seed), version_string, sdk_abi_major, sdk_abi_minor);
+  if (!run_stage1(s, tally, file_label)) {
+    std::printf("gdsmc conformance: %s: %d passed, %d failed, %d skipped: NOT CONFORMING\n", file_label.c_str(),
+                tally.passed, tally.failed, tally.skipped);
+    return 1;
+  }
+  s.loaded = load_plugin(s.file);
+  const std::string label = "plugin '" + s.desc().name + "'";
+  const auto checks = checks_for(s.kind());
+  if (cfg.list) {
+    for (const auto& name : {"load", "abi_version", "descriptor"}) std::cout << name << "\n";
+    for (const auto& c : checks) std::cout << c.name << "\n";
+    return 0;
+  }
+  for (const auto& o : cfg.only) {
+    bool any = o == "load" || o == "abi_version" || o == "descriptor";
+    for (const auto& c : checks) any = any || matches(o, c.name);
+    if (!any) return usage("--only " + o + ": no such check for a " + to_string(s.kind()) + " plugin (--list lists them)");
+  }
+
+  char tmpl[] = "/tmp/gdsmc-conformance-XXXXXX";
+  if (const char* t = ::mkdtemp(tmpl)) s.workdir = t;
+  else return usage(std::string("cannot create a temporary directory: ") + std::strerror(errno));
+  run_checks(s, checks, tally, label);
+  std::error_code ec;
+  fs::remove_all(s.workdir, ec);
+  std::printf("gdsmc conformance: %s (%s, %s): %d passed, %d failed, %d skipped: %s\n", label.c_str(),
+              to_string(s.kind()), s.file.filename().c_str(), tally.passed, tally.failed, tally.skipped,
+              tally.failed ? "NOT CONFORMING" : "conforming");
+  return tally.failed ? 1 : 0;
+}
+
+}  // namespace gdsmc::host

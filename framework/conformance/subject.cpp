@@ -1,0 +1,187 @@
+// The plugin under test, its parameter assignments and the pipelines built around it.
+#include "conformance/internal.hpp"
+
+namespace gdsmc::host::conformance {
+
+namespace fs = std::filesystem;
+
+
+// Total momentum, kinetic energy (m = 1) and sum of speeds (the round-off scale) of all particles.
+void velocity_totals(const ParticleSpan& p, Vec3& momentum, double& energy, double& speed_sum) {
+  momentum = {};
+  energy = speed_sum = 0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const Vec3 v = p.velocity(i);
+    momentum += v;
+    energy += 0.5 * dot(v, v);
+    speed_sum += norm(v);
+  }
+}
+// --------------------------------------------------------------------------------------------
+// The plugin under test and how to build pipelines around it
+
+
+std::string yaml_text(const YAML::Node& n) {
+  YAML::Emitter e;
+  e << YAML::Flow << n;
+  return e.c_str();
+}
+
+std::string num(double v) { return fmt("%.17g", v); }
+
+// A value inside the declared range (for required parameters without a default).
+std::string in_range_value(const ParamSpec& s) {
+  switch (s.type) {
+    case ParamType::real: {
+      if (s.min && s.max) return num(0.5 * (*s.min + *s.max));
+      if (s.min) return num(*s.min + std::max(1.0, std::fabs(*s.min)));
+      if (s.max) return num(*s.max - std::max(1.0, std::fabs(*s.max)));
+      return "1";
+    }
+    case ParamType::integer: {
+      double v = 1;
+      if (s.min && s.max) v = std::floor(0.5 * (*s.min + *s.max));
+      else if (s.min) v = std::floor(*s.min) + 1;
+      else if (s.max) v = std::ceil(*s.max) - 1;
+      return fmt("%.0f", v);
+    }
+    case ParamType::boolean: return "false";
+    case ParamType::choice: return s.choices.empty() ? "none" : quoted(s.choices.front());
+    case ParamType::string: return quoted("conformance");
+  }
+  return "1";
+}
+
+Assignment base_assignment(const Subject& s) {
+  Assignment a = s.user_params;
+  for (const auto& spec : s.desc().parameters)
+    if (!spec.default_ && !a.count(spec.name)) a[spec.name] = in_range_value(spec);
+  return a;
+}
+
+std::string describe_assignment(const Subject& s, const Assignment& a) {
+  std::string t;
+  for (const auto& spec : s.desc().parameters) {
+    std::string v;
+    if (auto it = a.find(spec.name); it != a.end()) v = it->second;
+    else if (spec.default_) v = value_text(*spec.default_) + " (default)";
+    t += (t.empty() ? "" : ", ") + spec.name + " = " + v;
+  }
+  return t.empty() ? "no parameters" : t;
+}
+
+std::string slot_path(PluginKind k) {
+  switch (k) {
+    case PluginKind::collision_rule: return "collision";
+    case PluginKind::initial_state: return "initial_state";
+    case PluginKind::forcing: return "forcings[0]";
+    case PluginKind::boundary: return "boundaries[0]";
+    case PluginKind::diagnostic: return "diagnostics[0]";
+  }
+  return "?";
+}
+
+const PluginUse& slot(const Pipeline& p, PluginKind k) {
+  switch (k) {
+    case PluginKind::collision_rule: return p.collision;
+    case PluginKind::initial_state: return p.initial_state;
+    case PluginKind::forcing: return p.forcings.at(0);
+    case PluginKind::boundary: return p.boundaries.at(0);
+    case PluginKind::diagnostic: return p.diagnostics.at(0);
+  }
+  throw std::logic_error("bad kind");
+}
+
+// The plugin's own entries among a refused pipeline's messages.
+std::vector<std::string> own_errors(const PipelineError& e, PluginKind k) {
+  const std::string path = slot_path(k);
+  std::vector<std::string> out;
+  for (const auto& m : e.messages())
+    if (m.find(": " + path + ":") != std::string::npos || m.find(": " + path + ".") != std::string::npos ||
+        m.find(": " + path + "[") != std::string::npos)
+      out.push_back(m);
+  return out;
+}
+
+// Fillers for the slots the plugin does not occupy: the --context pipeline's entries, else the
+// preferred in-tree plugin, else the first plugin of the kind whose parameters all have defaults.
+std::string filler(const Subject& s, PluginKind kind) {
+  static std::map<PluginKind, std::string> cache;
+  if (auto it = cache.find(kind); it != cache.end()) return it->second;
+  const std::string& from_context = kind == PluginKind::initial_state ? s.context_initial : s.context_collision;
+  if (!from_context.empty()) return cache[kind] = from_context;
+  PluginRegistry reg;
+  auto add = [&](const fs::path& p) {
+    try {
+      reg.add(p);
+    } catch (const std::exception&) {
+    }
+  };
+  add(s.file);
+  for (const auto& p : s.cfg.plugin_paths) add(p);
+  for (const auto& p : s.context_paths) add(p);
+  for (const auto& p : PluginRegistry::default_search_path()) add(p);
+  const char* preferred = kind == PluginKind::initial_state ? "maxwellian" : "inelastic_hard_spheres";
+  if (const LoadedPlugin* lp = reg.find(preferred); lp && lp->descriptor->kind == kind) {
+    // An inelastic gas, so that rules, forcings and diagnostics see dissipation.
+    const bool has_alpha = std::any_of(lp->descriptor->parameters.begin(), lp->descriptor->parameters.end(),
+                                       [](const ParamSpec& p) { return p.name == "alpha"; });
+    return cache[kind] = kind == PluginKind::collision_rule && has_alpha
+                             ? std::string("{plugin: inelastic_hard_spheres, alpha: 0.8}")
+                             : std::string(preferred);
+  }
+  for (const auto& lp : reg.plugins()) {
+    if (lp.descriptor->kind != kind) continue;
+    bool all_defaults = true;
+    for (const auto& p : lp.descriptor->parameters) all_defaults = all_defaults && p.default_.has_value();
+    if (all_defaults) return cache[kind] = lp.descriptor->name;
+  }
+  throw std::runtime_error(std::string("cannot build a test pipeline: no ") + to_string(kind) +
+                           " plugin on the plugin search path to go with this one (give --plugin-path, "
+                           "GDSMC_PLUGIN_PATH or --context)");
+}
+
+std::string entry_text(const std::string& plugin, const Assignment& a) {
+  std::string t = "{plugin: " + quoted(plugin);
+  for (const auto& [k, v] : a) t += ", " + k + ": " + v;
+  return t + "}";
+}
+
+
+// Write and load a pipeline with the plugin (parameters `a`) in its slot.
+std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment& a, std::size_t particles) {
+  static int counter = 0;
+  const PluginKind k = s.kind();
+  const std::string self = entry_text(s.desc().name, a);
+  std::ostringstream y;
+  y << "run: {seed: " << s.cfg.seed << ", particles: " << particles << ", time_step: {value: " << kTimeStepTau0
+    << ", unit: tau0}, stop: {collisions_per_particle: 1}}\n";
+  y << "system: {density: " << num(kDensity) << ", temperature: 1.0}\n";
+  y << "initial_state: " << (k == PluginKind::initial_state ? self : filler(s, PluginKind::initial_state)) << "\n";
+  y << "collision: " << (k == PluginKind::collision_rule ? self : filler(s, PluginKind::collision_rule)) << "\n";
+  if (k == PluginKind::forcing || !s.context_forcings.empty()) {
+    y << "forcings: [";
+    if (k == PluginKind::forcing) y << self;
+    for (std::size_t i = 0; i < s.context_forcings.size(); ++i)
+      y << (i || k == PluginKind::forcing ? ", " : "") << s.context_forcings[i];
+    y << "]\n";
+  }
+  if (k == PluginKind::boundary) y << "boundaries: [" << self << "]\n";
+  if (k == PluginKind::diagnostic) y << "diagnostics: [" << self << "]\n";
+  if (!s.context_paths.empty()) {
+    y << "plugins: [";
+    for (std::size_t i = 0; i < s.context_paths.size(); ++i) y << (i ? ", " : "") << quoted(s.context_paths[i].string());
+    y << "]\n";
+  }
+  y << "output: {file: " << quoted((s.workdir / "unused.h5").string()) << "}\n";
+  const fs::path file = s.workdir / fmt("pipeline-%d-%d.yaml", static_cast<int>(::getpid()), counter++);
+  {
+    std::ofstream out(file);
+    out << y.str();
+  }
+  std::vector<fs::path> extra{s.file};
+  for (const auto& p : s.cfg.plugin_paths) extra.push_back(p);
+  return std::make_unique<Pipeline>(load_pipeline(file, {}, extra));
+}
+
+}  // namespace gdsmc::host::conformance

@@ -1,0 +1,48 @@
+// The results of a study as they are written to the HDF5 file: per case, per plugin, per sweep.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "output/diagnostic_output.hpp"
+
+namespace gdsmc::host {
+
+struct PluginProvenance {
+  std::string role, instance, plugin, version, file;
+  std::map<std::string, std::string> parameters;  // as resolved, reduced units
+};
+
+// A per-particle dataset of the final state: shape [components, N] (or [N] for one component).
+struct ParticleDataset {
+  std::string name, unit, doc;
+  int components = 1;
+  std::vector<double> data;
+};
+
+// One simulated case (one point of a sweep; all its realizations averaged).
+struct CaseOutput {
+  std::string group;                            // "" for a single case (written at the root), else "cases/<k>"
+  std::map<std::string, std::string> attributes;  // e.g. the sweep values of this case
+  std::map<std::string, double> system;         // /system attributes
+  std::map<std::string, double> run;            // /run attributes
+  std::vector<PluginProvenance> plugins;
+  std::vector<DiagnosticOutput> diagnostics;
+  std::vector<ParticleDataset> particles;       // empty unless output.particles (realization 0)
+};
+
+// A column of the /summary table of a sweep: one entry per case.
+struct SummaryColumn {
+  std::string name, unit, doc;
+  std::vector<double> values;       // numeric column, or
+  std::vector<std::string> labels;  // text column (when values is empty)
+};
+
+struct StudyOutput {
+  std::map<std::string, std::string> root_attributes;
+  std::map<std::string, double> root_numbers;
+  std::vector<CaseOutput> cases;
+  std::vector<SummaryColumn> summary;
+};
+
+}  // namespace gdsmc::host

@@ -1,0 +1,35 @@
+// A study: every case of a pipeline's sweep, each run for all its realizations, averaged, with
+// steady-state averages, gathered into one output.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/engine.hpp"
+#include "output/provenance.hpp"
+#include "output/records.hpp"
+#include "study/cases.hpp"
+#include "study/statistics.hpp"
+
+namespace gdsmc::host {
+
+struct StudyProgress {
+  std::size_t run = 0, runs = 1;  // current run (case x realization), total
+  std::string label;              // case label, realization
+  Progress progress;              // of the current run
+  double fraction = 0;            // of the whole study
+  double remaining_seconds = -1;
+};
+
+struct StudyResult {
+  StudyOutput output;
+  std::vector<std::string> summary;  // lines for stdout
+  double collisions = 0, wall_seconds = 0;
+  std::uint64_t steps = 0;
+};
+
+StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
+                      double report_interval, const std::atomic<bool>* interrupt);
+
+}  // namespace gdsmc::host

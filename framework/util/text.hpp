@@ -1,0 +1,25 @@
+// Small text helpers shared by the host: one copy of each.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace gdsmc::host {
+
+// The items separated by `sep`: join({"a", "b"}, ", ") == "a, b".
+inline std::string join(const std::vector<std::string>& items, const std::string& sep) {
+  std::string s;
+  for (std::size_t k = 0; k < items.size(); ++k) s += (k ? sep : "") + items[k];
+  return s;
+}
+
+// s in double quotes, with '"' and '\' escaped (a YAML or C string literal).
+inline std::string quoted(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+}  // namespace gdsmc::host
