@@ -29,8 +29,18 @@ SystemInfo Pipeline::system_info(std::size_t n, std::uint32_t realization) const
   sys.time_unit0 = time_unit0();
   sys.volume = static_cast<double>(n) / number_density;
   sys.geometry = geometry;
-  sys.box[0] = sys.box[1] = sys.box[2] = std::cbrt(sys.volume);
-  sys.cells = 1;
+  if (geometry == Geometry::slab) {
+    sys.box[1] = box_y;
+    const double area = sys.volume / box_y;  // A = (N/L)/n (000 Eq. 4.2)
+    sys.box[0] = box_x > 0 ? box_x : std::sqrt(area);
+    sys.box[2] = area / sys.box[0];
+    sys.cells = layers;
+    sys.bins = bins ? bins : layers;
+  } else {
+    sys.box[0] = sys.box[1] = sys.box[2] = std::cbrt(sys.volume);
+    sys.cells = 1;
+    sys.bins = 1;
+  }
   sys.seed = seed;
   sys.realization = realization;
   return sys;
@@ -109,6 +119,39 @@ void build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
   for (const auto& w : p.registry->warnings()) p.warnings.push_back(w);
 }
 
+// boundaries: {y_min: PLUGIN, y_max: PLUGIN} or {y: PLUGIN} for both planes of a slab.
+void parse_boundaries(Checker& c, const YAML::Node& root, Pipeline& p) {
+  const YAML::Node b = root["boundaries"];
+  const bool given = b && !b.IsNull() && !(b.IsSequence() && b.size() == 0);
+  if (p.geometry != Geometry::slab) {
+    if (given)
+      c.error("boundaries", b, "boundaries need a slab (system.domain: slab); a homogeneous system has none");
+    return;
+  }
+  if (!given || !b.IsMap()) {
+    c.error(given ? c.where("boundaries", b) : SourceLocation{p.file.string(), 1, 1}, "boundaries",
+            "a slab needs its two y boundaries: boundaries: {y_min: PLUGIN, y_max: PLUGIN}, or {y: PLUGIN} for "
+            "both (periodic, lees_edwards, specular_wall, diffuse_wall, maxwell_wall, or your own)");
+    return;
+  }
+  c.check_keys(b, "boundaries", {"y", "y_min", "y_max"});
+  if (b["y"] && (b["y_min"] || b["y_max"])) {
+    c.error("boundaries", b, "give either y (both planes) or y_min and y_max, not both");
+    return;
+  }
+  if (b["y"]) {
+    if (auto u = check_plugin(c, p, b["y"], "boundaries.y", PluginKind::boundary)) p.boundaries = {*u, *u};
+    return;
+  }
+  for (const char* side : {"y_min", "y_max"})
+    if (!b[side])
+      c.error("boundaries", b, std::string("missing '") + side + "': a slab needs a boundary on both y planes");
+  if (!b["y_min"] || !b["y_max"]) return;
+  auto low = check_plugin(c, p, b["y_min"], "boundaries.y_min", PluginKind::boundary);
+  auto high = check_plugin(c, p, b["y_max"], "boundaries.y_max", PluginKind::boundary);
+  if (low && high) p.boundaries = {*low, *high};
+}
+
 // initial_state, collision, forcings, boundaries and diagnostics, checked against their plugins.
 void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pipeline& p) {
   auto need = [&](const char* key) -> YAML::Node {
@@ -131,7 +174,7 @@ void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pip
       if (auto u = check_plugin(c, p, n[k], item(key, k), kind)) into.push_back(*u);
   };
   list("forcings", PluginKind::forcing, p.forcings);
-  list("boundaries", PluginKind::boundary, p.boundaries);
+  parse_boundaries(c, root, p);
   list("diagnostics", PluginKind::diagnostic, p.diagnostics);
   if (p.stop_steady) {
     bool found = false;
@@ -170,6 +213,11 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
   }
   if (YAML::Node run = need("run")) parse_run(c, run, p);
   if (YAML::Node sys = need("system")) parse_system(c, sys, p);
+  if (p.geometry == Geometry::slab && p.particles > 0 && p.particles < p.layers)
+    c.error("system.layers", root["system"]["layers"] ? root["system"]["layers"] : root["system"],
+            std::to_string(p.particles) + " particles in " + std::to_string(p.layers) +
+                " layers is fewer than one particle per layer on average; use at most " + std::to_string(p.particles) +
+                " layers (the paper uses N/M = 200)");
   if (YAML::Node out = root["output"]) parse_output(c, out, p);
   if (p.output_file.empty()) p.output_file = file.stem().string() + ".h5";
   if (const YAML::Node sw = root["sweep"]) parse_sweep(c, sw, p);

@@ -74,11 +74,14 @@ struct Pipeline {
   double sigma = 1;
   double temperature = 1;
   Geometry geometry = Geometry::homogeneous;
+  // slab (system.domain: slab): Ly (required), Lx (0: Lx = Lz), M layers, sampling bins (0: M)
+  double box_y = 0, box_x = 0;
+  std::size_t layers = 1, bins = 0;
 
   PluginUse initial_state;
   PluginUse collision;
   std::vector<PluginUse> forcings;
-  std::vector<PluginUse> boundaries;
+  std::vector<PluginUse> boundaries;  // slab: [0] y_min, [1] y_max
   std::vector<PluginUse> diagnostics;
 
   std::filesystem::path output_file;
@@ -91,7 +94,8 @@ struct Pipeline {
 
   double mean_free_path0() const;  // lambda0 = 1 / (sqrt(2) pi n sigma^2)
   double time_unit0() const;       // tau0 = lambda0 / sqrt(2 T0 / m)
-  // What plugins see of this system with `particles` particles (homogeneous: a cube of volume N/n).
+  // What plugins see of this system with `particles` particles (homogeneous: a cube of volume N/n;
+  // slab: Ly given, Lx given or equal to Lz, Lx Ly Lz = N/n, 000 Eq. 4.2).
   SystemInfo system_info(std::size_t particles, std::uint32_t realization) const;
 };
 

@@ -1,15 +1,88 @@
 // The `system:` and `output:` sections.
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include "config/sections.hpp"
 
 namespace gdsmc::host {
 
+namespace {
+
+// A length: a bare number in lambda0, or {value: X, unit: lambda0 | sigma}.
+std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::string& path, const Pipeline& p) {
+  double value = 0;
+  std::string unit = "lambda0";
+  if (n.IsMap()) {
+    c.check_keys(n, path, {"value", "unit"});
+    if (!n["value"]) {
+      c.error(path, n, "missing 'value'");
+      return std::nullopt;
+    }
+    auto v = c.real(n["value"], path + ".value");
+    if (!v) return std::nullopt;
+    value = *v;
+    if (n["unit"]) unit = n["unit"].Scalar();
+  } else {
+    auto v = c.real(n, path);
+    if (!v) return std::nullopt;
+    value = *v;
+  }
+  if (!(value > 0) || !std::isfinite(value)) {
+    c.error(path, n, "a box edge must be a positive finite length");
+    return std::nullopt;
+  }
+  if (unit == "lambda0") return value * p.mean_free_path0();
+  if (unit == "sigma") return value * p.sigma;
+  c.error(path, n["unit"] ? n["unit"] : n, "unknown length unit '" + unit + "'; valid: lambda0, sigma");
+  return std::nullopt;
+}
+
+// domain: homogeneous (default) or slab with box {y[, x]}, layers and bins (000 Sec. IV.A).
+void parse_domain(Checker& c, const YAML::Node& sys, Pipeline& p) {
+  const bool slab_keys = sys["box"] || sys["layers"] || sys["bins"];
+  if (sys["domain"]) {
+    const YAML::Node d = sys["domain"];
+    if (d.IsScalar() && d.Scalar() == "slab") p.geometry = Geometry::slab;
+    else if (!(d.IsScalar() && d.Scalar() == "homogeneous"))
+      c.error("system.domain", d, "unknown domain; valid: homogeneous (one cell, no positions) or slab (layers "
+                                  "along y between two boundaries, x and z periodic)");
+  }
+  if (p.geometry != Geometry::slab) {
+    if (slab_keys) c.error("system", sys, "box, layers and bins describe a slab: add domain: slab");
+    return;
+  }
+  if (!(p.number_density > 0)) return;  // lengths in lambda0 need the density (already reported)
+  const YAML::Node box = sys["box"];
+  if (!box || !box.IsMap() || !box["y"]) {
+    c.error("system.box", box ? box : sys, "a slab needs its gap: box: {y: L} (L in lambda0, or {value: L, unit: sigma}); "
+                                           "x is optional (default: Lx = Lz, from N/n = Lx Ly Lz)");
+  } else {
+    c.check_keys(box, "system.box", {"x", "y"});
+    if (auto y = read_length(c, box["y"], "system.box.y", p)) p.box_y = *y;
+    if (box["x"])
+      if (auto x = read_length(c, box["x"], "system.box.x", p)) p.box_x = *x;
+  }
+  if (!sys["layers"]) {
+    c.error("system.layers", sys, "a slab needs its number of layers M (collision cells along y; paper 000 uses 50)");
+  } else if (auto m = c.integer(sys["layers"], "system.layers")) {
+    if (*m < 1 || *m > 100000000) c.error("system.layers", sys["layers"], "layers must be between 1 and 1e8");
+    else p.layers = static_cast<std::size_t>(*m);
+  }
+  if (sys["bins"])
+    if (auto b = c.integer(sys["bins"], "system.bins")) {
+      if (*b < 1 || *b > 100000000) c.error("system.bins", sys["bins"], "bins must be between 1 and 1e8");
+      else p.bins = static_cast<std::size_t>(*b);
+    }
+}
+
+}  // namespace
+
 void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
   if (!sys.IsMap()) {
     c.error("system", sys, "expected a mapping");
   } else {
-    c.check_keys(sys, "system", {"density", "mean_free_path", "sigma", "temperature", "domain"});
+    c.check_keys(sys, "system", {"density", "mean_free_path", "sigma", "temperature", "domain", "box", "layers", "bins"});
     if (sys["sigma"])
       if (auto v = c.real(sys["sigma"], "system.sigma")) {
         if (*v <= 0) c.error("system.sigma", sys["sigma"], "sigma must be > 0");
@@ -35,12 +108,7 @@ void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
     } else {
       c.error("system", sys, "missing 'density' (n, per sigma^3) or 'mean_free_path' (lambda0, in sigma)");
     }
-    if (sys["domain"]) {
-      const YAML::Node d = sys["domain"];
-      if (!(d.IsScalar() && d.Scalar() == "homogeneous"))
-        c.error("system.domain", d, "this version runs homogeneous systems only (domain: homogeneous); slab "
-                                    "domains with layers and walls are not available yet");
-    }
+    parse_domain(c, sys, p);
   }
 }
 

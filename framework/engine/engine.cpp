@@ -2,17 +2,29 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/majorant.hpp"
 #include "engine/stop.hpp"
 #include "output/particle_dump.hpp"
 #include "output/provenance.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
 namespace {
 std::string where_text(const PluginUse& u) {
   return "plugin '" + u.plugin->descriptor->name + "' (" + u.path + ", " + u.where.str() + ")";
+}
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+std::string params_text(const PluginUse& u) {
+  std::string t;
+  for (const auto& [k, e] : u.params.entries()) t += k + "=" + value_text(e.value) + ";";
+  return t;
 }
 }  // namespace
 
@@ -21,7 +33,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization) : Engine(p, realiza
 void Engine::check_setup(const Pipeline& p) { Engine check(p, 0, Setup::objects_only); }
 
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
-    : pipeline_(p), majorant_ratio_(kInitialMajorantRatio) {
+    : pipeline_(p), streams_(p.seed, realization) {
   system_ = p.system_info(p.particles, realization);
   build_objects();
   std::vector<AttributeSpec> attributes;
@@ -30,11 +42,27 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   publish(attributes, setup);
   ctx_.system = &system_;
   ctx_.quantities = &board_;
-  ctx_.key = stream_key(p.seed, realization);
-  ctx_.cells = &global_;
-  ctx_.cell_count = 1;
+  ctx_.body_acceleration = acceleration_;
+  check_boundaries();
+  open_ledger();
+  const std::size_t cells = system_.cells;
+  majorant_ratio_.assign(cells, kInitialMajorantRatio);
+  remainder_.assign(cells, 0.0);
+  cell_energy_.assign(cells, 0.0);
+  cells_.assign(cells, CellMoments{});
+  if (setup == Setup::full) {
+    if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
+    else grid_.homogeneous(system_.particles, system_.volume);
+    collision_->bind(store_.span());
+    generate_initial_state();
+  }
+  ctx_.cells = cells_.data();
+  ctx_.cell_count = cells_.size();
   ctx_.global = &global_;
-  if (setup == Setup::full) generate_initial_state();
+  ctx_.boundaries = tallies_.data();
+  ctx_.boundary_count = system_.geometry == Geometry::slab ? 2 : 0;
+  ctx_.energy_ledger = ledger_.data();
+  ctx_.energy_ledger_size = ledger_.size();
   begin_diagnostics();
   if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
 }
@@ -54,12 +82,60 @@ void Engine::build_objects() {
   collision_ = static_cast<CollisionRule*>(make(p.collision));
   for (std::size_t k = 0; k < p.forcings.size(); ++k) {
     auto* f = static_cast<Forcing*>(make(p.forcings[k]));
+    Vec3 g{0, 0, 0};
+    if (f->acceleration(g)) {
+      accelerations_.push_back(static_cast<std::uint32_t>(k));
+      acceleration_ = acceleration_ + g;
+      continue;  // integrated by the host during flight, never applied
+    }
     (f->stage() == Forcing::Stage::before_streaming ? forcings_before_ : forcings_after_)
         .emplace_back(f, static_cast<std::uint32_t>(k));
   }
-  if (!p.boundaries.empty())
-    throw std::runtime_error("boundaries are given but this version runs homogeneous systems only");
+  for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s)
+    boundaries_[s] = static_cast<Boundary*>(make(p.boundaries[s]));
   for (const auto& u : p.diagnostics) slots_.push_back(DiagnosticSlot{static_cast<Diagnostic*>(make(u)), &u});
+}
+
+// Both y planes of a slab: transferring boundaries (periodic, Lees-Edwards) come in identical
+// pairs, and every boundary may refuse the run in begin().
+void Engine::check_boundaries() {
+  if (system_.geometry != Geometry::slab) return;
+  const PluginUse& low = pipeline_.boundaries.at(0);
+  const PluginUse& high = pipeline_.boundaries.at(1);
+  for (int s = 0; s < 2; ++s) {
+    const PluginUse& u = pipeline_.boundaries[s];
+    const PluginUse& other = pipeline_.boundaries[1 - s];
+    if (boundaries_[s]->transfers() &&
+        (u.plugin->descriptor->name != other.plugin->descriptor->name || params_text(u) != params_text(other)))
+      throw std::runtime_error(where_text(u) + " transfers particles to the opposite plane, so both y boundaries must be '" +
+                               u.plugin->descriptor->name + "' with the same parameters; " + other.path + " is '" +
+                               other.plugin->descriptor->name + "'" +
+                               (u.plugin->descriptor->name == other.plugin->descriptor->name ? " with other parameters" : "") +
+                               " (write boundaries: {y: ...} to give both at once)");
+    try {
+      boundaries_[s]->begin(system_, board_, acceleration_);
+    } catch (const ParameterError& e) {
+      throw std::runtime_error(where_text(u) + ": parameter '" + e.parameter() + "': " + e.what());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(where_text(u) + ": " + e.what());
+    }
+  }
+  const std::string names[2] = {"boundaries.y_min (plugin '" + low.plugin->descriptor->name + "', " + low.where.str() + ")",
+                                "boundaries.y_max (plugin '" + high.plugin->descriptor->name + "', " + high.where.str() + ")"};
+  mover_.emplace(system_.box, acceleration_,
+                 std::array<Mover::Side, 2>{Mover::Side{boundaries_[0], names[0]}, Mover::Side{boundaries_[1], names[1]}});
+}
+
+// The energy ledger: collisions, every forcing (by its instance name), each y boundary.
+void Engine::open_ledger() {
+  ledger_names_.push_back("collisions");
+  for (const auto& u : pipeline_.forcings) ledger_names_.push_back(u.instance_name);
+  if (system_.geometry == Geometry::slab) {
+    ledger_names_.push_back("y_min");
+    ledger_names_.push_back("y_max");
+  }
+  ledger_.resize(ledger_names_.size());
+  for (std::size_t k = 0; k < ledger_.size(); ++k) ledger_[k].stage = ledger_names_[k].c_str();
 }
 
 // Particles (full setup only) and the attributes, then every object publishes its quantities.
@@ -70,15 +146,27 @@ void Engine::publish(const std::vector<AttributeSpec>& attributes, Setup setup) 
 }
 
 void Engine::generate_initial_state() {
-  {
-    Rng rng(ctx_.key, StreamPurpose::initial_state, 0, 0);
-    try {
-      initial_state_->generate(system_, store_.span(), rng);
-    } catch (const std::exception& e) {
-      throw std::runtime_error(where_text(pipeline_.initial_state) + ": " + e.what());
-    }
+  const ParticleSpan span = store_.span();
+  try {
+    initial_state_->generate(system_, board_, span, streams_.streams(StreamPurpose::initial_state, 0));
+  } catch (const ParameterError& e) {
+    throw std::runtime_error(where_text(pipeline_.initial_state) + ": parameter '" + e.parameter() + "': " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where_text(pipeline_.initial_state) + ": " + e.what());
   }
+  if (system_.geometry == Geometry::slab) {
+    const double h = 0.5 * system_.box[1];
+    for (std::size_t i = 0; i < span.count; ++i)
+      if (!(span.y[i] >= -h && span.y[i] <= h) || !(span.x[i] >= 0 && span.x[i] < system_.box[0]) ||
+          !(span.z[i] >= 0 && span.z[i] < system_.box[2]))
+        throw std::runtime_error(where_text(pipeline_.initial_state) + " placed particle " + std::to_string(i) +
+                                 " at (" + std::to_string(span.x[i]) + ", " + std::to_string(span.y[i]) + ", " +
+                                 std::to_string(span.z[i]) + "), outside the slab [0, Lx) x [-Ly/2, Ly/2] x [0, Lz)");
+  }
+  grid_.assign_and_sort(span.y, store_.cells(), span.count);
   update_moments();
+  grid_.sampled_moments(span, system_.number_density, sampled_);
+  initial_energy_ = sampled_.kinetic_energy;
   if (!(global_.temperature > 0) || !std::isfinite(global_.temperature))
     throw std::runtime_error(where_text(pipeline_.initial_state) + " produced a state with temperature " +
                              std::to_string(global_.temperature) + "; a positive finite temperature is needed");
@@ -89,9 +177,12 @@ void Engine::begin_diagnostics() {
   if (p.stop_steady)
     for (std::size_t k = 0; k < slots_.size(); ++k)
       if (slots_[k].use->instance_name == p.stop_steady->group) steady_slot_ = static_cast<int>(k);
+  std::vector<double> centres(system_.bins);
+  for (std::size_t b = 0; b < system_.bins; ++b) centres[b] = system_.bin_centre(b) / system_.mean_free_path0;
   outputs_.reserve(slots_.size());
   for (auto& slot : slots_) {
     outputs_.emplace_back(slot.use->instance_name, &summary_);
+    outputs_.back().set_bins(centres);
     try {
       slot.object->begin(system_, board_, outputs_.back());
     } catch (const std::exception& e) {
@@ -100,71 +191,129 @@ void Engine::begin_diagnostics() {
   }
 }
 
-void Engine::update_moments() {
-  const VelocityMoments m = velocity_moments(store_.span());
-  global_.count = m.count;
-  global_.number_density = system_.number_density;
-  for (int a = 0; a < 3; ++a) global_.mean_velocity[a] = m.mean[a];
-  global_.temperature = m.temperature;
+void Engine::update_moments() { grid_.cell_moments(store_.span(), system_.number_density, cells_, global_); }
+
+// dt = c tau0, or c tau0 sqrt(T0/T) so that it follows the mean free time (000 Sec. IV.B; in a
+// slab T is T-bar, Eq. 4.8, as in Sec. IV.A).
+double Engine::time_step() const {
+  double dt = pipeline_.time_step_tau0 * system_.time_unit0;
+  if (pipeline_.time_step_follows_temperature) dt *= std::sqrt(system_.initial_temperature / global_.temperature);
+  return dt;
 }
 
 void Engine::step() {
-  const double T = global_.temperature;
-  // dt = c tau0, or c tau0 sqrt(T0/T) so that it follows the mean free time (000 Sec. IV.B)
-  double dt = pipeline_.time_step_tau0 * system_.time_unit0;
-  if (pipeline_.time_step_follows_temperature) dt *= std::sqrt(system_.initial_temperature / T);
+  const double dt = time_step();
   ctx_.dt = dt;
-  const ParticleSpan span = store_.span();
-
-  for (auto& [f, index] : forcings_before_) {
-    Rng rng = ctx_.rng(StreamPurpose::forcing, index << 16);
-    f->apply(ctx_, span, rng);
-  }
-
-  // Collision stage: one cell holding every particle in a homogeneous system (000 Eq. 4.23).
-  {
-    Rng rng = ctx_.rng(StreamPurpose::collisions, 0);
-    CellCollision cell;
-    cell.particles = span;
-    cell.members = nullptr;
-    cell.count = static_cast<std::uint32_t>(span.count);
-    cell.volume = system_.volume;
-    cell.sigma = system_.sigma;
-    cell.dt = dt;
-    const double thermal_speed = std::sqrt(global_.temperature / system_.mass);
-    cell.majorant = majorant_ratio_ * thermal_speed;
-    cell.remainder = candidate_remainder_;
-    cell.rng = &rng;
-    collision_->collide_cell(cell);
-    candidate_remainder_ = cell.remainder;
-    if (cell.max_rate > cell.majorant) majorant_ratio_ = kMajorantHeadroom * cell.max_rate / thermal_speed;
-    ctx_.collisions += static_cast<double>(cell.accepted);
-    ctx_.candidates += static_cast<double>(cell.candidates);
-    ctx_.majorant_exceeded += static_cast<double>(cell.majorant_exceeded);
-    ctx_.collision_energy_change += cell.energy_change;
-  }
-
-  for (auto& [f, index] : forcings_after_) {
-    Rng rng = ctx_.rng(StreamPurpose::forcing, index << 16);
-    f->apply(ctx_, span, rng);
-  }
-
+  streams_.set_step(ctx_.step);
+  const auto& s = ctx_;
+  ctx_.in_average_window =
+      (pipeline_.average_after_collisions_per_particle && s.collisions_per_particle() >= *pipeline_.average_after_collisions_per_particle) ||
+      (pipeline_.average_after_time_tau0 && s.time_in_tau0() >= *pipeline_.average_after_time_tau0);
+  apply_forcings(forcings_before_);
+  stream(dt);
+  collide(dt);
+  apply_forcings(forcings_after_);
   ctx_.time += dt;
   ++ctx_.step;
   if (ctx_.step % pipeline_.moments_every == 0) update_moments();
   sample_and_record(false);
 }
 
+void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings) {
+  const ParticleSpan span = store_.span();
+  for (const auto& [f, index] : forcings) {
+    const Streams streams = streams_.streams(StreamPurpose::forcing, index);
+    ctx_.streams = &streams;
+    ledger_[1 + index].energy += f->apply(ctx_, span);
+  }
+  ctx_.streams = nullptr;
+}
+
+// Free flight with walls and the counting sort into layers (slab), or the velocity kick of a body
+// acceleration (homogeneous: no positions to move).
+void Engine::stream(double dt) {
+  const ParticleSpan span = store_.span();
+  const double g2 = dot(acceleration_, acceleration_);
+  if (mover_) {
+    StreamingTally tally;
+    mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally);
+    grid_.sort(store_.cells(), span.count);
+    for (int s = 0; s < 2; ++s) {
+      BoundaryTally& t = tallies_[s];
+      t.hits += tally.sides[s].hits;
+      for (int a = 0; a < 3; ++a) t.momentum[a] += tally.sides[s].momentum[a];
+      t.energy += tally.sides[s].energy;
+      ledger_[ledger_.size() - 2 + s].energy += tally.sides[s].energy;
+    }
+    if (!accelerations_.empty()) ledger_[1 + accelerations_[0]].energy += tally.acceleration_energy;
+  } else if (g2 > 0) {
+    double energy = 0;
+    for (std::size_t i = 0; i < span.count; ++i) {
+      energy += (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
+      span.vx[i] += acceleration_.x * dt;
+      span.vy[i] += acceleration_.y * dt;
+      span.vz[i] += acceleration_.z * dt;
+    }
+    ledger_[1 + accelerations_[0]].energy += energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count);
+  }
+}
+
+// Per-cell collisions with a per-cell majorant w_I = ratio_I sqrt(T_ref) (000 Eq. 4.13), T_ref the
+// larger of the layer's and the mean temperature (so a cold or sparse layer keeps a safe bound),
+// and a per-cell stream: the cells are independent and their order does not matter.
+void Engine::collide(double dt) {
+  const ParticleSpan span = store_.span();
+  const std::size_t n = grid_.count();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t c = cells_reversed_ ? n - 1 - k : k;
+    Rng rng = streams_.rng(StreamPurpose::collisions, 0, c);
+    CellCollision cell;
+    cell.particles = span;
+    cell.members = grid_.members(c);
+    cell.count = grid_.members_count(c);
+    cell.index = static_cast<std::uint32_t>(c);
+    cell.volume = grid_.cell_volume();
+    cell.sigma = system_.sigma;
+    cell.dt = dt;
+    const double t_ref = grid_.is_slab() ? std::max(cells_[c].temperature, global_.temperature) : global_.temperature;
+    const double thermal_speed = std::sqrt(t_ref / system_.mass);
+    cell.majorant = majorant_ratio_[c] * thermal_speed;
+    cell.remainder = remainder_[c];
+    cell.rng = &rng;
+    collision_->collide_cell(cell);
+    remainder_[c] = cell.remainder;
+    if (cell.max_rate > cell.majorant) majorant_ratio_[c] = kMajorantHeadroom * cell.max_rate / thermal_speed;
+    ctx_.collisions += cell.accepted;
+    ctx_.candidates += cell.candidates;
+    ctx_.majorant_exceeded += cell.majorant_exceeded;
+    cell_energy_[c] = cell.energy_change;
+  }
+  double energy = 0;
+  for (std::size_t c = 0; c < n; ++c) energy += cell_energy_[c];  // in cell order, whatever the processing order
+  ctx_.collision_energy_change += energy;
+  ledger_[0].energy = ctx_.collision_energy_change;
+}
+
 void Engine::sample_and_record(bool force_record) {
   const ParticleSpan span = store_.span();
   const double t = ctx_.time_in_tau0();
   const double s = ctx_.collisions_per_particle();
+  bool have_moments = false;
   for (std::size_t k = 0; k < slots_.size(); ++k) {
     DiagnosticSlot& slot = slots_[k];
     const bool record = force_record || ctx_.step % slot.use->record_every == 0;
     if (slot.last_record_step == ctx_.step) continue;
     if (record || ctx_.step % slot.use->sample_every == 0) {
+      if (!have_moments) {  // once per sampled step, shared by every diagnostic
+        grid_.sampled_moments(span, system_.number_density, sampled_);
+        have_moments = true;
+      }
+      const Streams streams = streams_.streams(StreamPurpose::diagnostic, static_cast<std::uint32_t>(k));
+      ctx_.moments = &sampled_;
+      ctx_.streams = &streams;
       slot.object->sample(ctx_, span);
+      ctx_.moments = nullptr;
+      ctx_.streams = nullptr;
       slot.time_sum += t;
       slot.s_sum += s;
       ++slot.samples;
@@ -221,8 +370,25 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
       throw std::runtime_error(where_text(*slots_[k].use) + " failed at the end of the run: " + e.what());
     }
   }
+  finish_energy_balance();
   wall_seconds_ = std::chrono::duration<double>(clock::now() - start).count();
   if (report) report(progress(wall_seconds_));
+}
+
+// The run's energy balance per particle in units of T0: E - E0 against the sum of what every
+// stage declared or the host tallied; the residual is round-off for plugins that tell the truth.
+void Engine::finish_energy_balance() {
+  grid_.sampled_moments(store_.span(), system_.number_density, sampled_);
+  const double per = 1.0 / (static_cast<double>(system_.particles) * system_.initial_temperature);
+  double added = 0;
+  std::string parts;
+  for (const auto& e : ledger_) {
+    added += e.energy;
+    parts += std::string(parts.empty() ? "" : ", ") + e.stage + " " + fmt("%.6g", e.energy * per);
+  }
+  const double change = sampled_.kinetic_energy - initial_energy_;
+  summary_.push_back("energy per particle [T0]: E - E0 = " + fmt("%.6g", change * per) + " = " + parts +
+                     " (residual " + fmt("%.2g", (change - added) * per) + ")");
 }
 
 CaseOutput Engine::output() {
@@ -234,16 +400,33 @@ CaseOutput Engine::output() {
                 {"initial_temperature", system_.initial_temperature},
                 {"mean_free_path0", system_.mean_free_path0},
                 {"time_unit0", system_.time_unit0},
-                {"volume", system_.volume}};
+                {"volume", system_.volume},
+                {"box_x", system_.box[0]},
+                {"box_y", system_.box[1]},
+                {"box_z", system_.box[2]},
+                {"layers", static_cast<double>(system_.cells)},
+                {"bins", static_cast<double>(system_.bins)}};
   out.run = {{"steps", static_cast<double>(ctx_.step)},
              {"final_time_tau0", ctx_.time_in_tau0()},
-             {"collisions", ctx_.collisions},
+             {"collisions", static_cast<double>(ctx_.collisions)},
              {"collisions_per_particle", ctx_.collisions_per_particle()},
-             {"candidates", ctx_.candidates},
-             {"majorant_exceeded", ctx_.majorant_exceeded},
+             {"candidates", static_cast<double>(ctx_.candidates)},
+             {"majorant_exceeded", static_cast<double>(ctx_.majorant_exceeded)},
              {"collision_energy_change", ctx_.collision_energy_change},
+             {"kinetic_energy_initial", initial_energy_},
+             {"kinetic_energy_final", sampled_.kinetic_energy},
              {"wall_seconds", wall_seconds_},
              {"reached_steady_state", steady_ ? 1.0 : 0.0}};
+  for (const auto& e : ledger_) out.run[std::string("energy_added.") + e.stage] = e.energy;
+  for (std::size_t s = 0; s < ctx_.boundary_count; ++s) {
+    const std::string side = s == 0 ? "y_min" : "y_max";
+    const BoundaryTally& t = tallies_[s];
+    out.run["boundary." + side + ".hits"] = static_cast<double>(t.hits);
+    out.run["boundary." + side + ".momentum_x"] = t.momentum[0];
+    out.run["boundary." + side + ".momentum_y"] = t.momentum[1];
+    out.run["boundary." + side + ".momentum_z"] = t.momentum[2];
+    out.run["boundary." + side + ".energy"] = t.energy;
+  }
   out.plugins = plugin_provenance(pipeline_);
   out.diagnostics = outputs_;
   if (pipeline_.output_particles) out.particles = particle_datasets(store_.span(), system_);

@@ -1,7 +1,9 @@
 // The DSMC step loop. Knows particles, cells, clocks and random streams; all physics lives in
 // the plugins it calls.
 #pragma once
+#include <array>
 #include <atomic>
+#include <optional>
 #include <functional>
 #include <memory>
 #include <string>
@@ -11,7 +13,10 @@
 #include <gdsmc/plugin.hpp>
 
 #include "config/pipeline.hpp"
+#include "engine/cells.hpp"
 #include "engine/particle_store.hpp"
+#include "engine/streaming.hpp"
+#include "engine/streams.hpp"
 #include "output/diagnostic_output.hpp"
 #include "output/records.hpp"
 
@@ -44,6 +49,8 @@ class Engine {
            const std::atomic<bool>* interrupt = nullptr);
   // One step (exposed for tests and benchmarks).
   void step();
+  // Process the collision cells in reverse order (tests: no result may depend on the order).
+  void set_cells_reversed(bool reversed) { cells_reversed_ = reversed; }
 
   // This run's results (diagnostics copied), without the file-level provenance.
   CaseOutput output();
@@ -75,8 +82,16 @@ class Engine {
   void generate_initial_state();
   void begin_diagnostics();
 
+  void setup_slab();
+  void check_boundaries();
+  void open_ledger();
   void update_moments();
+  double time_step() const;
+  void apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings);
+  void stream(double dt);
+  void collide(double dt);
   void sample_and_record(bool force_record);
+  void finish_energy_balance();
   Progress progress(double elapsed_seconds) const;
 
   const Pipeline& pipeline_;
@@ -84,18 +99,32 @@ class Engine {
   ParticleStore store_;
   QuantityBoard board_;
   StepContext ctx_;
+  StreamFactory streams_;
+  CellGrid grid_;
+  std::vector<CellMoments> cells_;  // per-cell moments as of the last update (ctx.cells)
   CellMoments global_;
+  SampledMoments sampled_;
   std::vector<std::shared_ptr<PluginObject>> objects_;  // keeps every plugin object (and library) alive
   InitialState* initial_state_ = nullptr;
   CollisionRule* collision_ = nullptr;
   std::vector<std::pair<Forcing*, std::uint32_t>> forcings_before_, forcings_after_;
+  std::vector<std::uint32_t> accelerations_;  // forcings that declare a constant acceleration
+  Vec3 acceleration_{0, 0, 0};
+  std::array<Boundary*, 2> boundaries_{nullptr, nullptr};
+  std::optional<Mover> mover_;
+  std::array<BoundaryTally, 2> tallies_{};
+  std::vector<std::string> ledger_names_;
+  std::vector<EnergyLedgerEntry> ledger_;  // [0] collisions, [1 + k] forcing k, then y_min, y_max
+  double initial_energy_ = 0;
   std::vector<DiagnosticSlot> slots_;
   std::vector<DiagnosticOutput> outputs_;
   std::vector<std::string> summary_;
-  double majorant_ratio_;      // w / sqrt(T/m) in the (single) cell, raised when exceeded
-  double candidate_remainder_ = 0;
+  std::vector<double> majorant_ratio_;   // w_I / sqrt(T_ref,I) per cell, raised when exceeded
+  std::vector<double> remainder_;        // fractional candidates carried per cell
+  std::vector<double> cell_energy_;      // per-cell energy change of this step (summed in cell order)
   double wall_seconds_ = 0;
   bool steady_ = false;
+  bool cells_reversed_ = false;
   int steady_slot_ = -1;
 };
 

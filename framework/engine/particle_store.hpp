@@ -1,5 +1,6 @@
 // The host's particle storage: structure of arrays, plus the extra attributes plugins declare.
 #pragma once
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,6 +15,9 @@ class ParticleStore {
   void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes) {
     n_ = n;
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->assign(n, 0.0);
+    id_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) id_[i] = i;  // identities 0..N-1 in the initial order
+    cell_.assign(n, 0u);
     specs_ = attributes;
     check_attributes(specs_);
     data_.assign(specs_.size(), {});
@@ -35,6 +39,8 @@ class ParticleStore {
   ParticleSpan span() {
     ParticleSpan s;
     s.count = n_;
+    s.id = id_.data();
+    s.cell = cell_.data();
     s.x = x_.data(); s.y = y_.data(); s.z = z_.data();
     s.vx = vx_.data(); s.vy = vy_.data(); s.vz = vz_.data();
     s.attribute_count = specs_.size();
@@ -43,10 +49,14 @@ class ParticleStore {
     return s;
   }
   std::size_t size() const { return n_; }
+  // The layer of every particle, written by the mover (the span shows it read-only to plugins).
+  std::uint32_t* cells() { return cell_.data(); }
   const std::vector<AttributeSpec>& attribute_specs() const { return specs_; }
 
  private:
   std::size_t n_ = 0;
+  std::vector<std::uint64_t> id_;
+  std::vector<std::uint32_t> cell_;
   std::vector<double> x_, y_, z_, vx_, vy_, vz_;
   std::vector<AttributeSpec> specs_;
   std::vector<std::vector<double>> data_;

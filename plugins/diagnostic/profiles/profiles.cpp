@@ -64,7 +64,7 @@ class Profiles final : public gdsmc::Diagnostic {
       "N_b u_a u_b. Profiles (record x bin): n [n0 = N / volume], u_x, u_y, u_z [sqrt(2T0/m)],\n"
       "T [T0], P_xx, P_yy, P_zz, P_xy, P_xz, P_yz [n0 T0], q_x, q_y [n0 T0 sqrt(2T0/m)], N1, N2, Kn [1].\n"
       "A bin that no particle visited in the window has n = 0 and NaN for every other profile; a\n"
-      "window without samples gives NaN everywhere. Array bin_centre [lambda0]: the bin centres.";
+      "window without samples gives NaN everywhere. The host writes the bin centres beside the profiles (bin_centre [lambda0]).";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Profiles(const gdsmc::Params&) {}
 
@@ -85,9 +85,6 @@ class Profiles final : public gdsmc::Diagnostic {
     values_.assign(bins_ * kProf, 0.0);
     samples_ = 0;
     for (std::size_t k = 0; k < kProf; ++k) ids_[k] = out.profile(kColumns[k].name, kColumns[k].unit, kColumns[k].doc);
-    std::vector<double> centres(bins_);
-    for (std::size_t b = 0; b < bins_; ++b) centres[b] = sys.bin_centre(b) / sys.mean_free_path0;
-    out.array("bin_centre", centres, {bins_}, "lambda0", "centres of the sampling bins along y");
   }
 
   void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
