@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "output/hdf5_file.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -25,6 +26,7 @@ std::string pipeline_yaml(const std::string& diagnostics, const std::string& sto
          "  stop: " + stop + "\n"
          "  sample_every: 5\n"
          "  record_every: 10\n"
+         "  average_after: {collisions_per_particle: 1}\n"
          "system:\n"
          "  density: 1.0e-3\n"
          "  temperature: 1.0\n"
@@ -39,7 +41,7 @@ const std::string kDiagnostics =
     "  - {plugin: temperature}\n"
     "  - {plugin: pressure_tensor}\n"
     "  - {plugin: cumulants, record_every: 7}\n"
-    "  - {plugin: hcs_theory, average_after: 1}\n";
+    "  - {plugin: hcs_theory}\n";
 
 TEST(Output, ShortRunFileLayout) {
   TempDir dir;
@@ -123,6 +125,96 @@ TEST(Output, ShortRunFileLayout) {
   std::vector<std::string> roles = h5::members(f, "/plugins");
   for (std::size_t k = 0; k < diagnostics.size(); ++k) check_role("diagnostics[" + std::to_string(k) + "]", diagnostics[k]);
   EXPECT_EQ(roles.size(), 2 + diagnostics.size()) << join(roles);
+}
+
+// Profiles, in-process: each is a (record x bin) dataset with its unit and description, beside one
+// bin_centre [lambda0] per group that has profiles (SystemInfo::bin_centre / lambda0).
+TEST(Output, ProfilesAreRecordByBinDatasetsBesideTheBinCentres) {
+  gdsmc::SystemInfo sys;
+  sys.bins = 4;
+  sys.box[1] = 8.0;  // bins of width 2 centred at -3, -1, 1, 3 (sigma)
+  sys.mean_free_path0 = 2.0;
+  std::vector<std::string> summary;
+  gdsmc::host::DiagnosticOutput d("profiles", &summary);
+  d.set_bins(gdsmc::host::bin_centres_lambda0(sys));
+  const auto density = d.profile("density", "n", "number density per bin");
+  const auto total = d.series("total", "1", "a series beside the profile");
+  std::vector<double> expected;
+  for (int k = 0; k < 3; ++k) {
+    d.begin_record(0.5 * k, 0.25 * k);
+    const double row[4] = {10.0 * k + 1, 10.0 * k + 2, 10.0 * k + 3, 10.0 * k + 4};
+    d.append_profile(density, row);
+    expected.insert(expected.end(), row, row + 4);
+    d.append(total, k);
+    d.check_record("test_profiles");
+  }
+  gdsmc::host::DiagnosticOutput plain("plain", &summary);  // no profiles: no bin_centre
+  plain.set_bins(gdsmc::host::bin_centres_lambda0(sys));
+  plain.series("x", "1", "a series");
+
+  gdsmc::host::StudyOutput out;
+  out.cases.emplace_back();
+  out.cases[0].diagnostics = {d, plain};
+  TempDir dir;
+  gdsmc::host::write_hdf5(dir / "profiles.h5", out);
+  ASSERT_EQ(dir.files(), std::vector<std::string>{"profiles.h5"});
+
+  h5::File h(dir / "profiles.h5");
+  const hid_t f = h.id();
+  const std::string g = "/diagnostics/profiles/";
+  EXPECT_EQ(h5::shape(f, g + "density"), (std::vector<hsize_t>{3, 4}));
+  EXPECT_EQ(h5::read_doubles(f, g + "density"), expected);
+  EXPECT_EQ(h5::read_string_attribute(f, g + "density", "unit"), "n");
+  EXPECT_EQ(h5::read_string_attribute(f, g + "density", "description"), "number density per bin");
+  EXPECT_EQ(h5::shape(f, g + "total"), std::vector<hsize_t>{3});
+  EXPECT_EQ(h5::shape(f, g + "time"), std::vector<hsize_t>{3});
+  EXPECT_EQ(h5::shape(f, g + "bin_centre"), std::vector<hsize_t>{4});
+  EXPECT_EQ(h5::read_doubles(f, g + "bin_centre"), (std::vector<double>{-1.5, -0.5, 0.5, 1.5}));
+  EXPECT_EQ(h5::read_string_attribute(f, g + "bin_centre", "unit"), "lambda0");
+  EXPECT_TRUE(h5::is_dataset(f, "/diagnostics/plain/x"));
+  EXPECT_FALSE(h5::exists(f, "/diagnostics/plain/bin_centre"));
+}
+
+// A record in which a declared profile got no append (or two) is refused, naming the plugin, the
+// group and the profile; so is a profile declared before the host set the bins, or named bin_centre.
+TEST(Output, ProfileRecordsAreCheckedAndNamed) {
+  std::vector<std::string> summary;
+  gdsmc::host::DiagnosticOutput d("slab", &summary);
+  d.set_bins({-1.0, 0.0, 1.0});
+  const auto u = d.profile("velocity", "sqrt(2T0/m)", "mean velocity per bin");
+  d.profile("temperature", "T0", "temperature per bin");
+  const double row[3] = {1, 2, 3};
+  d.begin_record(0, 0);
+  d.append_profile(u, row);  // "temperature" got nothing
+  try {
+    d.check_record("slab_profiles");
+    FAIL() << "a record without an append to a declared profile was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_TRUE(contains(m, "slab_profiles")) << m;
+    EXPECT_TRUE(contains(m, "'slab'")) << m;
+    EXPECT_TRUE(contains(m, "profile 'temperature'")) << m;
+    EXPECT_TRUE(contains(m, "exactly one append_profile per record")) << m;
+  }
+  // Two appends in one record are refused too.
+  gdsmc::host::DiagnosticOutput twice("slab", &summary);
+  twice.set_bins({0.0});
+  const auto p = twice.profile("n", "n", "density");
+  twice.begin_record(0, 0);
+  twice.append_profile(p, row);
+  twice.append_profile(p, row);
+  EXPECT_THROW(twice.check_record("slab_profiles"), std::runtime_error);
+
+  gdsmc::host::DiagnosticOutput no_bins("nobins", &summary);
+  try {
+    no_bins.profile("n", "n", "density");
+    FAIL() << "a profile was declared without sampling bins";
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(contains(e.what(), "set_bins")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "profile 'n'")) << e.what();
+  }
+  EXPECT_THROW(d.profile("bin_centre", "lambda0", "reserved"), std::runtime_error);
+  EXPECT_THROW(d.profile("velocity", "1", "declared twice"), std::runtime_error);
 }
 
 // A diagnostic that throws in finish(): exit 1, the plugin named, and no file under the final

@@ -188,5 +188,92 @@ TEST(Study, SteadyAveragesUseTheRecordsAfterTheThreshold) {
   EXPECT_LT(se, 0.1);
 }
 
+// A diagnostic with one profile "rho" over `bins` bins: record k has the values value(k, b).
+template <class Value>
+host::DiagnosticOutput profile_output(std::size_t records, std::size_t bins, Value value) {
+  host::DiagnosticOutput d("slab", nullptr);
+  std::vector<double> centres;
+  for (std::size_t b = 0; b < bins; ++b) centres.push_back(static_cast<double>(b));
+  d.set_bins(centres);
+  const auto id = d.profile("rho", "n", "density per bin");
+  std::vector<double> row(bins);
+  for (std::size_t k = 0; k < records; ++k) {
+    d.begin_record(0.5 * static_cast<double>(k), 0.1 * static_cast<double>(k));
+    for (std::size_t b = 0; b < bins; ++b) row[b] = value(k, b);
+    d.append_profile(id, row.data());
+    d.check_record("test");
+  }
+  return d;
+}
+
+const host::DiagnosticOutput::Array& array_named(const host::DiagnosticOutput& d, const std::string& name) {
+  for (const auto& a : d.arrays)
+    if (a.name == name) return a;
+  throw std::runtime_error("no array " + name);
+}
+
+TEST(Study, ProfilesAreAveragedOverRealizationsElementByElement) {
+  auto a = [](std::size_t k, std::size_t b) { return 1.0 + static_cast<double>(k) + 0.1 * static_cast<double>(b); };
+  auto b = [](std::size_t k, std::size_t b) { return 2.0 * static_cast<double>(k * k) - static_cast<double>(b); };
+  // The second realization has one record more: the average keeps the 4 common ones.
+  const std::vector<std::vector<host::DiagnosticOutput>> runs{{profile_output(4, 3, a)}, {profile_output(5, 3, b)}};
+  const auto avg = host::average_realizations(runs, nullptr);
+  ASSERT_EQ(avg.size(), 1u);
+  ASSERT_EQ(avg[0].profiles.size(), 2u);
+  const auto& mean = avg[0].profiles[0];
+  const auto& se = avg[0].profiles[1];
+  EXPECT_EQ(mean.name, "rho");
+  EXPECT_EQ(mean.unit, "n");
+  EXPECT_EQ(se.name, "rho_stderr");
+  EXPECT_EQ(se.unit, "n");
+  EXPECT_EQ(avg[0].bin_centres, (std::vector<double>{0, 1, 2}));
+  EXPECT_EQ(avg[0].time.size(), 4u);
+  ASSERT_EQ(mean.values.size(), 4u * 3u);
+  ASSERT_EQ(se.values.size(), 4u * 3u);
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double x = a(k, j), y = b(k, j);
+      // Two values: mean (x + y)/2, standard error sqrt(((x-m)^2 + (y-m)^2) / 1 / 2) = |x - y| / 2.
+      EXPECT_NEAR(mean.values[k * 3 + j], 0.5 * (x + y), 1e-14 * (1 + std::fabs(x) + std::fabs(y))) << k << "," << j;
+      EXPECT_NEAR(se.values[k * 3 + j], 0.5 * std::fabs(x - y), 1e-14 * (1 + std::fabs(x) + std::fabs(y))) << k << "," << j;
+    }
+  // Steady averages are taken of the mean profile, not of its stderr companion.
+  auto with_steady = avg;
+  host::add_steady_averages(with_steady, 0.0, std::nullopt);
+  EXPECT_NO_THROW(array_named(with_steady[0], "rho.steady_mean"));
+  EXPECT_THROW(array_named(with_steady[0], "rho_stderr.steady_mean"), std::runtime_error);
+}
+
+TEST(Study, SteadyProfileMeansArePerBinOverTheRecordsAfterTheThreshold) {
+  // Bin 0 alternates 0, 1 after s = 10 (record 100), bin 1 is 3 there; both are 1000 before.
+  auto value = [](std::size_t k, std::size_t b) {
+    if (k < 100) return 1000.0;
+    return b == 0 ? static_cast<double>(k % 2) : 3.0;
+  };
+  std::vector<host::DiagnosticOutput> ds{profile_output(200, 2, value)};
+  host::add_steady_averages(ds, 10.0, std::nullopt);
+  const auto& mean = array_named(ds[0], "rho.steady_mean");
+  const auto& se = array_named(ds[0], "rho.steady_stderr");
+  EXPECT_EQ(mean.shape, std::vector<std::size_t>{2});
+  EXPECT_EQ(se.shape, std::vector<std::size_t>{2});
+  EXPECT_EQ(mean.unit, "n");
+  EXPECT_EQ(mean.data, (std::vector<double>{0.5, 3.0})) << "records with s >= 10 only";
+  ASSERT_EQ(se.data.size(), 2u);
+  EXPECT_TRUE(std::isfinite(se.data[0]));
+  EXPECT_LT(se.data[0], 0.1);
+  EXPECT_EQ(se.data[1], 0.0);
+  // The series path gives the same numbers: bin 0 as a series.
+  host::DiagnosticOutput s("g", nullptr);
+  const auto id = s.series("x", "1", "bin 0 as a series");
+  for (std::size_t k = 0; k < 200; ++k) {
+    s.begin_record(0.5 * static_cast<double>(k), 0.1 * static_cast<double>(k));
+    s.append(id, value(k, 0));
+  }
+  std::vector<host::DiagnosticOutput> ss{s};
+  host::add_steady_averages(ss, 10.0, std::nullopt);
+  EXPECT_EQ(ss[0].scalars[0].value, mean.data[0]);
+  EXPECT_EQ(ss[0].scalars[1].value, se.data[0]);
+}
+
 }  // namespace
 }  // namespace gdsmc::test

@@ -177,8 +177,7 @@ void Engine::begin_diagnostics() {
   if (p.stop_steady)
     for (std::size_t k = 0; k < slots_.size(); ++k)
       if (slots_[k].use->instance_name == p.stop_steady->group) steady_slot_ = static_cast<int>(k);
-  std::vector<double> centres(system_.bins);
-  for (std::size_t b = 0; b < system_.bins; ++b) centres[b] = system_.bin_centre(b) / system_.mean_free_path0;
+  const std::vector<double> centres = bin_centres_lambda0(system_);
   outputs_.reserve(slots_.size());
   for (auto& slot : slots_) {
     outputs_.emplace_back(slot.use->instance_name, &summary_);

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include <gdsmc/context.hpp>
 #include <gdsmc/output.hpp>
 
 namespace gdsmc::host {
@@ -12,6 +13,11 @@ namespace gdsmc::host {
 class DiagnosticOutput final : public OutputSink {
  public:
   struct Column {
+    std::string name, unit, doc;
+    std::vector<double> values;
+  };
+  // A profile series: one row of bins values per record, row-major (record x bin).
+  struct Profile {
     std::string name, unit, doc;
     std::vector<double> values;
   };
@@ -33,6 +39,8 @@ class DiagnosticOutput final : public OutputSink {
 
   std::size_t series(const std::string& name, const std::string& unit, const std::string& doc) override;
   void append(std::size_t id, double value) override;
+  std::size_t profile(const std::string& name, const std::string& unit, const std::string& doc) override;
+  void append_profile(std::size_t id, const double* values) override;
   void array(const std::string& name, const std::vector<double>& data, const std::vector<std::size_t>& shape,
              const std::string& unit, const std::string& doc) override;
   void histogram(const std::string& name, const std::vector<double>& edges, const std::vector<double>& values,
@@ -41,14 +49,21 @@ class DiagnosticOutput final : public OutputSink {
   void attribute(const std::string& name, const std::string& value) override;
   void summary(const std::string& line) override;
 
+  // The sampling bins along y of the profiles, their centres in lambda0 (SystemInfo::bins of them).
+  // The host calls this before Diagnostic::begin; a profile declared without it is refused.
+  void set_bins(std::vector<double> centres_lambda0);
+  std::size_t bins() const { return bin_centres.size(); }
+
   // The host's own columns, one entry per record: mean time (tau0) and s of the window's samples.
   void begin_record(double time_tau0, double s);
-  // Throws if a record left a column shorter or longer than the time column.
+  // Throws if a record left a series or a profile with other than one append per record.
   void check_record(const std::string& plugin) const;
 
   const std::string& group() const { return group_; }
   std::vector<double> time, collisions_per_particle;
   std::vector<Column> columns;
+  std::vector<double> bin_centres;  // [lambda0]
+  std::vector<Profile> profiles;
   std::vector<Array> arrays;
   std::vector<Histogram> histograms;
   std::vector<Scalar> scalars;
@@ -59,5 +74,8 @@ class DiagnosticOutput final : public OutputSink {
   std::string group_;
   std::vector<std::string>* summary_;
 };
+
+// The centres of the sampling bins along y, in lambda0: the argument of DiagnosticOutput::set_bins.
+std::vector<double> bin_centres_lambda0(const SystemInfo& system);
 
 }  // namespace gdsmc::host

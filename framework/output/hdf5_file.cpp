@@ -134,6 +134,10 @@ void write_case(hid_t file_id, const CaseOutput& out) {
     dataset(g, "collisions_per_particle", d.collisions_per_particle, {n}, "1",
             "s(t): accepted collisions / N (mean over the samples of each record)");
     for (const auto& c : d.columns) dataset(g, c.name, c.values, {c.values.size()}, c.unit, c.doc);
+    if (!d.profiles.empty())
+      dataset(g, "bin_centre", d.bin_centres, {d.bins()}, "lambda0",
+              "centre y of each sampling bin of the profiles (the slab spans y in [-Ly/2, Ly/2])");
+    for (const auto& p : d.profiles) dataset(g, p.name, p.values, {p.values.size() / d.bins(), d.bins()}, p.unit, p.doc);
     for (const auto& a : d.arrays) {
       std::vector<hsize_t> shape(a.shape.begin(), a.shape.end());
       dataset(g, a.name, a.data, shape, a.unit, a.doc);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 
 #include <gdsmc/series.hpp>
@@ -51,11 +52,16 @@ void combine_into(Combiner& combine, const VectorOf& of, std::vector<double>& me
   }
 }
 
-// The mean item and its "_stderr" companion (an Array or a Histogram), appended to `into`.
+// The mean item and its "_stderr" companion (an Array, a Histogram or a Profile), appended to
+// `into`: the first `size` values (all of them unless given: a profile keeps its common records).
 template <class Item>
 void combine_item(Combiner& combine, const Item& first, const VectorOf& of, std::vector<double> Item::*values,
-                  std::vector<Item>& into) {
+                  std::vector<Item>& into, std::size_t size = SIZE_MAX) {
   Item mean = first, se = first;
+  if (size != SIZE_MAX) {
+    (mean.*values).resize(size);
+    (se.*values).resize(size);
+  }
   se.name += "_stderr";
   se.doc = "standard error over realizations of " + first.name;
   combine_into(combine, of, mean.*values, se.*values);
@@ -108,6 +114,11 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
     Combiner combine(runs, d);
     average_columns(combine, first, records, out);
     average_scalars(combine, first, out);
+    out.bin_centres = first.bin_centres;
+    for (std::size_t p = 0; p < first.profiles.size(); ++p)
+      combine_item(combine, first.profiles[p],
+                   [p](const DiagnosticOutput& o) -> const std::vector<double>& { return o.profiles[p].values; },
+                   &DiagnosticOutput::Profile::values, out.profiles, records * first.bins());
     for (std::size_t a = 0; a < first.arrays.size(); ++a)
       combine_item(combine, first.arrays[a], [a](const DiagnosticOutput& o) -> const std::vector<double>& { return o.arrays[a].data; },
                    &DiagnosticOutput::Array::data, out.arrays);
@@ -120,29 +131,77 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
   return avg;
 }
 
+namespace {
+
+// The records of a steady average: those with s >= after_s (or else t/tau0 >= after_t).
+struct SteadyWindow {
+  std::optional<double> after_s, after_t;
+  bool contains(const DiagnosticOutput& d, std::size_t k) const {
+    return after_s ? d.collisions_per_particle[k] >= *after_s : d.time[k] >= *after_t;
+  }
+  std::string text() const { return after_s ? "s >= " + std::to_string(*after_s) : "t/tau0 >= " + std::to_string(*after_t); }
+};
+
+bool is_stderr(const std::string& name) { return name.size() > 7 && name.compare(name.size() - 7, 7, "_stderr") == 0; }
+
+void add_finite(BatchMeans& bm, double x) {
+  if (std::isfinite(x)) bm.add(x);
+}
+
+void add_steady_series(DiagnosticOutput& d, const SteadyWindow& w) {
+  const std::size_t columns = d.columns.size();
+  for (std::size_t c = 0; c < columns; ++c) {
+    const auto& col = d.columns[c];
+    if (is_stderr(col.name)) continue;
+    BatchMeans bm;
+    for (std::size_t k = 0; k < d.time.size(); ++k)
+      if (w.contains(d, k)) add_finite(bm, col.values[k]);
+    d.scalars.push_back({col.name + ".steady_mean", col.unit,
+                         "time average of " + col.name + " over the records with " + w.text() + " (" +
+                             std::to_string(bm.count()) + " records)",
+                         bm.mean()});
+    d.scalars.push_back({col.name + ".steady_stderr", col.unit,
+                         "batch-means standard error of " + col.name + ".steady_mean (NaN: too few records)",
+                         bm.standard_error()});
+  }
+}
+
+// The same per bin for every profile, as arrays of shape (bins).
+void add_steady_profiles(DiagnosticOutput& d, const SteadyWindow& w) {
+  const std::size_t bins = d.bins();
+  for (const auto& prof : d.profiles) {
+    if (is_stderr(prof.name)) continue;
+    std::vector<BatchMeans> bm(bins);
+    std::size_t records = 0;
+    for (std::size_t k = 0; k < d.time.size() && (k + 1) * bins <= prof.values.size(); ++k) {
+      if (!w.contains(d, k)) continue;
+      ++records;
+      for (std::size_t b = 0; b < bins; ++b) add_finite(bm[b], prof.values[k * bins + b]);
+    }
+    std::vector<double> mean(bins), se(bins);
+    for (std::size_t b = 0; b < bins; ++b) {
+      mean[b] = bm[b].mean();
+      se[b] = bm[b].standard_error();
+    }
+    d.arrays.push_back({prof.name + ".steady_mean", prof.unit,
+                        "time average per bin of " + prof.name + " over the records with " + w.text() + " (" +
+                            std::to_string(records) + " records; non-finite values skipped)",
+                        std::move(mean), {bins}});
+    d.arrays.push_back({prof.name + ".steady_stderr", prof.unit,
+                        "batch-means standard error per bin of " + prof.name + ".steady_mean (NaN: too few records)",
+                        std::move(se), {bins}});
+  }
+}
+
+}  // namespace
+
 void add_steady_averages(std::vector<DiagnosticOutput>& diagnostics, std::optional<double> after_s,
                          std::optional<double> after_t) {
   if (!after_s && !after_t) return;
+  const SteadyWindow window{after_s, after_t};
   for (auto& d : diagnostics) {
-    const std::size_t n = d.time.size();
-    const std::size_t columns = d.columns.size();
-    for (std::size_t c = 0; c < columns; ++c) {
-      const auto& col = d.columns[c];
-      if (col.name.size() > 7 && col.name.compare(col.name.size() - 7, 7, "_stderr") == 0) continue;
-      BatchMeans bm;
-      for (std::size_t k = 0; k < n; ++k) {
-        const bool in = after_s ? d.collisions_per_particle[k] >= *after_s : d.time[k] >= *after_t;
-        if (in && std::isfinite(col.values[k])) bm.add(col.values[k]);
-      }
-      const std::string window = after_s ? "s >= " + std::to_string(*after_s) : "t/tau0 >= " + std::to_string(*after_t);
-      d.scalars.push_back({col.name + ".steady_mean", col.unit,
-                           "time average of " + col.name + " over the records with " + window + " (" +
-                               std::to_string(bm.count()) + " records)",
-                           bm.mean()});
-      d.scalars.push_back({col.name + ".steady_stderr", col.unit,
-                           "batch-means standard error of " + col.name + ".steady_mean (NaN: too few records)",
-                           bm.standard_error()});
-    }
+    add_steady_series(d, window);
+    add_steady_profiles(d, window);
   }
 }
 
