@@ -1,19 +1,23 @@
 // gdsmc_bench: cost of the DSMC collision stage of inelastic hard spheres in one homogeneous cell.
 //
 //   BM_PluginCollideCell  the IHS plugin (.so loaded at run time with gdsmc::host::load_plugin +
-//                         create_object), one virtual collide_cell(CellCollision&) call per step,
-//                         driven exactly as Engine::step drives it.
+//                         create_object, bound once to the particles with CollisionRule::bind),
+//                         one virtual const collide_cell(CellCollision&) call per step, driven
+//                         exactly as Engine::collide drives it (cell index 0, the cell's stream
+//                         StreamFactory::rng(collisions, 0, cell) at each step).
 //   BM_StaticAdapter      the same SDK loop (CollisionRuleAdapter) instantiated inside this
 //                         executable with a copy of the IHS rule: separates "SDK loop" from
 //                         "loaded through a .so".
 //   BM_HandLoop           one plain function of the same physics and the same algorithm (same
 //                         candidate count, pair selection, acceptance |g|/w, impact direction
 //                         normalize(g_hat + u), Eq. 2.8 update) and the same generator
-//                         (gdsmc::Rng, Philox4x32-10) drawn in the same order. Started from the
-//                         same state with the same streams it produces bit-identical velocities
-//                         (checked at start-up; see verify_same_trajectory).
+//                         (gdsmc::Rng, Philox4x32-10, from the host's StreamFactory) drawn in the
+//                         same order. Started from the same state with the same streams it
+//                         produces bit-identical velocities (checked at start-up; see
+//                         verify_same_trajectory).
 //   BM_EngineStep         Engine::step() of the HCS pipeline configs/hcs.yaml (collisions, moment
 //                         updates every 4 steps, five diagnostics), dt set for ~N/100 collisions.
+//   (slab)                a section is reserved below BM_EngineStep for the slab benchmarks.
 //   BM_Rng*               the random-number primitives the loop uses.
 //
 // The cell benchmarks take N (particles) and alpha_pct (restitution x 100). With alpha < 1 the gas
@@ -43,6 +47,7 @@
 #include "config/pipeline.hpp"
 #include "engine/engine.hpp"
 #include "engine/majorant.hpp"
+#include "engine/streams.hpp"
 #include "plugins/loader.hpp"
 
 namespace {
@@ -146,24 +151,29 @@ struct BenchIHS {
 };
 
 // ---------------------------------------------------------------------------------------------
-// A homogeneous cell and the host side of its collision stage (as Engine::step).
+// A homogeneous cell and the host side of its collision stage (as Engine::collide).
 
 struct Cell {
-  std::vector<double> vx, vy, vz;
+  std::vector<std::uint64_t> id;     // particle identities 0..N-1 (ParticleSpan::id)
+  std::vector<std::uint32_t> cell;   // all in cell 0 (ParticleSpan::cell)
+  std::vector<double> vx, vy, vz;    // never reallocated: a rule bound to span() stays valid
   std::uint32_t n;
   double volume;
   double temperature = kT0;  // followed exactly from the declared energy changes (m = 1, u = 0)
   double majorant_ratio = gdsmc::host::kInitialMajorantRatio;
   double remainder = 0;
-  PhiloxKey key;
+  host::StreamFactory streams;       // the run's streams, as the engine holds them
   std::uint64_t step = 0;
   std::uint64_t candidates = 0, accepted = 0, exceeded = 0, rescales = 0;
 
   explicit Cell(std::uint32_t particles, std::uint32_t realization = 0)
-      : vx(particles), vy(particles), vz(particles), n(particles), volume(particles / kDensity),
-        key(stream_key(kSeed, realization)) {
-    Rng rng(key, StreamPurpose::initial_state, 0, 0);
+      : id(particles), cell(particles, 0u), vx(particles), vy(particles), vz(particles), n(particles),
+        volume(particles / kDensity), streams(kSeed, realization) {
+    // Each particle from its own initial-state stream (as Streams::for_particle in a plugin).
+    const Streams initial = streams.streams(StreamPurpose::initial_state, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
+      id[i] = i;
+      Rng rng = initial.for_particle(id[i]);
       vx[i] = rng.normal();
       vy[i] = rng.normal();
       vz[i] = rng.normal();
@@ -173,6 +183,8 @@ struct Cell {
   ParticleSpan span() {
     ParticleSpan s;
     s.count = n;
+    s.id = id.data();
+    s.cell = cell.data();
     s.vx = vx.data(); s.vy = vy.data(); s.vz = vz.data();
     s.x = s.y = s.z = nullptr;
     return s;
@@ -195,14 +207,17 @@ struct Cell {
     const double mean_g = 4.0 * std::sqrt(temperature / M_PI);
     return 2.0 * kCollisionFractionPerCall / (kDensity * M_PI * kSigma * kSigma * mean_g);
   }
-  // One collision stage through `collide(CellCollision&)`, with Engine::step's bookkeeping.
+  // One collision stage through `collide(CellCollision&)`, with Engine::collide's bookkeeping:
+  // the step's key, then the stream of cell 0 for the collisions at this step.
   template <class F>
   void stage(F&& collide) {
-    Rng rng(key, StreamPurpose::collisions, 0, step);
+    streams.set_step(step);
+    Rng rng = streams.rng(StreamPurpose::collisions, 0, 0);
     CellCollision c;
     c.particles = span();
     c.members = nullptr;
     c.count = n;
+    c.index = 0;
     c.volume = volume;
     c.sigma = kSigma;
     c.dt = dt();
@@ -254,6 +269,14 @@ std::shared_ptr<PluginObject> make_ihs(double alpha) {
   return host::create_object(ihs_plugin(), params);
 }
 
+// The plugin's rule, bound once to the cell's particles (SDK 2.0: bind at set-up, then only const
+// collide_cell calls). The descriptor says collision_rule, so the cast is exact (as in Engine).
+CollisionRule* bound_rule(PluginObject* object, Cell& cell) {
+  auto* rule = static_cast<CollisionRule*>(object);
+  rule->bind(cell.span());
+  return rule;
+}
+
 // State kept across the repeated calls Google Benchmark makes to one benchmark (iteration-count
 // search, repetitions): the 1e6-particle set-up is paid once and the gas keeps evolving.
 template <class T>
@@ -267,6 +290,7 @@ T& cached(const std::string& name, std::int64_t n, std::int64_t alpha_pct) {
 struct PluginCell {
   Cell cell;
   std::shared_ptr<PluginObject> object;
+  CollisionRule* rule = nullptr;  // object, bound to cell
   explicit PluginCell(std::uint32_t n) : cell(n) {}
 };
 struct AdapterCell {
@@ -298,21 +322,26 @@ void BM_PluginCollideCell(benchmark::State& state) {
   PluginCell* pc;
   try {
     pc = &cached<PluginCell>("plugin", state.range(0), state.range(1));
-    if (!pc->object) pc->object = make_ihs(alpha);
+    if (!pc->object) {
+      pc->object = make_ihs(alpha);
+      pc->rule = bound_rule(pc->object.get(), pc->cell);
+    }
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return;
   }
-  // The descriptor says collision_rule, so the cast is exact (as in Engine).
-  auto* rule = static_cast<CollisionRule*>(pc->object.get());
+  const CollisionRule* rule = pc->rule;
   run_cell(state, pc->cell, [&] { pc->cell.stage([&](CellCollision& c) { rule->collide_cell(c); }); });
 }
 
 void BM_StaticAdapter(benchmark::State& state) {
   const double alpha = static_cast<double>(state.range(1)) / 100.0;
   auto& ac = cached<AdapterCell>("adapter", state.range(0), state.range(1));
-  if (!ac.rule) ac.rule = std::make_unique<CollisionRuleAdapter<BenchIHS>>(BenchIHS(alpha));
-  CollisionRule* rule = ac.rule.get();
+  if (!ac.rule) {
+    ac.rule = std::make_unique<CollisionRuleAdapter<BenchIHS>>(BenchIHS(alpha));
+    ac.rule->bind(ac.cell.span());
+  }
+  const CollisionRule* rule = ac.rule.get();
   benchmark::DoNotOptimize(rule);  // keep the call virtual, as for the plugin
   run_cell(state, ac.cell, [&] { ac.cell.stage([&](CellCollision& c) { rule->collide_cell(c); }); });
 }
@@ -364,15 +393,15 @@ void BM_EngineStep(benchmark::State& state) {
   }
   // The HCS cools without bound (T/T0 ~ 1e-23 after a few seconds at N = 1e4); the engine is
   // rebuilt (untimed) when T/T0 < 1e-3, long before velocities could reach subnormal numbers.
-  double acc = 0, cand = 0;
-  double c0 = run->engine->context().collisions, k0 = run->engine->context().candidates;
+  std::uint64_t acc_n = 0, cand_n = 0;
+  std::uint64_t c0 = run->engine->context().collisions, k0 = run->engine->context().candidates;
   for (auto _ : state) {
     run->engine->step();
     const host::Engine& e = *run->engine;
     if (e.context().global->temperature < 1e-3 * e.system().initial_temperature) {
       state.PauseTiming();
-      acc += e.context().collisions - c0;
-      cand += e.context().candidates - k0;
+      acc_n += e.context().collisions - c0;
+      cand_n += e.context().candidates - k0;
       run->engine = std::make_unique<host::Engine>(run->pipeline);
       c0 = run->engine->context().collisions;
       k0 = run->engine->context().candidates;
@@ -380,8 +409,9 @@ void BM_EngineStep(benchmark::State& state) {
     }
   }
   const host::Engine& engine = *run->engine;
-  acc += engine.context().collisions - c0;
-  cand += engine.context().candidates - k0;
+  acc_n += engine.context().collisions - c0;
+  cand_n += engine.context().candidates - k0;
+  const double acc = static_cast<double>(acc_n), cand = static_cast<double>(cand_n);
   state.counters["collisions/s"] = benchmark::Counter(acc, benchmark::Counter::kIsRate);
   state.counters["candidates/s"] = benchmark::Counter(cand, benchmark::Counter::kIsRate);
   state.counters["accept"] = cand > 0 ? acc / cand : 0.0;
@@ -389,6 +419,12 @@ void BM_EngineStep(benchmark::State& state) {
   state.counters["T/T0"] = engine.context().global->temperature / engine.system().initial_temperature;
 }
 BENCHMARK(BM_EngineStep)->ArgName("N")->Arg(10000)->Arg(100000)->Arg(1000000);
+
+// ---------------------------------------------------------------------------------------------
+// Slab benchmarks (layers along y, walls, the mover): reserved for the slab pipelines. They go
+// here, between the homogeneous engine step and the random-number primitives; the summary table
+// (SummaryReporter::PrintSummary) only reads the homogeneous cell benchmarks, so new ones do not
+// change it unless they add a column there.
 
 // ---------------------------------------------------------------------------------------------
 // The random-number primitives (per call; items/s = calls per second).
@@ -406,7 +442,7 @@ BENCHMARK(BM_Philox4x32_10);
 
 template <class F>
 void rng_bench(benchmark::State& state, F&& draw) {
-  Rng rng(stream_key(kSeed, 0), StreamPurpose::user, 0, 0);
+  Rng rng = host::StreamFactory::standalone(kSeed, 0);
   for (auto _ : state) {
     for (int r = 0; r < 64; ++r) benchmark::DoNotOptimize(draw(rng));
   }
@@ -435,7 +471,7 @@ void verify_same_trajectory() {
     std::fprintf(stderr, "check: cannot load the plugin: %s\n", e.what());
     return;
   }
-  auto* rule = static_cast<CollisionRule*>(obj.get());
+  const CollisionRule* rule = bound_rule(obj.get(), a);
   for (int k = 0; k < calls; ++k) {
     a.stage([&](CellCollision& c) { rule->collide_cell(c); });
     hand_stage(b, 0.9);
@@ -521,12 +557,13 @@ int profile(int argc, char** argv) {
   Cell cell(n);
   std::shared_ptr<PluginObject> object;
   std::unique_ptr<CollisionRuleAdapter<BenchIHS>> adapter;
-  CollisionRule* rule = nullptr;
+  const CollisionRule* rule = nullptr;
   if (path == "plugin") {
     object = make_ihs(alpha);
-    rule = static_cast<CollisionRule*>(object.get());
+    rule = bound_rule(object.get(), cell);
   } else if (path == "adapter") {
     adapter = std::make_unique<CollisionRuleAdapter<BenchIHS>>(BenchIHS(alpha));
+    adapter->bind(cell.span());
     rule = adapter.get();
     benchmark::DoNotOptimize(rule);
   } else if (path != "hand") {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/streams.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -33,14 +34,17 @@ TEST(Loader, TestPluginsWereBuilt) {
     EXPECT_TRUE(fs::is_regular_file(test_plugin(name))) << test_plugin(name);
 }
 
-// A plugin whose entry declares another ABI major is refused before its descriptor is read (the
-// test plugin's describe() aborts), with the file, both versions and what to do.
+// A plugin whose entry declares another ABI major (the test plugin claims 1.0: built against the
+// old SDK 1.x) is refused before its descriptor is read (the test plugin's describe() aborts),
+// with the file, both versions and what to do.
 TEST(Loader, WrongAbiMajorIsRefused) {
+  static_assert(GDSMC_SDK_ABI_MAJOR != 1, "the wrong_abi test plugin claims ABI 1.0");
   const fs::path file = test_plugin("wrong_abi");
   const std::string message = load_error(file);
-  ASSERT_FALSE(message.empty()) << "a plugin with ABI major " << GDSMC_SDK_ABI_MAJOR + 1 << " was loaded";
+  ASSERT_FALSE(message.empty()) << "a plugin with ABI major 1 was loaded by a host with ABI major "
+                                << GDSMC_SDK_ABI_MAJOR;
   EXPECT_TRUE(contains(message, file.string())) << message;
-  const std::string plugin_version = std::to_string(GDSMC_SDK_ABI_MAJOR + 1) + ".0";
+  const std::string plugin_version = "1.0";
   const std::string host_version = std::to_string(GDSMC_SDK_ABI_MAJOR) + "." + std::to_string(GDSMC_SDK_ABI_MINOR);
   EXPECT_TRUE(contains(message, plugin_version)) << message;
   EXPECT_TRUE(contains(message, host_version)) << message;
@@ -92,6 +96,40 @@ TEST(Loader, ExecutableRefusesBrokenPluginFiles) {
   EXPECT_TRUE(contains(run.err, test_plugin("wrong_abi").string())) << run.describe();
 }
 
+// The layout fingerprint names no compiler (SDK 2.0): a tiny program printing abi_fingerprint(),
+// compiled with g++ and with clang++ against the same SDK headers and standard library, prints
+// the same value, and the value this test (built like the host) computes. Skipped when clang++
+// is not installed.
+TEST(Loader, FingerprintDoesNotDependOnTheCompiler) {
+  if (shell("command -v clang++").status != 0) GTEST_SKIP() << "clang++ is not installed";
+  if (shell("command -v g++").status != 0) GTEST_SKIP() << "g++ is not installed";
+  TempDir dir;
+  const fs::path src = dir.write("fingerprint.cpp",
+                                 "#include <cstdio>\n"
+                                 "#include <gdsmc/plugin.hpp>\n"
+                                 "int main() {\n"
+                                 "  std::printf(\"%llu\\n\", static_cast<unsigned long long>(gdsmc::abi_fingerprint()));\n"
+                                 "}\n");
+  const std::string include = "-I'" + (source_dir() / "sdk" / "include").string() + "'";
+  auto fingerprint_with = [&](const std::string& compiler) -> std::string {
+    const fs::path exe = dir / ("fingerprint_" + compiler);
+    const ShellResult build =
+        shell(compiler + " -std=c++20 " + include + " '" + src.string() + "' -o '" + exe.string() + "'");
+    if (build.status != 0) {
+      ADD_FAILURE() << compiler << " could not build the fingerprint program:\n" << build.out;
+      return "";
+    }
+    const ShellResult run = shell("'" + exe.string() + "'");
+    EXPECT_EQ(run.status, 0) << run.out;
+    return run.out;
+  };
+  const std::string gcc = fingerprint_with("g++");
+  const std::string clang = fingerprint_with("clang++");
+  const std::string here = std::to_string(gdsmc::abi_fingerprint()) + "\n";
+  EXPECT_EQ(gcc, here) << "g++ and the host's compiler disagree";
+  EXPECT_EQ(clang, gcc) << "g++ and clang++ disagree on the fingerprint";
+}
+
 // Whether the shared library `file` is mapped in this process (dlopen with RTLD_NOLOAD never
 // loads; it only finds a library already loaded).
 bool is_loaded(const fs::path& file) {
@@ -126,12 +164,17 @@ TEST(Loader, ObjectKeepsItsLibraryAlive) {
   // And a collision: v1 = (1,0,0), v2 = 0, s = x: v1' = (1 - 0.75, 0, 0), v2' = (0.75, 0, 0) for
   // alpha = 0.5 (000 Eq. 2.8); energy change -(1 - alpha^2)/4 (g.s)^2 = -0.1875. All exact in binary.
   std::vector<double> vx = {1.0, 0.0}, vy = {0.0, 0.0}, vz = {0.0, 0.0}, x(2), y(2), z(2);
+  const std::vector<std::uint64_t> ids = {0, 1};
+  const std::vector<std::uint32_t> cells = {0, 0};
   gdsmc::ParticleSpan span;
   span.count = 2;
+  span.id = ids.data();
+  span.cell = cells.data();
   span.x = x.data(); span.y = y.data(); span.z = z.data();
   span.vx = vx.data(); span.vy = vy.data(); span.vz = vz.data();
-  gdsmc::Rng rng(gdsmc::stream_key(1, 0), gdsmc::StreamPurpose::conformance, 0, 0);
-  const double de = rule->collide_pair(span, 0, 1, {1.0, 0.0, 0.0}, rng);
+  rule->bind(span);
+  gdsmc::Rng rng = gdsmc::host::StreamFactory::standalone(1, 0);
+  const double de = rule->collide_pair(span, 0, 1, {1.0, 0.0, 0.0}, 1.0, rng);
   EXPECT_EQ(vx[0], 0.25);
   EXPECT_EQ(vx[1], 0.75);
   EXPECT_EQ(de, -0.1875);

@@ -1,4 +1,5 @@
-// Philox4x32-10 (Random123 known-answer vectors) and the Rng built on it.
+// Philox4x32-10 (Random123 known-answer vectors), the Rng built on it and the SDK 2.0 stream
+// layout (StreamFactory, Streams).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,6 +7,8 @@
 #include <vector>
 
 #include <gdsmc/random.hpp>
+
+#include "engine/streams.hpp"
 
 namespace {
 
@@ -32,32 +35,126 @@ TEST(Philox, KnownAnswerPiDigits) {
   EXPECT_EQ(out, (PhiloxCounter{0xd16cfe09u, 0x94fdccebu, 0x5001e420u, 0x24126ea1u}));
 }
 
-Rng make_rng(std::uint32_t unit = 0, std::uint64_t step = 0) {
-  return Rng(gdsmc::stream_key(12345, 0), StreamPurpose::user, unit, step);
+// A stream outside any run, as tests and benchmarks get it (purpose host, instance 0, step 0).
+Rng make_rng(std::uint64_t unit = 0) { return gdsmc::host::StreamFactory::standalone(12345, unit); }
+
+std::vector<std::uint32_t> first8(Rng r) {
+  std::vector<std::uint32_t> v;
+  for (int k = 0; k < 8; ++k) v.push_back(r.next_u32());
+  return v;
 }
 
-// A stream is a pure function of (key, purpose, unit, step); different units, steps, purposes
-// and keys give different streams. (Exact comparisons of 8 x 32 bits: a collision of two
-// different streams has probability 2^-256.)
+// The counter layout of SDK 2.0, checked block by block against the Philox function itself:
+// key = step_stream_key(stream_key(seed, realization), step), counter = (block, unit low, unit
+// high, purpose << 24 | instance). The first three blocks of a stream are blocks 0, 1, 2.
+TEST(Rng, CounterLayoutIsTheDocumentedOne) {
+  const std::uint64_t seed = 0x0123456789abcdefull, step = 0x500000007ull, unit = 0xfedcba9876543210ull;
+  const std::uint32_t realization = 3, instance = 0x00abcdu;
+  gdsmc::host::StreamFactory factory(seed, realization);
+  factory.set_step(step);
+  const PhiloxKey key = gdsmc::step_stream_key(gdsmc::stream_key(seed, realization), step);
+  const std::uint32_t c3 = (static_cast<std::uint32_t>(StreamPurpose::boundary) << 24) | instance;
+  Rng r = factory.rng(StreamPurpose::boundary, instance, unit);
+  for (std::uint32_t block = 0; block < 3; ++block) {
+    const PhiloxCounter expected = gdsmc::philox4x32_10({block, 0x76543210u, 0xfedcba98u, c3}, key);
+    for (int w = 0; w < 4; ++w) EXPECT_EQ(r.next_u32(), expected[w]) << "block " << block << " word " << w;
+  }
+  // The standalone streams are realization 0 of the same layout, instance 0.
+  const PhiloxKey standalone_key = gdsmc::step_stream_key(gdsmc::stream_key(seed, 0), 9);
+  Rng s = gdsmc::host::StreamFactory::standalone(seed, unit, StreamPurpose::diagnostic, 9);
+  const PhiloxCounter block0 = gdsmc::philox4x32_10(
+      {0u, 0x76543210u, 0xfedcba98u, static_cast<std::uint32_t>(StreamPurpose::diagnostic) << 24}, standalone_key);
+  for (int w = 0; w < 4; ++w) EXPECT_EQ(s.next_u32(), block0[w]) << "word " << w;
+  // A plugin's Streams: for_particle(id) is (instance, id); for_unit(u) sets the top bit of the
+  // 24-bit instance field (0x800000), so a unit never shares a counter with a particle.
+  const gdsmc::Streams streams = factory.streams(StreamPurpose::boundary, instance);
+  Rng p = streams.for_particle(unit);
+  Rng u = streams.for_unit(unit);
+  const PhiloxCounter particle0 = gdsmc::philox4x32_10({0u, 0x76543210u, 0xfedcba98u, c3}, key);
+  const PhiloxCounter unit0 = gdsmc::philox4x32_10({0u, 0x76543210u, 0xfedcba98u, c3 | 0x800000u}, key);
+  for (int w = 0; w < 4; ++w) {
+    EXPECT_EQ(p.next_u32(), particle0[w]) << "word " << w;
+    EXPECT_EQ(u.next_u32(), unit0[w]) << "word " << w;
+  }
+}
+
+// A stream is a pure function of (seed, realization, step, purpose, instance, unit); changing any
+// one of them gives a different stream, including changes only in the upper 32 bits of the
+// 64-bit unit and step. (Exact comparisons of 8 x 32 bits: a collision of two different streams
+// has probability 2^-256.)
 TEST(Rng, StreamsAreReproducibleAndDistinct) {
-  auto first8 = [](Rng r) {
-    std::vector<std::uint32_t> v;
-    for (int k = 0; k < 8; ++k) v.push_back(r.next_u32());
-    return v;
+  using gdsmc::host::StreamFactory;
+  auto stream = [](std::uint64_t seed, std::uint32_t realization, std::uint64_t step, StreamPurpose purpose,
+                   std::uint32_t instance, std::uint64_t unit) {
+    StreamFactory f(seed, realization);
+    f.set_step(step);
+    return first8(f.rng(purpose, instance, unit));
   };
-  const auto base = first8(make_rng(3, 7));
-  EXPECT_EQ(base, first8(make_rng(3, 7)));
-  EXPECT_NE(base, first8(make_rng(4, 7)));
-  EXPECT_NE(base, first8(make_rng(3, 8)));
-  EXPECT_NE(base, first8(make_rng(3, 7 + (std::uint64_t{1} << 32))));
-  EXPECT_NE(base, first8(Rng(gdsmc::stream_key(12345, 0), StreamPurpose::collisions, 3, 7)));
-  EXPECT_NE(base, first8(Rng(gdsmc::stream_key(12346, 0), StreamPurpose::user, 3, 7)));
-  EXPECT_NE(base, first8(Rng(gdsmc::stream_key(12345, 1), StreamPurpose::user, 3, 7)));
+  const auto P = StreamPurpose::collisions;
+  const auto base = stream(12345, 0, 7, P, 2, 3);
+  EXPECT_EQ(base, stream(12345, 0, 7, P, 2, 3));
+  EXPECT_NE(base, stream(12345, 0, 7, P, 2, 4));                               // unit
+  EXPECT_NE(base, stream(12345, 0, 7, P, 2, 3 + (std::uint64_t{1} << 32)));    // unit, upper half
+  EXPECT_NE(base, stream(12345, 0, 7, StreamPurpose::forcing, 2, 3));          // purpose
+  EXPECT_NE(base, stream(12345, 0, 7, P, 1, 3));                               // instance
+  EXPECT_NE(base, stream(12345, 0, 8, P, 2, 3));                               // step
+  EXPECT_NE(base, stream(12345, 0, 7 + (std::uint64_t{1} << 32), P, 2, 3));    // step, upper half
+  EXPECT_NE(base, stream(12346, 0, 7, P, 2, 3));                               // seed
+  EXPECT_NE(base, stream(12345 + (std::uint64_t{1} << 32), 0, 7, P, 2, 3));    // seed, upper half
+  EXPECT_NE(base, stream(12345, 1, 7, P, 2, 3));                               // realization
+  // set_step moves to another step and back: the stream depends on the step only.
+  StreamFactory f(12345, 0);
+  f.set_step(8);
+  f.set_step(7);
+  EXPECT_EQ(base, first8(f.rng(P, 2, 3)));
+  // Standalone streams: the same (seed, unit, purpose, step) gives the same stream; each of them
+  // changes it.
+  const auto s = first8(StreamFactory::standalone(12345, 3, StreamPurpose::host, 7));
+  EXPECT_EQ(s, first8(StreamFactory::standalone(12345, 3, StreamPurpose::host, 7)));
+  EXPECT_NE(s, first8(StreamFactory::standalone(12346, 3, StreamPurpose::host, 7)));
+  EXPECT_NE(s, first8(StreamFactory::standalone(12345, 4, StreamPurpose::host, 7)));
+  EXPECT_NE(s, first8(StreamFactory::standalone(12345, 3, StreamPurpose::diagnostic, 7)));
+  EXPECT_NE(s, first8(StreamFactory::standalone(12345, 3, StreamPurpose::host, 8)));
   // Copies continue identically (streams are values).
-  Rng a = make_rng(1, 1);
+  Rng a = make_rng(1);
   (void)a.next_u32();
   Rng b = a;
   for (int k = 0; k < 10; ++k) EXPECT_EQ(a.next_u64(), b.next_u64());
+}
+
+// Streams (what a plugin gets): for_particle(id) is the stream of (purpose, instance, id), the
+// same the host's factory gives; for_unit(u) is a different stream from for_particle(u), so a
+// plugin's per-cell streams never repeat its per-particle ones; instances and purposes separate
+// plugins; the step and seed reach them.
+TEST(Rng, PluginStreamsSeparateParticlesUnitsAndPlugins) {
+  using gdsmc::host::StreamFactory;
+  StreamFactory f(2024, 1);
+  f.set_step(11);
+  const gdsmc::Streams s = f.streams(StreamPurpose::forcing, 5);
+  EXPECT_EQ(first8(s.for_particle(42)), first8(f.rng(StreamPurpose::forcing, 5, 42)));
+  EXPECT_NE(first8(s.for_particle(42)), first8(s.for_unit(42)));
+  EXPECT_NE(first8(s.for_particle(0)), first8(s.for_unit(0)));
+  EXPECT_EQ(first8(s.for_unit(42)), first8(f.streams(StreamPurpose::forcing, 5).for_unit(42)));
+  EXPECT_NE(first8(s.for_particle(42)), first8(s.for_particle(43)));
+  EXPECT_NE(first8(s.for_unit(42)), first8(s.for_unit(43)));
+  EXPECT_NE(first8(s.for_particle(42)), first8(f.streams(StreamPurpose::forcing, 6).for_particle(42)));
+  EXPECT_NE(first8(s.for_unit(42)), first8(f.streams(StreamPurpose::forcing, 6).for_unit(42)));
+  EXPECT_NE(first8(s.for_particle(42)), first8(f.streams(StreamPurpose::diagnostic, 5).for_particle(42)));
+  // A copy of Streams names the same streams.
+  const gdsmc::Streams copy = s;
+  EXPECT_EQ(first8(copy.for_particle(7)), first8(s.for_particle(7)));
+  // Another step, another seed: other streams.
+  StreamFactory g(2024, 1);
+  g.set_step(12);
+  EXPECT_NE(first8(s.for_particle(42)), first8(g.streams(StreamPurpose::forcing, 5).for_particle(42)));
+  const gdsmc::Streams t = StreamFactory::standalone_streams(2024, StreamPurpose::forcing, 5, 11);
+  EXPECT_EQ(first8(t.for_particle(42)),
+            first8(StreamFactory::standalone_streams(2024, StreamPurpose::forcing, 5, 11).for_particle(42)));
+  EXPECT_NE(first8(t.for_particle(42)), first8(s.for_particle(42)));  // realization 0 vs 1
+  EXPECT_NE(first8(t.for_particle(42)),
+            first8(StreamFactory::standalone_streams(2025, StreamPurpose::forcing, 5, 11).for_particle(42)));
+  EXPECT_NE(first8(t.for_particle(42)),
+            first8(StreamFactory::standalone_streams(2024, StreamPurpose::forcing, 5, 12).for_particle(42)));
 }
 
 constexpr int kSamples = 1 << 20;

@@ -62,6 +62,11 @@ class SdkExample : public ::testing::Test {
     ASSERT_TRUE(fs::exists(gdsmc_));
     ASSERT_TRUE(fs::exists(prefix_ / "include/gdsmc/gdsmc.hpp"));
     ASSERT_TRUE(fs::exists(prefix_ / "lib/cmake/gdsmc/gdsmcConfig.cmake"));
+    // The CMake package carries the release the SDK headers state (project() in the top-level
+    // CMakeLists.txt and GDSMC_VERSION_STRING are set by hand: they must agree).
+    const std::string version_file = gdsmc::test::read_text(prefix_ / "lib/cmake/gdsmc/gdsmcConfigVersion.cmake");
+    EXPECT_NE(version_file.find("set(PACKAGE_VERSION \"" GDSMC_VERSION_STRING "\")"), std::string::npos)
+        << "package version differs from GDSMC_VERSION_STRING " GDSMC_VERSION_STRING;
     ASSERT_TRUE(fs::exists(prefix_ / "lib/gdsmc/plugins/gdsmc_maxwellian.so"));
   }
   void TearDown() override {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/streams.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -44,7 +45,8 @@ MeanErr steady(const host::Engine& e, const std::string& group, const std::strin
   return r;
 }
 
-// A homogeneous USF pipeline: IHS or EHS at alpha, shear rate a tau0 (none if a_tau0 < 0).
+// A homogeneous USF pipeline: IHS or EHS at alpha, shear rate a tau0 (none if a_tau0 < 0); the
+// steady diagnostics average over s >= average_after (run.average_after, SDK 2.0).
 std::string usf_yaml(const std::string& model, double alpha, double a_tau0, int particles, double stop_s, double average_after,
                      double dt = 0.002, const std::string& extra_diagnostics = "") {
   std::string coll = model == "IHS" ? "{plugin: inelastic_hard_spheres, alpha: " + std::to_string(alpha) + "}"
@@ -56,35 +58,45 @@ std::string usf_yaml(const std::string& model, double alpha, double a_tau0, int 
   const std::string aa = std::to_string(average_after);
   std::string diags = "diagnostics:\n  - temperature\n  - cumulants\n";
   if (a_tau0 >= 0)
-    diags += "  - {plugin: shear_rheology, average_after: " + aa + "}\n  - {plugin: cooling_rate, average_after: " + aa +
-             "}\n  - {plugin: bgk_usf_theory, average_after: " + aa + ", transient: false}\n";
+    diags += "  - shear_rheology\n  - cooling_rate\n  - {plugin: bgk_usf_theory, transient: false}\n";
   diags += extra_diagnostics;
   return "run:\n  seed: 11\n  particles: " + std::to_string(particles) +
          "\n  time_step: {value: " + std::to_string(dt) + ", unit: tau0, follow_temperature: true}\n"
          "  stop: {collisions_per_particle: " + std::to_string(stop_s) + "}\n"
          "  sample_every: 4\n  record_every: 40\n"
+         "  average_after: {collisions_per_particle: " + aa + "}\n"
          "system: {density: 1.0e-3, temperature: 1.0, domain: homogeneous}\n"
          "initial_state: {plugin: local_equilibrium, shear_rate: " + std::to_string(std::max(a_tau0, 0.0)) + "}\n"
          "collision: " + coll + "\n" + forcings + diags + "output: {file: unused.h5}\n";
 }
 
-// Forcings are exercised directly on particles we own, with a hand-made step context.
+// Forcings are exercised directly on particles we own, with a hand-made step context: particle
+// ids 0..n-1, all in cell 0, and the forcing's streams as the host would hand them over
+// (StreamFactory::standalone_streams for instance 0 at step 0).
 struct ForcingBench {
+  std::vector<std::uint64_t> id;
+  std::vector<std::uint32_t> cell;
   std::vector<double> x, y, z, vx, vy, vz;
   ParticleSpan span;
   SystemInfo sys;
   QuantityBoard board;
   CellMoments global;
+  Streams streams;
   StepContext ctx;
-  explicit ForcingBench(std::size_t n, std::uint64_t seed = 3) : x(n), y(n), z(n), vx(n), vy(n), vz(n) {
+  explicit ForcingBench(std::size_t n, std::uint64_t seed = 3, std::uint64_t forcing_seed = 5)
+      : id(n), cell(n, 0u), x(n), y(n), z(n), vx(n), vy(n), vz(n),
+        streams(host::StreamFactory::standalone_streams(forcing_seed, StreamPurpose::forcing, 0)) {
+    for (std::size_t i = 0; i < n; ++i) id[i] = i;
     span.count = n;
+    span.id = id.data();
+    span.cell = cell.data();
     span.x = x.data(); span.y = y.data(); span.z = z.data();
     span.vx = vx.data(); span.vy = vy.data(); span.vz = vz.data();
     sys.particles = n;
     sys.number_density = 1e-3;
     sys.mean_free_path0 = 1.0 / (std::sqrt(2.0) * M_PI * sys.number_density);
     sys.time_unit0 = sys.mean_free_path0 / std::sqrt(2.0);
-    Rng rng(stream_key(seed, 0), StreamPurpose::user, 0, 0);
+    Rng rng = host::StreamFactory::standalone(seed, 0);
     for (std::size_t i = 0; i < n; ++i) {
       vx[i] = 0.3 + rng.normal();  // a nonzero mean velocity, to check what is relative to it
       vy[i] = -0.1 + rng.normal();
@@ -96,6 +108,7 @@ struct ForcingBench {
     ctx.cells = &global;
     ctx.cell_count = 1;
     ctx.dt = 1e-3 * sys.time_unit0;
+    ctx.streams = &streams;
   }
 };
 
@@ -163,9 +176,9 @@ TEST(usf_physics, ShearForcingAloneIncreasesPxxExactly) {
   const double a = 4.0 / b.sys.time_unit0;
   EXPECT_NEAR(*board.find("shear_rate"), a, 1e-12 * a) << "published in reduced units";
   const auto m0 = velocity_moments(b.span);
-  Rng rng;
   const int steps = 250;
-  for (int k = 0; k < steps; ++k) f->apply(b.ctx, b.span, rng);
+  double declared = 0;  // the energy apply() says it added (SDK 2.0)
+  for (int k = 0; k < steps; ++k) declared += f->apply(b.ctx, b.span);
   const auto m1 = velocity_moments(b.span);
   const double at = a * b.ctx.dt * steps;  // = 1: a strong shear
   const double (&P0)[3][3] = m0.second;
@@ -175,6 +188,14 @@ TEST(usf_physics, ShearForcingAloneIncreasesPxxExactly) {
   EXPECT_DOUBLE_EQ(P1[1][1], P0[1][1]);
   EXPECT_DOUBLE_EQ(P1[2][2], P0[2][2]);
   EXPECT_GT(P1[0][0], P0[0][0] * 1.5);
+  // The declared energy is the change of (1/2) sum v^2 (m = 1), here N (P_xx + u_x^2) / 2 changed;
+  // each step's sum rounds ~N u of the energy: 1e-9 relative is far above that.
+  const double n = static_cast<double>(b.span.count);
+  const double e0 = 0.5 * n * (P0[0][0] + P0[1][1] + P0[2][2] + m0.mean[0] * m0.mean[0] + m0.mean[1] * m0.mean[1] +
+                               m0.mean[2] * m0.mean[2]);
+  const double e1 = 0.5 * n * (P1[0][0] + P1[1][1] + P1[2][2] + m1.mean[0] * m1.mean[0] + m1.mean[1] * m1.mean[1] +
+                               m1.mean[2] * m1.mean[2]);
+  EXPECT_NEAR(declared, e1 - e0, 1e-9 * e0);
 }
 
 // The drag (Eq. 4.22) scales velocities relative to the mean by exp(-gamma dt) with
@@ -192,8 +213,7 @@ TEST(usf_physics, DragScalesPeculiarVelocitiesAndKeepsMomentum) {
     ForcingBench b(20000);
     b.board.publish("restitution", 0.5);
     const auto m0 = velocity_moments(b.span);
-    Rng rng(stream_key(5, 0), StreamPurpose::forcing, 0, 0);
-    f->apply(b.ctx, b.span, rng);
+    (void)f->apply(b.ctx, b.span);
     const auto m1 = velocity_moments(b.span);
     const double tau = b.sys.mean_free_path0 / std::sqrt(2.0 * m0.temperature);
     const double zeta0 = 2.0 * (1.0 - 0.25) / (3.0 * std::sqrt(M_PI) * tau);
@@ -217,9 +237,9 @@ TEST(usf_physics, EhsWithoutShearStaysMaxwellianAndCoolsByHaffsLaw) {
   t::TempDir dir;
   const double alpha = 0.5;
   host::Pipeline p = t::load_yaml(
-      dir, usf_yaml("EHS", alpha, -1, 4000, 12, 0, 0.002,
-                    "  - local_equilibrium_clock\n  - {plugin: speed_ratios, average_after: 2}\n"
-                    "  - {plugin: velocity_marginals, average_after: 2, c_max: 4, bins: 40}\n"));
+      dir, usf_yaml("EHS", alpha, -1, 4000, 12, 2, 0.002,
+                    "  - local_equilibrium_clock\n  - speed_ratios\n"
+                    "  - {plugin: velocity_marginals, c_max: 4, bins: 40}\n"));
   host::Engine e(p);
   e.run();
   // The energy only changes through the drag, deterministically: T_{n+1} = T_n exp(-zeta0(T_n) dt_n)
@@ -283,8 +303,7 @@ struct SteadyRun {
 SteadyRun run_steady(const std::string& model, double alpha, double a_tau0, int particles, double stop_s, double after) {
   t::TempDir dir;
   host::Pipeline p = t::load_yaml(dir, usf_yaml(model, alpha, a_tau0, particles, stop_s, after, 0.002,
-                                                 "  - {plugin: relative_speed_cube, pairs: 2000, average_after: " +
-                                                     std::to_string(after) + "}\n"));
+                                                 "  - {plugin: relative_speed_cube, pairs: 2000}\n"));
   host::Engine e(p);
   e.run();
   SteadyRun r;

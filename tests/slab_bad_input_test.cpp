@@ -1,0 +1,128 @@
+// Bad slab pipelines through the gdsmc executable: each is refused with exit status 1, a message
+// that names the place (file:line for the key, or the plugin and its parameter) and what would be
+// valid, and nothing is written.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+using gdsmc::test::ProcessResult;
+using gdsmc::test::TempDir;
+using gdsmc::test::line_of;
+using gdsmc::test::run_gdsmc;
+
+const std::string kGood = R"(run:
+  seed: 7
+  particles: 1000
+  time_step: {value: 0.01, unit: tau0}
+  stop: {time: {value: 0.2, unit: tau0}}
+system:
+  density: 1.0e-3
+  temperature: 1.0
+  domain: slab
+  box: {y: 2.5}
+  layers: 10
+initial_state: {plugin: maxwellian}
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+forcings: []
+boundaries:
+  y_min: {plugin: diffuse_wall, temperature: 1.0}
+  y_max: {plugin: diffuse_wall, temperature: 1.0}
+diagnostics: [temperature, profiles]
+output: {file: out.h5}
+)";
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  if (pos == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the pipeline");
+  text.replace(pos, from.size(), to);
+  return text;
+}
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// `gdsmc run` and `gdsmc validate` both refuse: exit 1, no signal, nothing left but the pipeline.
+std::string refuse(const std::string& yaml, const std::string& must_say) {
+  std::string err;
+  for (const char* command : {"validate", "run"}) {
+    TempDir dir;
+    const std::string file = dir.write("pipeline.yaml", yaml).string();
+    const ProcessResult r = run_gdsmc({command, file, "--quiet"}, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << command << "\n" << r.describe();
+    EXPECT_EQ(r.signal, 0) << r.describe();
+    EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{}) << "a refused run left files behind";
+    EXPECT_TRUE(contains(r.err, must_say)) << command << ": expected '" << must_say << "' in\n" << r.describe();
+    EXPECT_TRUE(contains(r.err, file)) << "the message should name the pipeline file\n" << r.describe();
+    err = r.err;
+  }
+  return err;
+}
+
+TEST(SlabBadInput, GoodSlabPipelineRunsAndWrites) {
+  TempDir dir;
+  const auto file = dir.write("pipeline.yaml", kGood);
+  const ProcessResult r = run_gdsmc({"run", file.string(), "--quiet"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_EQ(dir.files(), (std::vector<std::string>{"out.h5", "pipeline.yaml"}));
+}
+
+TEST(SlabBadInput, SlabWithoutTwoBoundaries) {
+  const std::string yaml = replace(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", "");
+  const std::string err = refuse(yaml, "missing 'y_max'");
+  // yaml-cpp marks a block mapping at its first key: the boundaries mapping starts at y_min.
+  EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "  y_min:")) + ":")) << err;
+  refuse(replace(kGood, "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", ""),
+         "a slab needs its two y boundaries");
+}
+
+TEST(SlabBadInput, LeesEdwardsOnOneSideOnly) {
+  const std::string yaml = replace(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}",
+                                   "  y_max: {plugin: lees_edwards, shear_rate: 4}");
+  const std::string err = refuse(yaml, "both y boundaries must be 'lees_edwards' with the same parameters");
+  EXPECT_TRUE(contains(err, "boundaries.y_max")) << err;
+}
+
+TEST(SlabBadInput, WallTemperatureMustBePositive) {
+  const std::string yaml = replace(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
+                                   "  y_min: {plugin: diffuse_wall, temperature: 0}");
+  const std::string err = refuse(yaml, "boundaries.y_min.temperature");
+  EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "temperature: 0")) + ":")) << err;
+}
+
+TEST(SlabBadInput, AccommodationOutsideZeroOne) {
+  const std::string yaml = replace(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
+                                   "  y_min: {plugin: maxwell_wall, temperature: 1.0, accommodation: 1.5}");
+  const std::string err = refuse(yaml, "boundaries.y_min.accommodation");
+  EXPECT_TRUE(contains(err, "1.5")) << err;
+}
+
+TEST(SlabBadInput, FewerThanOneParticlePerLayer) {
+  const std::string yaml = replace(kGood, "  layers: 10", "  layers: 2000");
+  const std::string err = refuse(yaml, "fewer than one particle per layer");
+  EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "layers: 2000")) + ":")) << err;
+}
+
+TEST(SlabBadInput, BodyAccelerationWithLeesEdwardsIsRefusedWithTheReason) {
+  std::string yaml = replace(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}",
+                             "  y: {plugin: lees_edwards, shear_rate: 4}");
+  yaml = replace(yaml, "forcings: []", "forcings: [{plugin: body_acceleration, acceleration: 0.5}]");
+  const std::string err = refuse(yaml, "shear_rate");
+  EXPECT_TRUE(contains(err, "lees_edwards")) << err;
+  EXPECT_TRUE(contains(err, "body")) << err;
+}
+
+TEST(SlabBadInput, BoundariesInAHomogeneousSystem) {
+  std::string yaml = replace(kGood, "  domain: slab\n  box: {y: 2.5}\n  layers: 10\n", "");
+  yaml = replace(yaml, "diagnostics: [temperature, profiles]", "diagnostics: [temperature]");
+  refuse(yaml, "boundaries need a slab");
+}
+
+TEST(SlabBadInput, SlabWithoutItsGap) {
+  refuse(replace(kGood, "  box: {y: 2.5}\n", ""), "a slab needs its gap");
+  refuse(replace(kGood, "  box: {y: 2.5}\n", "  box: {y: {value: 2.5, unit: furlong}}\n"), "unknown length unit 'furlong'");
+}
+
+}  // namespace
