@@ -23,7 +23,8 @@ renamed when complete: a failed or interrupted run leaves nothing under the fina
 Options:
   --set key.path=value   override a pipeline value before checking it, e.g.
                          --set collision.alpha=0.5  --set run.particles=20000
-                         --set diagnostics[1].average_after=5 (lists by index)
+                         --set diagnostics[1].record_every=40 (lists by index)
+                         --set boundaries.y_min.temperature=2
   --output FILE          write to FILE instead of output.file
   --quiet                no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)

@@ -237,6 +237,7 @@ void Engine::stream(double dt) {
     StreamingTally tally;
     mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally);
     grid_.sort(store_.cells(), span.count);
+    if (ctx_.step % kReorderEvery == 0) reorder_by_layer();
     for (int s = 0; s < 2; ++s) {
       BoundaryTally& t = tallies_[s];
       t.hits += tally.sides[s].hits;
@@ -255,6 +256,13 @@ void Engine::stream(double dt) {
     }
     ledger_[1 + accelerations_[0]].energy += energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count);
   }
+}
+
+void Engine::reorder_by_layer() {
+  if (!grid_.is_slab()) return;
+  store_.permute(grid_.all_members());
+  const ParticleSpan span = store_.span();
+  grid_.sort(store_.cells(), span.count);
 }
 
 // Per-cell collisions with a per-cell majorant w_I = ratio_I sqrt(T_ref) (000 Eq. 4.13), T_ref the

@@ -49,6 +49,10 @@ class Engine {
            const std::atomic<bool>* interrupt = nullptr);
   // One step (exposed for tests and benchmarks).
   void step();
+  // Reorder the particles in storage layer by layer (slab; done every kReorderEvery steps): each
+  // layer becomes a contiguous range, so the collision stage touches compact memory.
+  void reorder_by_layer();
+  static constexpr std::uint64_t kReorderEvery = 16;
   // Process the collision cells in reverse order (tests: no result may depend on the order).
   void set_cells_reversed(bool reversed) { cells_reversed_ = reversed; }
 

@@ -1,6 +1,8 @@
 // The host's particle storage: structure of arrays, plus the extra attributes plugins declare.
 #pragma once
+#include <algorithm>
 #include <cstdint>
+#include <type_traits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -49,6 +51,25 @@ class ParticleStore {
     return s;
   }
   std::size_t size() const { return n_; }
+  // Put the particles in the order `order` (a permutation: new position k holds old order[k]),
+  // every array and attribute alike, through a scratch buffer and back into the same storage, so
+  // pointers plugins took in bind() stay valid. Identities travel with their particles.
+  void permute(const std::uint32_t* order) {
+    auto apply = [&](auto& v, std::size_t components) {
+      using T = typename std::decay_t<decltype(v)>::value_type;
+      std::vector<T>& scratch = scratch_for<T>();
+      scratch.resize(n_);
+      for (std::size_t c = 0; c < components; ++c) {
+        T* data = v.data() + c * n_;
+        for (std::size_t k = 0; k < n_; ++k) scratch[k] = data[order[k]];
+        std::copy(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(n_), data);
+      }
+    };
+    for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) apply(*v, 1);
+    apply(id_, 1);
+    apply(cell_, 1);
+    for (std::size_t a = 0; a < specs_.size(); ++a) apply(data_[a], static_cast<std::size_t>(specs_[a].components));
+  }
   // The layer of every particle, written by the mover (the span shows it read-only to plugins).
   std::uint32_t* cells() { return cell_.data(); }
   const std::vector<AttributeSpec>& attribute_specs() const { return specs_; }
@@ -61,6 +82,15 @@ class ParticleStore {
   std::vector<AttributeSpec> specs_;
   std::vector<std::vector<double>> data_;
   std::vector<double*> pointers_;
+  std::vector<double> scratch_d_;
+  std::vector<std::uint64_t> scratch_u64_;
+  std::vector<std::uint32_t> scratch_u32_;
+  template <class T>
+  std::vector<T>& scratch_for() {
+    if constexpr (std::is_same_v<T, double>) return scratch_d_;
+    else if constexpr (std::is_same_v<T, std::uint64_t>) return scratch_u64_;
+    else return scratch_u32_;
+  }
 };
 
 }  // namespace gdsmc::host
