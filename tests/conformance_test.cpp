@@ -50,9 +50,16 @@ fs::path temp_dir() {
 }
 
 // Plugins that need more around them than the default filler plugins: the --context pipelines.
+// Slab-only plugins get a slab (system and boundaries); delta_shell needs a published shear rate.
 std::map<std::string, std::string> contexts() {
+  const std::string slab = "system: {density: 0.001, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 4}\n";
+  const std::string walls = slab + "boundaries: {y: diffuse_wall}\n";
   return {{"shear_rheology", "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
-                             "forcings: [{plugin: uniform_shear, shear_rate: 0.5}]\n"}};
+                             "forcings: [{plugin: uniform_shear, shear_rate: 0.5}]\n"},
+          {"delta_shell", slab + "boundaries: {y: {plugin: lees_edwards, shear_rate: 1}}\n"},
+          {"profiles", walls},
+          {"slab_averages", walls},
+          {"wall_fluxes", walls}};
 }
 
 }  // namespace
@@ -97,6 +104,10 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       {"conformance_throwing", "defaults_construct", {"conformance_throwing", "does not construct", "the factory always fails"}},
       {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 2.0"}},
       {"conformance_fake_thermostat", "forcing.conservation", {"conformance_fake_thermostat", "energy not conserved"}},
+      // A wall that sometimes returns a particle moving outward or beyond its plane.
+      {"conformance_leaky_wall", "boundary.containment", {"conformance_leaky_wall", "outside"}},
+      // A diffuse wall that emits at 1.5 times its `temperature` parameter.
+      {"conformance_hot_wall", "boundary.wall_flux", {"conformance_hot_wall", "wall flux", "temperature", "p = 0"}},
   };
   for (const auto& b : bad) {
     SCOPED_TRACE(b.plugin);
@@ -125,11 +136,44 @@ TEST(Conformance, CrashingPluginGivesCrashLinesAndTheRunnerCarriesOn) {
   EXPECT_NE(r.out.find("NOT CONFORMING"), std::string::npos) << r.out;
 }
 
-TEST(Conformance, BoundaryContainmentRunsOnATestBoundary) {
+TEST(Conformance, BoundaryChecksRunOnATestBoundary) {
   const Outcome r = run("conformance '" + test_plugin("conformance_periodic") + "'");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(line_of(r.out, "boundary.containment").rfind("PASS", 0), 0u) << r.out;
-  EXPECT_EQ(line_of(r.out, "boundary.wall_flux").rfind("SKIP", 0), 0u) << r.out;
+  EXPECT_EQ(line_of(r.out, "boundary.transfer").rfind("PASS", 0), 0u) << r.out;
+  EXPECT_EQ(line_of(r.out, "boundary.wall_flux").rfind("SKIP", 0), 0u) << r.out;  // not a wall
+}
+
+// Every in-tree boundary plugin, check by check: what must PASS and what must SKIP (with the word
+// that says why). Each line also carries the measured quantities (tallies, chi-square, p).
+TEST(Conformance, InTreeBoundariesPassTheirBoundaryChecks) {
+  struct Expect {
+    const char* plugin;
+    std::vector<const char*> pass, skip;
+  };
+  const std::vector<Expect> expected = {
+      {"periodic", {"boundary.containment", "boundary.elastic", "boundary.transfer"}, {"boundary.wall_flux"}},
+      {"lees_edwards", {"boundary.containment", "boundary.transfer"}, {"boundary.elastic", "boundary.wall_flux"}},
+      {"specular_wall", {"boundary.containment", "boundary.elastic"}, {"boundary.wall_flux", "boundary.transfer"}},
+      {"diffuse_wall", {"boundary.containment", "boundary.wall_flux"}, {"boundary.elastic", "boundary.accommodation"}},
+      {"maxwell_wall", {"boundary.containment", "boundary.wall_flux", "boundary.accommodation"}, {"boundary.transfer"}},
+  };
+  for (const auto& e : expected) {
+    SCOPED_TRACE(e.plugin);
+    const std::string file = std::string(GDSMC_TEST_PLUGIN_DIR) + "/gdsmc_" + e.plugin + ".so";
+    ASSERT_TRUE(fs::exists(file));
+    const Outcome r = run("conformance '" + file + "' --only boundary,determinism");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(line_of(r.out, "determinism").rfind("PASS", 0), 0u) << r.out;
+    for (const char* c : e.pass) EXPECT_EQ(line_of(r.out, c).rfind("PASS", 0), 0u) << c << ":\n" << r.out;
+    for (const char* c : e.skip) EXPECT_EQ(line_of(r.out, c).rfind("SKIP", 0), 0u) << c << ":\n" << r.out;
+  }
+  // The Lees-Edwards line states the sheared-frame balance; the diffuse wall's the chi-square test.
+  const Outcome le = run("conformance '" + std::string(GDSMC_TEST_PLUGIN_DIR) + "/gdsmc_lees_edwards.so' --only boundary.transfer");
+  EXPECT_NE(line_of(le.out, "boundary.transfer").find("-(a L)(N_up - N_down)"), std::string::npos) << le.out;
+  EXPECT_NE(line_of(le.out, "boundary.transfer").find("published 'shear_rate'"), std::string::npos) << le.out;
+  const Outcome dw = run("conformance '" + std::string(GDSMC_TEST_PLUGIN_DIR) + "/gdsmc_diffuse_wall.so' --only boundary.wall_flux");
+  EXPECT_NE(line_of(dw.out, "boundary.wall_flux").find("chi2"), std::string::npos) << dw.out;
 }
 
 TEST(Conformance, CommandLineOptions) {

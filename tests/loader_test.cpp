@@ -130,6 +130,38 @@ TEST(Loader, FingerprintDoesNotDependOnTheCompiler) {
   EXPECT_EQ(clang, gcc) << "g++ and clang++ disagree on the fingerprint";
 }
 
+// A plugin class with a wrong base (here PluginObject alone) does not compile: GDSMC_PLUGIN names
+// the problem, where SDK 1.x registered it as a collision rule and cast it (undefined behaviour).
+// The same file with the right base compiles, so the failure is the base and nothing else.
+TEST(Loader, PluginClassWithAWrongBaseIsACompileError) {
+  if (shell("command -v g++").status != 0) GTEST_SKIP() << "g++ is not installed";
+  TempDir dir;
+  auto source = [](const std::string& base) {
+    return "#include <gdsmc/gdsmc.hpp>\n"
+           "struct Probe final : " + base + " {\n"
+           "  static constexpr const char* name = \"probe\";\n"
+           "  static constexpr const char* version = \"1.0.0\";\n"
+           "  static constexpr const char* summary = \"probe\";\n"
+           "  static constexpr const char* documentation = \"probe\";\n"
+           "  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }\n"
+           "  explicit Probe(const gdsmc::Params&) {}\n"
+           "  void begin(const gdsmc::SystemInfo&, const gdsmc::QuantityBoard&, gdsmc::OutputSink&) {}\n"
+           "  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan&) {}\n"
+           "  void record(const gdsmc::StepContext&, gdsmc::OutputSink&) {}\n"
+           "};\n"
+           "GDSMC_PLUGIN(Probe)\n";
+  };
+  const std::string flags = "g++ -std=c++20 -fsyntax-only -DBOOST_DLL_USE_STD_FS -I'" +
+                            (source_dir() / "sdk" / "include").string() + "' ";
+  const fs::path wrong = dir.write("wrong.cpp", source("gdsmc::PluginObject"));
+  const fs::path right = dir.write("right.cpp", source("gdsmc::Diagnostic"));
+  const ShellResult bad = shell(flags + "'" + wrong.string() + "' 2>&1");
+  EXPECT_NE(bad.status, 0) << bad.out;
+  EXPECT_NE(bad.out.find("must derive from exactly one of"), std::string::npos) << bad.out;
+  const ShellResult good = shell(flags + "'" + right.string() + "' 2>&1");
+  EXPECT_EQ(good.status, 0) << good.out;
+}
+
 // Whether the shared library `file` is mapped in this process (dlopen with RTLD_NOLOAD never
 // loads; it only finds a library already loaded).
 bool is_loaded(const fs::path& file) {

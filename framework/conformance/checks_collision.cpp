@@ -9,12 +9,13 @@ namespace gdsmc::host::conformance {
 struct PairCase {
   Vec3 v1, v2, s;
   const char* what;
+  double sigma = 1;  // the diameter handed to collide_pair
 };
 
 
 std::string case_text(const PairCase& c) {
-  return fmt("%s pair v1 = %s, v2 = %s, sigma_hat = %s (g.sigma_hat = %.6g)", c.what, vec_text(c.v1).c_str(),
-             vec_text(c.v2).c_str(), vec_text(c.s).c_str(), dot(c.v1 - c.v2, c.s));
+  return fmt("%s pair v1 = %s, v2 = %s, sigma_hat = %s (g.sigma_hat = %.6g), sigma = %g", c.what, vec_text(c.v1).c_str(),
+             vec_text(c.v2).c_str(), vec_text(c.s).c_str(), dot(c.v1 - c.v2, c.s), c.sigma);
 }
 
 Vec3 gaussian(Rng& rng, double scale) { return {scale * rng.normal(), scale * rng.normal(), scale * rng.normal()}; }
@@ -28,7 +29,8 @@ std::vector<PairCase> pair_cases(const CollisionRule& rule, Rng& rng, std::size_
   auto add = [&](Vec3 v1, Vec3 v2, Vec3 s, const char* what) {
     // Directions the kernel never selects (rate 0 on the far side) are flipped.
     if (rule.pair_rate(v1 - v2, s) <= 0 && dot(v1 - v2, s) < 0) s = -1.0 * s;
-    cases.push_back({v1, v2, s, what});
+    // Every third pair with a non-unit diameter (PairContext::sigma).
+    cases.push_back({v1, v2, s, what, cases.size() % 3 == 2 ? 2.5 : 1.0});
   };
   for (std::size_t k = 0; k < random_pairs; ++k) {
     const Vec3 v1 = gaussian(rng, 1), v2 = gaussian(rng, 1);
@@ -164,25 +166,25 @@ void check_energy(const PairCase& pc, double declared, const Vec3& w1, const Vec
 
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
                       std::size_t random_pairs) {
-  const PhiloxKey key = stream_key(seed, 0);
-  Rng case_rng(key, StreamPurpose::conformance, 1, 0);
-  Rng rule_rng(key, StreamPurpose::conformance, 2, 0);
+  // The harness's own draws on a host stream, the rule's on the collision stream of "cell" 0.
+  Rng case_rng = StreamFactory::standalone(seed, 1, StreamPurpose::host);
+  Rng rule_rng = StreamFactory::standalone(seed, 0, StreamPurpose::collisions);
   const auto cases = pair_cases(rule, case_rng, random_pairs);
   PairReport r;
-  ParticleStore store;
+  Particles store, before_store;
   store.allocate(4, attributes);
+  before_store.allocate(4, attributes);
   const ParticleSpan p = store.span();
+  const ParticleSpan b = before_store.span();
+  rule.bind(p);  // once: the 4 particles stay where they are
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const PairCase& pc = cases[c];
     const std::uint32_t i = c % 2 ? 3 : 0, j = c % 2 ? 1 : 2;  // vary the slots
     fill_case(p, pc, i, j, case_rng);
-    ParticleStore before_store;
-    before_store.allocate(4, attributes);
-    const ParticleSpan b = before_store.span();
     copy_all(p, b);
     if (r.rate.empty()) check_rate(rule, pc, case_rng, r);
 
-    const double declared = rule.collide_pair(p, i, j, pc.s, rule_rng);
+    const double declared = rule.collide_pair(p, i, j, pc.s, pc.sigma, rule_rng);
     ++r.cases;
     const Vec3 w1 = p.velocity(i), w2 = p.velocity(j);
     if (r.nonfinite.empty()) check_finite(p, pc, declared, w1, w2, r);
@@ -204,22 +206,12 @@ std::string pair_failure(const PairReport& r) {
 
 constexpr std::size_t kRandomPairs = 20000;
 
-struct RuleUnderTest {
-  std::unique_ptr<Harness> harness;
-  CollisionRule* rule = nullptr;
-};
-
-RuleUnderTest rule_under_test(const Subject& s) {
-  RuleUnderTest r;
-  r.harness = make_harness(s, base_assignment(s), 16);
-  r.rule = static_cast<CollisionRule*>(r.harness->collision.get());
-  return r;
-}
-
-// The pair suite on the rule built from its defaults (each collision.* check reads one property).
+// The pair suite on a fresh rule built from its defaults (each collision.* check reads one
+// property); pair_suite binds it to its own particles.
 PairReport pair_report(const Subject& s) {
-  auto t = rule_under_test(s);
-  return pair_suite(*t.rule, t.rule->attributes(), s.cfg.seed, kRandomPairs);
+  const auto p = load_test_pipeline(s, base_assignment(s), 16);
+  auto obj = create_object(*p->collision.plugin, p->collision.params);
+  return pair_suite(*static_cast<CollisionRule*>(obj.get()), obj->attributes(), s.cfg.seed, kRandomPairs);
 }
 
 Result check_collision_finite(const Subject& s) {
@@ -256,36 +248,47 @@ Result check_collision_rate(const Subject& s) {
   return pass(fmt("pair_rate finite and >= 0 for %zu pairs in 3 directions each", r.cases));
 }
 
+// collide_cell on a population: three stages at the system's diameter and three at 2.5 times it
+// (CellCollision::sigma reaches the rule's PairContext), each on its own collision stream.
 Result check_collision_cell(const Subject& s) {
   constexpr std::size_t n = 2000;
   auto h = make_harness(s, base_assignment(s), n);
-  Rng attr_rng(h->ctx.key, StreamPurpose::conformance, 3, 0);
+  Rng attr_rng = h->host_rng(3);
   h->randomize_zero_attributes(attr_rng);
+  h->update_moments();
   const ParticleSpan p = h->span();
   auto totals = [&](Vec3& mom, double& energy, double& abs_sum) { velocity_totals(p, mom, energy, abs_sum); };
   Vec3 p0, p1;
   double e0, e1, a0, a1;
   totals(p0, e0, a0);
-  // dt for about two candidate pairs per particle per call (hard-sphere kernel estimate)
   const double w = kInitialMajorantRatio * std::sqrt(h->global.temperature);
-  const double dt = 2.0 * static_cast<double>(n) * 2.0 * h->sys.volume /
-                    (static_cast<double>(n) * static_cast<double>(n) * h->sys.sigma * h->sys.sigma * M_PI * w);
   std::uint64_t candidates = 0, accepted = 0;
   double declared = 0;
-  for (int k = 0; k < 3; ++k) {
-    Rng rng(h->ctx.key, StreamPurpose::collisions, 0, static_cast<std::uint64_t>(k));
-    const CellCollision c = h->collide(dt, rng);
-    if (c.accepted > c.candidates)
-      return fail(fmt("collide_cell reports %llu accepted of %llu candidates", static_cast<unsigned long long>(c.accepted),
-                      static_cast<unsigned long long>(c.candidates)));
-    if (!std::isfinite(c.energy_change) || !std::isfinite(c.remainder) || !std::isfinite(c.max_rate) || c.max_rate < 0)
-      return fail(fmt("collide_cell reports a non-finite or negative result (energy_change %g, remainder %g, max_rate %g)",
-                      c.energy_change, c.remainder, c.max_rate));
-    candidates += c.candidates;
-    accepted += c.accepted;
-    declared += c.energy_change;
-    const std::string bad = nonfinite_in(p);
-    if (!bad.empty()) return fail("not finite after collide_cell: " + bad);
+  std::vector<std::string> per_sigma;
+  for (const double sigma : {h->sys.sigma, 2.5 * h->sys.sigma}) {
+    // dt for about two candidate pairs per particle per call (hard-sphere kernel estimate)
+    const double dt = 2.0 * static_cast<double>(n) * 2.0 * h->sys.volume /
+                      (static_cast<double>(n) * static_cast<double>(n) * sigma * sigma * M_PI * w);
+    std::uint64_t acc = 0, cand = 0;
+    for (int k = 0; k < 3; ++k) {
+      const CellCollision c = h->collide(dt, sigma);
+      ++h->ctx.step;
+      if (c.accepted > c.candidates)
+        return fail(fmt("collide_cell reports %llu accepted of %llu candidates (sigma = %g)",
+                        static_cast<unsigned long long>(c.accepted), static_cast<unsigned long long>(c.candidates), sigma));
+      if (!std::isfinite(c.energy_change) || !std::isfinite(c.remainder) || !std::isfinite(c.max_rate) || c.max_rate < 0)
+        return fail(fmt("collide_cell reports a non-finite or negative result (energy_change %g, remainder %g, max_rate %g; "
+                        "sigma = %g)", c.energy_change, c.remainder, c.max_rate, sigma));
+      cand += c.candidates;
+      acc += c.accepted;
+      declared += c.energy_change;
+      const std::string bad = nonfinite_in(p);
+      if (!bad.empty()) return fail(fmt("not finite after collide_cell (sigma = %g): ", sigma) + bad);
+    }
+    candidates += cand;
+    accepted += acc;
+    per_sigma.push_back(fmt("sigma = %g: %llu of %llu candidates", sigma, static_cast<unsigned long long>(acc),
+                            static_cast<unsigned long long>(cand)));
   }
   totals(p1, e1, a1);
   const double ptol = 64 * kEps * (a0 + a1) * std::max(1.0, std::sqrt(static_cast<double>(accepted) / n));
@@ -298,9 +301,9 @@ Result check_collision_cell(const Subject& s) {
     return fail(fmt("energy change differs from the declared one in collide_cell: kinetic energy changed by %.10g, "
                     "the rule declared %.10g (tolerance %.3g) over %llu collisions", e1 - e0, declared, etol,
                     static_cast<unsigned long long>(accepted)));
-  return pass(fmt("collide_cell on %zu particles: %llu collisions of %llu candidates; momentum conserved (|dp| = %.2g), "
-                  "energy change %.6g as declared", n, static_cast<unsigned long long>(accepted),
-                  static_cast<unsigned long long>(candidates), norm(p1 - p0), e1 - e0));
+  return pass(fmt("collide_cell on %zu particles: %llu collisions of %llu candidates (%s); momentum conserved "
+                  "(|dp| = %.2g), energy change %.6g as declared", n, static_cast<unsigned long long>(accepted),
+                  static_cast<unsigned long long>(candidates), join(per_sigma, "; ").c_str(), norm(p1 - p0), e1 - e0));
 }
 
 }  // namespace gdsmc::host::conformance

@@ -12,10 +12,13 @@ struct DiagnosticRun {
 
 // Feed a fresh diagnostic a fixed sequence of states (optionally with the particles permuted)
 // the way the engine does: begin, sample every state, record every other one, finish.
+// The diagnostic's streams come from `streams` (the harness's factory, or another seed's), its
+// shared moments from the host's CellGrid::sampled_moments, as in the engine.
 DiagnosticRun run_diagnostic(Harness& h, const std::vector<Snapshot>& states, const std::vector<StepContext>& ctxs,
-                             const std::vector<std::uint32_t>* perm) {
+                             const std::vector<std::uint32_t>* perm, const StreamFactory& streams) {
   DiagnosticRun r;
   r.out = std::make_unique<DiagnosticOutput>(h.use->instance_name, &r.summary);
+  r.out->set_bins(bin_centres_lambda0(h.sys));  // as the engine does
   auto obj = h.fresh_subject();
   auto* d = static_cast<Diagnostic*>(obj.get());
   d->begin(h.sys, h.board, *r.out);
@@ -23,7 +26,10 @@ DiagnosticRun run_diagnostic(Harness& h, const std::vector<Snapshot>& states, co
   for (std::size_t k = 0; k < states.size(); ++k) {
     h.restore(states[k], perm);
     h.ctx = ctxs[k];
+    h.sample_moments();
+    h.plugin_streams_for(StreamPurpose::diagnostic, &streams);
     d->sample(h.ctx, h.span());
+    h.ctx.moments = nullptr;
     if (k % 2 == 0 || k + 1 == states.size()) {
       r.out->begin_record(h.ctx.time_in_tau0(), h.ctx.collisions_per_particle());
       d->record(h.ctx, *r.out);
@@ -45,16 +51,16 @@ DiagnosticStates diagnostic_states(const Subject& s, std::size_t n) {
   DiagnosticStates d;
   d.h = make_harness(s, base_assignment(s), n);
   Harness& h = *d.h;
-  Rng attr_rng(h.ctx.key, StreamPurpose::conformance, 4, 0);
+  Rng attr_rng = h.host_rng(4);
   h.randomize_zero_attributes(attr_rng);
   h.update_moments();
   for (int k = 0; k < 7; ++k) {
+    h.ctx.in_average_window = k >= 3;  // the later states lie in the steady averaging window
     d.states.push_back(h.save());
     d.ctxs.push_back(h.ctx);
     const double dt = 0.5 * h.sys.time_unit0;
-    Rng rng(h.ctx.key, StreamPurpose::collisions, 0, h.ctx.step);
     h.ctx.dt = dt;
-    h.collide(dt, rng);
+    h.collide(dt);
     h.ctx.time += dt;
     ++h.ctx.step;
   }
@@ -65,7 +71,7 @@ Result check_diagnostic_output(const Subject& s) {
   auto d = diagnostic_states(s, 500);
   DiagnosticRun r;
   try {
-    r = run_diagnostic(*d.h, d.states, d.ctxs, nullptr);
+    r = run_diagnostic(*d.h, d.states, d.ctxs, nullptr, d.h->factory);
   } catch (const std::exception& e) {
     return fail(std::string("malformed output: ") + e.what());
   }
@@ -75,6 +81,12 @@ Result check_diagnostic_output(const Subject& s) {
     if (c.unit.empty()) problems.push_back("series '" + c.name + "' has no unit");
     if (c.values.size() != r.records)
       problems.push_back(fmt("series '%s' has %zu values after %zu records", c.name.c_str(), c.values.size(), r.records));
+  }
+  for (const auto& pr : o.profiles) {
+    if (pr.unit.empty()) problems.push_back("profile '" + pr.name + "' has no unit");
+    if (pr.values.size() != r.records * o.bin_centres.size())
+      problems.push_back(fmt("profile '%s' has %zu values after %zu records of %zu bins", pr.name.c_str(),
+                             pr.values.size(), r.records, o.bin_centres.size()));
   }
   for (const auto& a : o.arrays)
     if (a.unit.empty()) problems.push_back("array '" + a.name + "' has no unit");
@@ -89,11 +101,12 @@ Result check_diagnostic_output(const Subject& s) {
   }
   for (const auto& sc : o.scalars)
     if (sc.unit.empty()) problems.push_back("scalar '" + sc.name + "' has no unit");
-  if (o.columns.empty() && o.arrays.empty() && o.histograms.empty() && o.scalars.empty())
+  if (o.columns.empty() && o.profiles.empty() && o.arrays.empty() && o.histograms.empty() && o.scalars.empty())
     problems.push_back("it wrote nothing");
   if (!problems.empty()) return fail("malformed output: " + join(problems, "; "));
-  return pass(fmt("%zu records: %zu series with one value per record, %zu arrays, %zu histograms, %zu scalars, all with units",
-                  r.records, o.columns.size(), o.arrays.size(), o.histograms.size(), o.scalars.size()));
+  return pass(fmt("%zu records: %zu series with one value per record, %zu profiles with one row per record, %zu arrays, "
+                  "%zu histograms, %zu scalars, all with units", r.records, o.columns.size(), o.profiles.size(),
+                  o.arrays.size(), o.histograms.size(), o.scalars.size()));
 }
 
 // Root-mean-square relative difference over every value two outputs hold (NaN pairs ignored).
@@ -109,6 +122,7 @@ double rms_relative_difference(const DiagnosticOutput& a, const DiagnosticOutput
     }
   };
   for (std::size_t k = 0; k < std::min(a.columns.size(), b.columns.size()); ++k) add(a.columns[k].values, b.columns[k].values);
+  for (std::size_t k = 0; k < std::min(a.profiles.size(), b.profiles.size()); ++k) add(a.profiles[k].values, b.profiles[k].values);
   for (std::size_t k = 0; k < std::min(a.arrays.size(), b.arrays.size()); ++k) add(a.arrays[k].data, b.arrays[k].data);
   for (std::size_t k = 0; k < std::min(a.histograms.size(), b.histograms.size()); ++k)
     add(a.histograms[k].values, b.histograms[k].values);
@@ -121,15 +135,14 @@ Result check_diagnostic_order(const Subject& s) {
   auto d = diagnostic_states(s, n);
   std::vector<std::uint32_t> perm(n);
   std::iota(perm.begin(), perm.end(), 0u);
-  Rng rng(d.h->ctx.key, StreamPurpose::conformance, 5, 0);
+  Rng rng = d.h->host_rng(5);
   for (std::size_t k = n - 1; k > 0; --k) std::swap(perm[k], perm[rng.below(static_cast<std::uint32_t>(k + 1))]);
-  const DiagnosticRun a = run_diagnostic(*d.h, d.states, d.ctxs, nullptr);
-  const DiagnosticRun b = run_diagnostic(*d.h, d.states, d.ctxs, &perm);
+  const StreamFactory same = d.h->factory;
+  const DiagnosticRun a = run_diagnostic(*d.h, d.states, d.ctxs, nullptr, same);
+  const DiagnosticRun b = run_diagnostic(*d.h, d.states, d.ctxs, &perm, same);
   // A diagnostic that draws random numbers (e.g. one that samples pairs) depends on the order
   // only through its random stream: compare the effect of the permutation with that of the seed.
-  std::vector<StepContext> reseeded = d.ctxs;
-  for (auto& c : reseeded) c.key = stream_key(s.cfg.seed + 1, 7);
-  const DiagnosticRun c = run_diagnostic(*d.h, d.states, reseeded, nullptr);
+  const DiagnosticRun c = run_diagnostic(*d.h, d.states, d.ctxs, nullptr, StreamFactory(s.cfg.seed + 1, 7));
   if (compare_outputs(*a.out, *c.out, 0, 0).empty()) {
     const std::string diff = compare_outputs(*a.out, *b.out, 1e-9, 1e-12);
     if (!diff.empty())

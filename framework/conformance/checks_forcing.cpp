@@ -1,4 +1,4 @@
-// Forcing checks: declared conservation and integration order.
+// Forcing checks: declared conservation, the energy apply() returns, and the integration order.
 #include "conformance/internal.hpp"
 
 namespace gdsmc::host::conformance {
@@ -6,11 +6,46 @@ namespace gdsmc::host::conformance {
 // --------------------------------------------------------------------------------------------
 // Forcings
 
+namespace {
+
+// A forcing that declares a constant acceleration is integrated by the host's mover and never
+// applied: returns its g, or nothing.
+std::optional<Vec3> declared_acceleration(const Forcing& f) {
+  Vec3 g{0, 0, 0};
+  if (f.acceleration(g)) return g;
+  return std::nullopt;
+}
+
+// One apply() of the forcing at the harness's current step, with its own streams; returns what
+// apply() returned.
+double apply_once(Harness& h, Forcing& f) {
+  h.update_moments();
+  h.plugin_streams_for(StreamPurpose::forcing);
+  const double added = f.apply(h.ctx, h.span());
+  h.ctx.streams = nullptr;
+  h.ctx.time += h.ctx.dt;
+  ++h.ctx.step;
+  return added;
+}
+
+}  // namespace
+
 Result check_forcing_conservation(const Subject& s) {
   constexpr std::size_t n = 1000;
   auto h = make_harness(s, base_assignment(s), n);
   auto* f = static_cast<Forcing*>(h->subject.get());
   const Conservation c = f->conserves();
+  if (const auto g = declared_acceleration(*f)) {
+    // Integrated exactly by the host (x += v t + g t^2/2): it adds momentum g per unit time and
+    // mass, so it conserves neither momentum nor energy unless g = 0.
+    const bool zero = g->x == 0 && g->y == 0 && g->z == 0;
+    if (!zero && (c.momentum || c.energy))
+      return fail(fmt("declares the constant acceleration g = %s (integrated by the host) but conserves() claims %s: "
+                      "a nonzero body acceleration conserves neither momentum nor energy", vec_text(*g).c_str(),
+                      c.momentum ? "momentum" : "energy"));
+    return skip(fmt("declares the constant acceleration g = %s: the host integrates it during free flight and never "
+                    "calls apply(); conserves() claims nothing it cannot keep", vec_text(*g).c_str()));
+  }
   const ParticleSpan p = h->span();
   auto totals = [&](Vec3& mom, double& energy, double& abs_sum) { velocity_totals(p, mom, energy, abs_sum); };
   Vec3 p0, p1;
@@ -18,11 +53,7 @@ Result check_forcing_conservation(const Subject& s) {
   totals(p0, e0, a0);
   constexpr int steps = 10;
   for (int k = 0; k < steps; ++k) {
-    h->update_moments();
-    Rng rng = h->ctx.rng(StreamPurpose::forcing, 0);
-    f->apply(h->ctx, p, rng);
-    h->ctx.time += h->ctx.dt;
-    ++h->ctx.step;
+    (void)apply_once(*h, *f);
     const std::string bad = nonfinite_in(p);
     if (!bad.empty()) return fail(fmt("not finite after %d steps: %s", k + 1, bad.c_str()));
   }
@@ -49,25 +80,58 @@ Result check_forcing_conservation(const Subject& s) {
   return pass("conserves what it declares over " + std::to_string(steps) + " steps: " + join(ok, "; "));
 }
 
+// apply() returns the kinetic energy it added: it must equal the measured change of the
+// particles' kinetic energy to round-off (relative 1e-9 of the total kinetic energy).
+Result check_forcing_energy(const Subject& s) {
+  constexpr std::size_t n = 1000;
+  constexpr int steps = 10;
+  constexpr double rel = 1e-9;
+  auto h = make_harness(s, base_assignment(s), n);
+  auto* f = static_cast<Forcing*>(h->subject.get());
+  if (const auto g = declared_acceleration(*f))
+    return skip(fmt("declares the constant acceleration g = %s: the host integrates it and records its energy; "
+                    "apply() is never called", vec_text(*g).c_str()));
+  const ParticleSpan p = h->span();
+  double worst = 0, total_added = 0, total_returned = 0;
+  for (int k = 0; k < steps; ++k) {
+    Vec3 mom;
+    double e0, e1, speeds;
+    velocity_totals(p, mom, e0, speeds);
+    const double returned = apply_once(*h, *f);
+    velocity_totals(p, mom, e1, speeds);
+    if (!std::isfinite(returned)) return fail(fmt("apply() returned the energy %g at step %d", returned, k + 1));
+    const double diff = std::fabs((e1 - e0) - returned), scale = std::max(e0, e1);
+    if (diff > rel * scale)
+      return fail(fmt("the energy apply() returns differs from the measured change: at step %d apply() returned %.12g, "
+                      "the particles' kinetic energy changed by %.12g (from %.12g to %.12g; tolerance %.0e of the total "
+                      "kinetic energy = %.3g)", k + 1, returned, e1 - e0, e0, e1, rel, rel * scale));
+    worst = std::max(worst, diff / scale);
+    total_added += e1 - e0;
+    total_returned += returned;
+  }
+  return pass(fmt("%d steps of dt = %g tau0 on %zu particles: apply() returned %.10g in total, the measured change is "
+                  "%.10g (worst step: %.2g of the kinetic energy, tolerance %.0e)", steps, kTimeStepTau0, n,
+                  total_returned, total_added, worst, rel));
+}
+
 Result check_forcing_order(const Subject& s) {
   constexpr std::size_t n = 500;
   auto h = make_harness(s, base_assignment(s), n);
+  if (const auto g = declared_acceleration(*static_cast<Forcing*>(h->subject.get())))
+    return skip(fmt("declares the constant acceleration g = %s: integrated exactly by the host's mover",
+                    vec_text(*g).c_str()));
   const Snapshot s0 = h->save();
   const double scale = std::sqrt(h->global.temperature);
-  auto run = [&](double dt, int substeps, std::uint32_t unit) {
+  // `seed` picks the run's streams: the same seed for every dt, another to detect a stochastic forcing.
+  auto run = [&](double dt, int substeps, std::uint64_t seed) {
     h->restore(s0);
     auto obj = h->fresh_subject();
     auto* f = static_cast<Forcing*>(obj.get());
+    h->factory = StreamFactory(seed, 0);
     h->ctx.step = 0;
     h->ctx.time = 0;
-    for (int k = 0; k < substeps; ++k) {
-      h->update_moments();
-      h->ctx.dt = dt;
-      Rng rng(h->ctx.key, StreamPurpose::forcing, unit, h->ctx.step);
-      f->apply(h->ctx, h->span(), rng);
-      h->ctx.time += dt;
-      ++h->ctx.step;
-    }
+    h->ctx.dt = dt;
+    for (int k = 0; k < substeps; ++k) (void)apply_once(*h, *f);
     return h->save();
   };
   auto diff = [&](const Snapshot& a, const Snapshot& b) {
@@ -77,14 +141,15 @@ Result check_forcing_order(const Subject& s) {
     return d / scale;
   };
   const double dt0 = kTimeStepTau0 * h->sys.time_unit0;
-  if (diff(run(dt0, 1, 0), run(dt0, 1, 1u << 16)) > 0)
+  const std::uint64_t seed = s.cfg.seed;
+  if (diff(run(dt0, 1, seed), run(dt0, 1, seed + 1)) > 0)
     return skip("the forcing is stochastic (its result depends on the random stream): the dt-scaling check applies "
                 "to deterministic forcings");
   const int order = static_cast<Forcing*>(h->subject.get())->order();
   double D[3];
   for (int k = 0; k < 3; ++k) {
     const double dt = dt0 / std::pow(2.0, k);
-    D[k] = diff(run(dt, 1, 0), run(0.5 * dt, 2, 0));
+    D[k] = diff(run(dt, 1, seed), run(0.5 * dt, 2, seed));
     if (!std::isfinite(D[k])) return fail(fmt("one step of dt = %g tau0 or two of dt/2 gave non-finite velocities", dt / h->sys.time_unit0));
   }
   const double floor = 1e-12;

@@ -1,22 +1,55 @@
-// A small engine-like harness for direct calls on plugin objects: particles, moments and one
-// collision stage of the configured rule, with snapshots to replay states.
+// The conformance harness: the engine's own pieces (ParticleStore, CellGrid, StreamFactory, Mover)
+// around one plugin object, for direct calls with controlled input. Two shapes: a homogeneous
+// population (collision rules, forcings, initial states, diagnostics) with one collision stage of
+// the configured rule, and a small slab streamed by the host's Mover with the boundary under test
+// on both planes (boundaries), with every hit recorded.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <gdsmc/moments.hpp>
 #include <gdsmc/plugin.hpp>
 
 #include "config/pipeline.hpp"
+#include "engine/cells.hpp"
 #include "engine/majorant.hpp"
 #include "engine/particle_store.hpp"
+#include "engine/streaming.hpp"
+#include "engine/streams.hpp"
 
 namespace gdsmc::host::conformance {
 
 struct Snapshot {
+  std::vector<std::uint64_t> id;
   std::vector<double> x, y, z, vx, vy, vz;
   std::vector<std::vector<double>> attributes;
+};
+
+// Particles in the host's storage plus the identities and cells SDK 2.0 spans carry.
+struct Particles {
+  ParticleStore store;
+  std::vector<std::uint64_t> id;
+  std::vector<std::uint32_t> cell;
+
+  void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes) {
+    store.allocate(n, attributes);
+    id.resize(n);
+    for (std::size_t i = 0; i < n; ++i) id[i] = i;
+    cell.assign(n, 0u);
+  }
+  ParticleSpan span() {
+    ParticleSpan s = store.span();
+    s.id = id.data();
+    s.cell = cell.data();
+    return s;
+  }
+  Snapshot save();
+  // Restore a snapshot; with `perm`, particle k of the span is particle perm[k] of the snapshot
+  // (identity included, so per-particle streams follow the particle).
+  void restore(const Snapshot& s, const std::vector<std::uint32_t>* perm = nullptr);
 };
 
 struct Harness {
@@ -26,76 +59,104 @@ struct Harness {
   std::vector<AttributeSpec> attributes;
   SystemInfo sys;
   QuantityBoard board;
+  CellGrid grid;
+  std::vector<CellMoments> cells;
   CellMoments global;
+  SampledMoments moments;
+  StreamFactory factory;
+  Streams plugin_streams;  // what ctx.streams points to
   StepContext ctx;
-  ParticleStore store;
-  double remainder = 0;
+  Particles particles;
+  std::array<BoundaryTally, 2> tallies{};  // a slab's (zero) boundary tallies
+  std::vector<double> remainder;           // per cell
 
-  ParticleSpan span() { return store.span(); }
-  void update_moments() {
-    const VelocityMoments m = velocity_moments(store.span());
-    global.count = m.count;
-    global.number_density = sys.number_density;
-    for (int a = 0; a < 3; ++a) global.mean_velocity[a] = m.mean[a];
-    global.temperature = m.temperature;
+  ParticleSpan span() { return particles.span(); }
+  // The per-cell and global moments of the current state (StepContext::cells / global).
+  void update_moments() { grid.cell_moments(span(), sys.number_density, cells, global); }
+  // The shared sampled moments (StepContext::moments) of the current state.
+  void sample_moments() {
+    grid.sampled_moments(span(), sys.number_density, moments);
+    ctx.moments = &moments;
   }
-  std::shared_ptr<PluginObject> fresh_subject() const { return create_object(*use->plugin, use->params); }
+  // Key the streams to ctx.step and hand the plugin of `purpose` its streams through ctx.streams.
+  void plugin_streams_for(StreamPurpose purpose, const StreamFactory* other = nullptr) {
+    StreamFactory f = other ? *other : factory;
+    f.set_step(ctx.step);
+    plugin_streams = f.streams(purpose, 0);
+    ctx.streams = &plugin_streams;
+  }
+  // A host stream (the harness's own draws) at the current step.
+  Rng host_rng(std::uint64_t unit) {
+    factory.set_step(ctx.step);
+    return factory.rng(StreamPurpose::host, 0, unit);
+  }
+  std::shared_ptr<PluginObject> fresh_subject() const;
 
-  Snapshot save() {
-    const ParticleSpan p = span();
-    Snapshot s;
-    auto copy = [&](const double* d) { return std::vector<double>(d, d + p.count); };
-    s.x = copy(p.x); s.y = copy(p.y); s.z = copy(p.z);
-    s.vx = copy(p.vx); s.vy = copy(p.vy); s.vz = copy(p.vz);
-    for (std::size_t a = 0; a < p.attribute_count; ++a)
-      s.attributes.emplace_back(p.attribute_data[a], p.attribute_data[a] + p.count * p.attribute_specs[a].components);
-    return s;
-  }
-  // Restore a snapshot; with `perm`, particle k of the span is particle perm[k] of the snapshot.
+  Snapshot save() { return particles.save(); }
   void restore(const Snapshot& s, const std::vector<std::uint32_t>* perm = nullptr) {
-    const ParticleSpan p = span();
-    for (std::size_t k = 0; k < p.count; ++k) {
-      const std::size_t i = perm ? (*perm)[k] : k;
-      p.x[k] = s.x[i]; p.y[k] = s.y[i]; p.z[k] = s.z[i];
-      p.vx[k] = s.vx[i]; p.vy[k] = s.vy[i]; p.vz[k] = s.vz[i];
-      for (std::size_t a = 0; a < p.attribute_count; ++a) {
-        const std::size_t comps = static_cast<std::size_t>(p.attribute_specs[a].components);
-        for (std::size_t c = 0; c < comps; ++c) p.attribute_data[a][c * p.count + k] = s.attributes[a][c * p.count + i];
-      }
-    }
+    particles.restore(s, perm);
+    grid.assign_and_sort(span().y, particles.cell.data(), span().count);  // cells follow the particles
     update_moments();
   }
   // Attributes that the initial state left at zero get random values (so that rules and
   // diagnostics that use them see something to work on).
-  void randomize_zero_attributes(Rng& rng) {
-    const ParticleSpan p = span();
-    for (std::size_t a = 0; a < p.attribute_count; ++a) {
-      const std::size_t n = p.count * static_cast<std::size_t>(p.attribute_specs[a].components);
-      double* d = p.attribute_data[a];
-      if (std::all_of(d, d + n, [](double v) { return v == 0.0; }))
-        for (std::size_t k = 0; k < n; ++k) d[k] = rng.normal();
-    }
+  void randomize_zero_attributes(Rng& rng);
+  // One collision stage of the filler (or tested) collision rule in every cell (the whole
+  // population, or each layer of a slab; particles do not move), on the cells' collision streams
+  // of the current step; `sigma` overrides the system's diameter. Returns the cells' sums.
+  CellCollision collide(double dt, double sigma = 0);
+};
+
+// A boundary under test, wrapped so that every hit it serves is recorded (the Mover does not
+// show the plugin's returned position.y: it puts the particle on the plane itself).
+struct HitRecord {
+  WallHit in, out;
+  HitResult result = HitResult::reflected;
+};
+class RecordingBoundary final : public Boundary {
+ public:
+  explicit RecordingBoundary(const Boundary* inner) : inner_(inner) {}
+  bool transfers() const override { return inner_->transfers(); }
+  HitResult interact(const StepContext& ctx, WallHit& hit, Rng& rng) const override {
+    HitRecord r;
+    r.in = hit;
+    r.result = inner_->interact(ctx, hit, rng);
+    r.out = hit;
+    if (record) log.push_back(r);
+    return r.result;
   }
-  // One collision stage of the filler (or tested) collision rule over the whole population.
-  CellCollision collide(double dt, Rng& rng) {
-    auto* rule = static_cast<CollisionRule*>(collision.get());
-    CellCollision cell;
-    cell.particles = span();
-    cell.count = static_cast<std::uint32_t>(cell.particles.count);
-    cell.volume = sys.volume;
-    cell.sigma = sys.sigma;
-    cell.dt = dt;
-    cell.majorant = kInitialMajorantRatio * std::sqrt(global.temperature);
-    cell.remainder = remainder;
-    cell.rng = &rng;
-    rule->collide_cell(cell);
-    remainder = cell.remainder;
-    ctx.collisions += static_cast<double>(cell.accepted);
-    ctx.candidates += static_cast<double>(cell.candidates);
-    ctx.collision_energy_change += cell.energy_change;
-    update_moments();
-    return cell;
-  }
+  bool record = true;
+  mutable std::vector<HitRecord> log;
+
+ private:
+  const Boundary* inner_;
+};
+
+// A small slab (Lx = Ly = Lz = 1, 10 layers) with a Maxwellian at T = 1, the boundary under test
+// on both planes, streamed by the host's Mover.
+struct SlabHarness {
+  static constexpr double kEdge = 1.0;
+  static constexpr double kTemperature = 1.0;
+  std::unique_ptr<Pipeline> pipeline;
+  const PluginUse* use = nullptr;
+  std::shared_ptr<PluginObject> object;
+  Boundary* boundary = nullptr;
+  std::unique_ptr<RecordingBoundary> recorder;
+  QuantityBoard board;
+  SystemInfo sys;
+  StepContext ctx;
+  CellGrid grid;
+  StreamFactory factory;
+  Particles particles;
+  StreamingTally tally;
+  std::string refusal;  // begin() refused the system (a ParameterError): the message
+
+  ParticleSpan span() { return particles.span(); }
+  std::string side_name(int side) const;
+  // `steps` steps of dt from the current time; throws what the Mover throws.
+  void stream(int steps, double dt);
+  double time = 0;
+  std::uint64_t step = 0;
 };
 
 }  // namespace gdsmc::host::conformance

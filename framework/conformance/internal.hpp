@@ -78,6 +78,9 @@ struct Subject {
   std::optional<LoadedPlugin> loaded;
   Assignment user_params;
   std::string context_initial, context_collision;  // YAML flow text; empty: default fillers
+  // The context's system and boundaries (YAML flow text), for plugins that need a slab; empty:
+  // a homogeneous system (boundaries: the plugin under test itself in a slab).
+  std::string context_system, context_boundaries;
   std::vector<std::string> context_forcings;        // YAML flow text of the context's forcings
   std::vector<fs::path> context_paths;
 
@@ -115,6 +118,7 @@ std::string filler(const Subject& s, PluginKind kind);
 std::string entry_text(const std::string& plugin, const Assignment& a);
 std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment& a, std::size_t particles = 256);
 std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std::size_t n);
+std::unique_ptr<SlabHarness> make_slab(const Subject& s, const Assignment& a, std::size_t n = 2000);
 bool all_finite(const double* d, std::size_t n);
 std::string nonfinite_in(const ParticleSpan& p, bool positions = true);
 Result check_load(const Subject& s);
@@ -143,9 +147,13 @@ Result check_collision_energy(const Subject& s);
 Result check_collision_rate(const Subject& s);
 Result check_collision_cell(const Subject& s);
 Result check_forcing_conservation(const Subject& s);
+Result check_forcing_energy(const Subject& s);
 Result check_forcing_order(const Subject& s);
 Result check_boundary_containment(const Subject& s);
-Result check_boundary_wall_flux(const Subject&);
+Result check_boundary_elastic(const Subject& s);
+Result check_boundary_wall_flux(const Subject& s);
+Result check_boundary_accommodation(const Subject& s);
+Result check_boundary_transfer(const Subject& s);
 Result check_initial_state(const Subject& s);
 Result check_diagnostic_output(const Subject& s);
 double rms_relative_difference(const DiagnosticOutput& a, const DiagnosticOutput& b);

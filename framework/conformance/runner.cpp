@@ -30,9 +30,15 @@ Checks (by kind):
   collision    collision.finite, collision.mass, collision.momentum, collision.energy,
                collision.rate (on random pairs and edge cases: zero relative velocity, grazing,
                huge and tiny speeds), collision.cell (collide_cell on a population)
-  forcing      forcing.conservation (what conserves() declares), forcing.order (one step of dt
+  forcing      forcing.conservation (what conserves() declares), forcing.energy (the energy
+               apply() returns equals the measured change), forcing.order (one step of dt
                against two of dt/2 scales as dt^(order+1))
-  boundary     boundary.containment (no particle lost or left outside), boundary.wall_flux
+  boundary     in a 1x1x1 slab streamed by the host's mover, the plugin on both planes:
+               boundary.containment (no particle lost or left outside), boundary.elastic
+               (no energy exchanged: every speed kept), boundary.wall_flux (walls: re-emitted
+               |v_y|, v_x, v_z against the half-range Maxwellian flux at T_w, chi-square),
+               boundary.accommodation (0 specular, 1 diffuse), boundary.transfer (periodic
+               types: opposite plane, v_x changed by exactly -+aL)
   initial      initial.state (finite state, positive temperature)
   diagnostic   diagnostic.output (one value per series per record, units given),
                diagnostic.particle_order (values do not depend on the particle order)
@@ -40,10 +46,11 @@ Checks (by kind):
 Options:
   --params FILE.yaml   parameter values for the plugin (a mapping name: value, units as in a
                        pipeline); required parameters without a default get in-range values
-  --context FILE.yaml  a pipeline whose initial_state and collision entries (and plugins: paths)
-                       are used around the plugin, e.g. for a diagnostic that needs the
-                       attributes of a particular collision rule (default: maxwellian and
-                       inelastic_hard_spheres from the plugin search path)
+  --context FILE.yaml  a pipeline whose initial_state, collision, forcings, system and
+                       boundaries entries (and plugins: paths) are used around the plugin, e.g.
+                       for a diagnostic that needs the attributes of a particular collision
+                       rule, or a slab (default: maxwellian and inelastic_hard_spheres from the
+                       plugin search path, a homogeneous system)
   --seed N             seed of every random input (default 1); a failure names it
   --only CHECK         run only CHECK (a name, or a prefix such as 'collision'); repeatable,
                        comma-separated lists allowed
@@ -77,11 +84,16 @@ std::vector<Check> checks_for(PluginKind kind) {
                          {"collision.cell", check_collision_cell}});
       break;
     case PluginKind::forcing:
-      c.insert(c.end(), {{"forcing.conservation", check_forcing_conservation}, {"forcing.order", check_forcing_order}});
+      c.insert(c.end(), {{"forcing.conservation", check_forcing_conservation},
+                         {"forcing.energy", check_forcing_energy},
+                         {"forcing.order", check_forcing_order}});
       break;
     case PluginKind::boundary:
       c.insert(c.end(), {{"boundary.containment", check_boundary_containment},
-                         {"boundary.wall_flux", check_boundary_wall_flux}});
+                         {"boundary.elastic", check_boundary_elastic},
+                         {"boundary.wall_flux", check_boundary_wall_flux},
+                         {"boundary.accommodation", check_boundary_accommodation},
+                         {"boundary.transfer", check_boundary_transfer}});
       break;
     case PluginKind::initial_state: c.push_back({"initial.state", check_initial_state}); break;
     case PluginKind::diagnostic:
@@ -170,6 +182,8 @@ int read_inputs(const Config& cfg, Subject& s) {
       if (!n.IsMap()) return usage(cfg.context_file->string() + ": expected a pipeline");
       if (n["initial_state"]) s.context_initial = yaml_text(n["initial_state"]);
       if (n["collision"]) s.context_collision = yaml_text(n["collision"]);
+      if (n["system"]) s.context_system = yaml_text(n["system"]);
+      if (n["boundaries"]) s.context_boundaries = yaml_text(n["boundaries"]);
       if (const YAML::Node f = n["forcings"]; f && f.IsSequence())
         for (const auto& e : f) s.context_forcings.push_back(yaml_text(e));
       if (const YAML::Node pl = n["plugins"]; pl && pl.IsSequence())

@@ -21,9 +21,18 @@ void velocity_totals(const ParticleSpan& p, Vec3& momentum, double& energy, doub
 // The plugin under test and how to build pipelines around it
 
 
+// One line of YAML: a node read in block style keeps that style through the emitter, so every
+// collection of a copy is set to flow style first.
 std::string yaml_text(const YAML::Node& n) {
+  const std::function<void(YAML::Node)> flow = [&flow](YAML::Node node) {
+    if (!node.IsMap() && !node.IsSequence()) return;
+    node.SetStyle(YAML::EmitterStyle::Flow);
+    for (auto it = node.begin(); it != node.end(); ++it) flow(node.IsMap() ? it->second : *it);
+  };
+  YAML::Node copy = YAML::Clone(n);
+  flow(copy);
   YAML::Emitter e;
-  e << YAML::Flow << n;
+  e << YAML::Flow << copy;
   return e.c_str();
 }
 
@@ -75,7 +84,7 @@ std::string slot_path(PluginKind k) {
     case PluginKind::collision_rule: return "collision";
     case PluginKind::initial_state: return "initial_state";
     case PluginKind::forcing: return "forcings[0]";
-    case PluginKind::boundary: return "boundaries[0]";
+    case PluginKind::boundary: return "boundaries.y";
     case PluginKind::diagnostic: return "diagnostics[0]";
   }
   return "?";
@@ -156,7 +165,12 @@ std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment&
   std::ostringstream y;
   y << "run: {seed: " << s.cfg.seed << ", particles: " << particles << ", time_step: {value: " << kTimeStepTau0
     << ", unit: tau0}, stop: {collisions_per_particle: 1}}\n";
-  y << "system: {density: " << num(kDensity) << ", temperature: 1.0}\n";
+  // A boundary needs a slab: a gap of one mean free path in a few layers, the plugin on both planes.
+  if (!s.context_system.empty() && k != PluginKind::boundary)
+    y << "system: " << s.context_system << "\n";
+  else
+    y << "system: {density: " << num(kDensity) << ", temperature: 1.0"
+      << (k == PluginKind::boundary ? ", domain: slab, box: {y: 1.0}, layers: 4" : "") << "}\n";
   y << "initial_state: " << (k == PluginKind::initial_state ? self : filler(s, PluginKind::initial_state)) << "\n";
   y << "collision: " << (k == PluginKind::collision_rule ? self : filler(s, PluginKind::collision_rule)) << "\n";
   if (k == PluginKind::forcing || !s.context_forcings.empty()) {
@@ -166,7 +180,8 @@ std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment&
       y << (i || k == PluginKind::forcing ? ", " : "") << s.context_forcings[i];
     y << "]\n";
   }
-  if (k == PluginKind::boundary) y << "boundaries: [" << self << "]\n";
+  if (k == PluginKind::boundary) y << "boundaries: {y: " << self << "}\n";
+  else if (!s.context_boundaries.empty()) y << "boundaries: " << s.context_boundaries << "\n";
   if (k == PluginKind::diagnostic) y << "diagnostics: [" << self << "]\n";
   if (!s.context_paths.empty()) {
     y << "plugins: [";
