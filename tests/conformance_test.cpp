@@ -104,6 +104,8 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       {"conformance_throwing", "defaults_construct", {"conformance_throwing", "does not construct", "the factory always fails"}},
       {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 2.0"}},
       {"conformance_fake_thermostat", "forcing.conservation", {"conformance_fake_thermostat", "energy not conserved"}},
+      // A forcing that heats the gas but reports no energy to the ledger.
+      {"conformance_unreported_work", "forcing.energy", {"conformance_unreported_work"}},
       // A wall that sometimes returns a particle moving outward or beyond its plane.
       {"conformance_leaky_wall", "boundary.containment", {"conformance_leaky_wall", "outside"}},
       // A diffuse wall that emits at 1.5 times its `temperature` parameter.
