@@ -52,6 +52,7 @@
 
 #include "config/pipeline.hpp"
 #include "engine/cells.hpp"
+#include "engine/collision_stage.hpp"
 #include "engine/engine.hpp"
 #include "engine/majorant.hpp"
 #include "engine/streaming.hpp"
@@ -473,7 +474,7 @@ struct SlabPieces {
   host::CellGrid grid;
   std::unique_ptr<host::Mover> mover;
   host::StreamFactory streams{kSeed, 0};
-  std::vector<double> ratio, remainder;
+  host::CollisionStage stage;
   std::uint64_t step = 0, accepted = 0, candidates = 0, hits = 0;
   explicit SlabPieces(std::uint32_t n) : run(n) {
     const host::Pipeline& p = run.pipeline;
@@ -487,8 +488,7 @@ struct SlabPieces {
     grid.slab(sys.particles, sys.cells, sys.box[1], sys.cross_section());
     reorder();
     rule->bind(run.engine->particles());
-    ratio.assign(sys.cells, host::kInitialMajorantRatio);
-    remainder.assign(sys.cells, 0.0);
+    stage.reset(sys.cells);
   }
   double dt() const { return 0.05 * run.engine->system().time_unit0; }
   // Storage layer by layer, as the engine keeps it (Engine::kReorderEvery), and the layer lists.
@@ -507,28 +507,13 @@ struct SlabPieces {
     hits += tally.sides[0].hits + tally.sides[1].hits;
   }
   // dt_collide: chosen for ~N/100 collisions per call over all layers, as the homogeneous bench.
+  // Driven by the engine's own CollisionStage; T_ref = T0 in every layer (elastic, stationary).
   void collide(double dt_collide) {
-    ParticleSpan span = run.engine->particles();
     streams.set_step(step++);
-    for (std::size_t c = 0; c < grid.count(); ++c) {
-      Rng rng = streams.rng(StreamPurpose::collisions, 0, c);
-      CellCollision cell;
-      cell.particles = span;
-      cell.members = grid.members(c);
-      cell.count = grid.members_count(c);
-      cell.index = static_cast<std::uint32_t>(c);
-      cell.volume = grid.cell_volume();
-      cell.sigma = kSigma;
-      cell.dt = dt_collide;
-      cell.majorant = ratio[c] * std::sqrt(kT0);
-      cell.remainder = remainder[c];
-      cell.rng = &rng;
-      rule->collide_cell(cell);
-      remainder[c] = cell.remainder;
-      if (cell.max_rate > cell.majorant) ratio[c] = host::kMajorantHeadroom * cell.max_rate / std::sqrt(kT0);
-      accepted += cell.accepted;
-      candidates += cell.candidates;
-    }
+    const host::CollisionStage::Totals t =
+        stage.run(*rule, run.engine->particles(), grid, nullptr, kT0, 1.0, kSigma, dt_collide, streams);
+    accepted += t.accepted;
+    candidates += t.candidates;
   }
 };
 

@@ -44,30 +44,15 @@ void Harness::randomize_zero_attributes(Rng& rng) {
 CellCollision Harness::collide(double dt, double sigma) {
   const auto* rule = static_cast<const CollisionRule*>(collision.get());
   factory.set_step(ctx.step);
-  remainder.resize(grid.count(), 0.0);
+  const CollisionStage::Totals t = stage.run(*rule, span(), grid, grid.is_slab() ? cells.data() : nullptr,
+                                             global.temperature, sys.mass, sigma > 0 ? sigma : sys.sigma, dt, factory);
   CellCollision sum;
-  for (std::size_t c = 0; c < grid.count(); ++c) {
-    Rng rng = factory.rng(StreamPurpose::collisions, 0, c);  // the stream of cell c at this step
-    CellCollision cell;
-    cell.particles = span();
-    cell.members = grid.members(c);
-    cell.count = grid.members_count(c);
-    cell.index = static_cast<std::uint32_t>(c);
-    cell.volume = grid.cell_volume();
-    cell.sigma = sigma > 0 ? sigma : sys.sigma;
-    cell.dt = dt;
-    cell.majorant = kInitialMajorantRatio * std::sqrt(std::max(cells[c].temperature, global.temperature));
-    cell.remainder = remainder[c];
-    cell.rng = &rng;
-    rule->collide_cell(cell);
-    remainder[c] = cell.remainder;
-    sum.candidates += cell.candidates;
-    sum.accepted += cell.accepted;
-    sum.majorant_exceeded += cell.majorant_exceeded;
-    sum.max_rate = std::max(sum.max_rate, cell.max_rate);
-    sum.energy_change += cell.energy_change;
-    if (!std::isfinite(cell.remainder)) sum.remainder = cell.remainder;
-  }
+  sum.candidates = t.candidates;
+  sum.accepted = t.accepted;
+  sum.majorant_exceeded = t.majorant_exceeded;
+  sum.max_rate = t.max_rate;
+  sum.energy_change = t.energy_change;
+  if (!t.finite_remainders) sum.remainder = std::nan("");
   ctx.collisions += sum.accepted;
   ctx.candidates += sum.candidates;
   ctx.majorant_exceeded += sum.majorant_exceeded;

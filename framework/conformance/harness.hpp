@@ -15,6 +15,7 @@
 
 #include "config/pipeline.hpp"
 #include "engine/cells.hpp"
+#include "engine/collision_stage.hpp"
 #include "engine/majorant.hpp"
 #include "engine/particle_store.hpp"
 #include "engine/streaming.hpp"
@@ -68,7 +69,7 @@ struct Harness {
   StepContext ctx;
   Particles particles;
   std::array<BoundaryTally, 2> tallies{};  // a slab's (zero) boundary tallies
-  std::vector<double> remainder;           // per cell
+  CollisionStage stage;                    // per-cell majorants, remainders and streams, as the engine
 
   ParticleSpan span() { return particles.span(); }
   // The per-cell and global moments of the current state (StepContext::cells / global).

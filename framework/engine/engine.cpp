@@ -46,9 +46,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   check_boundaries();
   open_ledger();
   const std::size_t cells = system_.cells;
-  majorant_ratio_.assign(cells, kInitialMajorantRatio);
-  remainder_.assign(cells, 0.0);
-  cell_energy_.assign(cells, 0.0);
+  collisions_.reset(cells);
   cells_.assign(cells, CellMoments{});
   if (setup == Setup::full) {
     if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
@@ -265,39 +263,16 @@ void Engine::reorder_by_layer() {
   grid_.sort(store_.cells(), span.count);
 }
 
-// Per-cell collisions with a per-cell majorant w_I = ratio_I sqrt(T_ref) (000 Eq. 4.13), T_ref the
-// larger of the layer's and the mean temperature (so a cold or sparse layer keeps a safe bound),
-// and a per-cell stream: the cells are independent and their order does not matter.
+// Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows the larger of its
+// temperature and T-bar; the cells draw from their own streams, so their order does not matter.
 void Engine::collide(double dt) {
-  const ParticleSpan span = store_.span();
-  const std::size_t n = grid_.count();
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t c = cells_reversed_ ? n - 1 - k : k;
-    Rng rng = streams_.rng(StreamPurpose::collisions, 0, c);
-    CellCollision cell;
-    cell.particles = span;
-    cell.members = grid_.members(c);
-    cell.count = grid_.members_count(c);
-    cell.index = static_cast<std::uint32_t>(c);
-    cell.volume = grid_.cell_volume();
-    cell.sigma = system_.sigma;
-    cell.dt = dt;
-    const double t_ref = grid_.is_slab() ? std::max(cells_[c].temperature, global_.temperature) : global_.temperature;
-    const double thermal_speed = std::sqrt(t_ref / system_.mass);
-    cell.majorant = majorant_ratio_[c] * thermal_speed;
-    cell.remainder = remainder_[c];
-    cell.rng = &rng;
-    collision_->collide_cell(cell);
-    remainder_[c] = cell.remainder;
-    if (cell.max_rate > cell.majorant) majorant_ratio_[c] = kMajorantHeadroom * cell.max_rate / thermal_speed;
-    ctx_.collisions += cell.accepted;
-    ctx_.candidates += cell.candidates;
-    ctx_.majorant_exceeded += cell.majorant_exceeded;
-    cell_energy_[c] = cell.energy_change;
-  }
-  double energy = 0;
-  for (std::size_t c = 0; c < n; ++c) energy += cell_energy_[c];  // in cell order, whatever the processing order
-  ctx_.collision_energy_change += energy;
+  const CollisionStage::Totals t =
+      collisions_.run(*collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
+                      global_.temperature, system_.mass, system_.sigma, dt, streams_, cells_reversed_);
+  ctx_.collisions += t.accepted;
+  ctx_.candidates += t.candidates;
+  ctx_.majorant_exceeded += t.majorant_exceeded;
+  ctx_.collision_energy_change += t.energy_change;
   ledger_[0].energy = ctx_.collision_energy_change;
 }
 

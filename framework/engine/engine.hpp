@@ -14,6 +14,7 @@
 
 #include "config/pipeline.hpp"
 #include "engine/cells.hpp"
+#include "engine/collision_stage.hpp"
 #include "engine/particle_store.hpp"
 #include "engine/streaming.hpp"
 #include "engine/streams.hpp"
@@ -123,9 +124,7 @@ class Engine {
   std::vector<DiagnosticSlot> slots_;
   std::vector<DiagnosticOutput> outputs_;
   std::vector<std::string> summary_;
-  std::vector<double> majorant_ratio_;   // w_I / sqrt(T_ref,I) per cell, raised when exceeded
-  std::vector<double> remainder_;        // fractional candidates carried per cell
-  std::vector<double> cell_energy_;      // per-cell energy change of this step (summed in cell order)
+  CollisionStage collisions_;            // per-cell majorants, remainders and streams
   double wall_seconds_ = 0;
   bool steady_ = false;
   bool cells_reversed_ = false;

@@ -1,0 +1,38 @@
+// The collision stage of one step: every cell with its own majorant w_I, candidate remainder and
+// random stream (000 Eq. 4.13), so the cells are independent and their processing order does not
+// change any result. The engine, the conformance harness and the benchmark all drive collisions
+// through this one class.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <gdsmc/plugin.hpp>
+
+#include "engine/cells.hpp"
+#include "engine/streams.hpp"
+
+namespace gdsmc::host {
+
+class CollisionStage {
+ public:
+  struct Totals {
+    std::uint64_t candidates = 0, accepted = 0, majorant_exceeded = 0;
+    double energy_change = 0;  // summed in cell order, whatever the processing order
+    double max_rate = 0;
+    bool finite_remainders = true;
+  };
+  // Majorant ratios back to their initial value and remainders to 0, for `cells` cells.
+  void reset(std::size_t cells);
+  // One step of collisions in every cell of `grid`. w_I = ratio_I sqrt(T_ref / m) with T_ref the
+  // larger of the cell's temperature and the mean one (`cells` null: the mean one), so a cold or
+  // sparse layer keeps a safe bound; a candidate above w_I raises ratio_I (kMajorantHeadroom).
+  // The stream of cell c is streams.rng(collisions, 0, c) at the factory's current step.
+  Totals run(const CollisionRule& rule, const ParticleSpan& particles, const CellGrid& grid, const CellMoments* cells,
+             double temperature, double mass, double sigma, double dt, const StreamFactory& streams,
+             bool reversed = false);
+
+ private:
+  std::vector<double> ratio_, remainder_, energy_;
+};
+
+}  // namespace gdsmc::host
