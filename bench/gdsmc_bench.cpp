@@ -85,15 +85,15 @@ struct HandStats {
   double max_rate = 0, energy_change = 0;
 };
 
-void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double volume, double sigma, double dt,
-                  double w, double alpha, double& remainder, Rng& rng, HandStats& st) {
+void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pairs, double volume, double sigma,
+                  double dt, double w, double alpha, double& remainder, Rng& rng, HandStats& st) {
   if (n < 2 || w <= 0) {
     remainder = 0;
     return;
   }
-  // 000 Eqs. 4.13 / 4.23: N^2 sigma^2 pi w dt / (2 V) candidates (Omega_B = pi for hard spheres).
-  const double nd = static_cast<double>(n);
-  const double expected = 0.5 * nd * nd * sigma * sigma * M_PI * w * dt / volume + remainder;
+  // 000 Eqs. 4.13 / 4.23: P sigma^2 pi w dt / V candidates with P the cell's pair count
+  // (N (N - 1) / 2 by default; Omega_B = pi for hard spheres).
+  const double expected = pairs * sigma * sigma * M_PI * w * dt / volume + remainder;
   const auto candidates = static_cast<std::uint64_t>(expected);
   remainder = expected - static_cast<double>(candidates);
   const double half_one_plus_alpha = 0.5 * (1.0 + alpha);
@@ -226,6 +226,7 @@ struct Cell {
     c.particles = span();
     c.members = nullptr;
     c.count = n;
+    c.pairs = host::pair_count(host::PairCount::distinct, n);
     c.index = 0;
     c.volume = volume;
     c.sigma = kSigma;
@@ -249,7 +250,7 @@ void hand_stage(Cell& cell, double alpha) {
   cell.stage([&](CellCollision& c) {
     HandStats st;
     st.max_rate = c.max_rate;
-    hand_collide(c.particles.vx, c.particles.vy, c.particles.vz, c.count, c.volume, c.sigma, c.dt, c.majorant,
+    hand_collide(c.particles.vx, c.particles.vy, c.particles.vz, c.count, c.pairs, c.volume, c.sigma, c.dt, c.majorant,
                  alpha, c.remainder, *c.rng, st);
     c.candidates = st.candidates;
     c.accepted = st.accepted;

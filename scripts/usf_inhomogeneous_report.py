@@ -4,8 +4,8 @@ docs/validation/usf-inhomogeneous.md: the inhomogeneous uniform shear flow of pa
 Figs. 1-4 and 9) beside the numbers the paper states and beside the homogeneous engine.
 
 Usage: usf_inhomogeneous_report.py DIR > docs/validation/usf-inhomogeneous.md
-DIR holds usf_inhomogeneous_transient.h5, usf_inhomogeneous_steady.h5, usf_homogeneous_ihs.h5 and
-usf_homogeneous_ehs.h5. Needs Debian's python3-h5py and python3-numpy."""
+DIR holds usf_inhomogeneous_transient.h5, usf_inhomogeneous_steady.h5, usf_inhomogeneous_distinct.h5,
+usf_homogeneous_ihs.h5 and usf_homogeneous_ehs.h5. Needs Debian's python3-h5py and python3-numpy."""
 import sys
 
 import h5py
@@ -72,6 +72,7 @@ def main():
     st = h5py.File(f"{root}/usf_inhomogeneous_steady.h5", "r")
     hi = h5py.File(f"{root}/usf_homogeneous_ihs.h5", "r")
     he = h5py.File(f"{root}/usf_homogeneous_ehs.h5", "r")
+    dc = cases(h5py.File(f"{root}/usf_inhomogeneous_distinct.h5", "r"))
     T = cases(tr)
     S = cases(st)
     out = []
@@ -87,7 +88,9 @@ def main():
     w(f"L = {L_LAMBDA0:g}λ⁰ (U = aL), M = {M} layers (δy = 0.05λ⁰), N = 10⁴, δt = 10⁻³τ⁰√(T⁰/T̄), moments every 4")
     w("steps, three realizations (values below are their means; ± is the standard error over realizations, or")
     w("for steady values the batch-means error of the time average). IHS: inelastic hard spheres; EHS: elastic")
-    w("spheres with the collision rate × β = 0.95 and the local drag of Eq. 4.12 per layer. Initial states:")
+    w("spheres with the collision rate × β = 0.95 and the local drag of Eq. 4.12 per layer. The candidate")
+    w("count of a layer is built on N_I²/2 pairs as Eq. 4.13 writes it (`run.candidate_pairs: squared`); one")
+    w("control run uses gdsmc's default N_I(N_I − 1)/2. Initial states:")
     w("'equilibrium' is Eq. 3.5 (uniform, at rest), 'delta_shell' is Eqs. 3.6–3.8.")
     w("")
 
@@ -235,6 +238,7 @@ def main():
     rows = [("inhomogeneous IHS, Eq. 3.5", S["case=IHS_equilibrium"], "slab_averages", 1.0),
             ("inhomogeneous IHS, Eq. 3.6", S["case=IHS_delta_shell"], "slab_averages", 1.0),
             ("inhomogeneous EHS, Eq. 3.5", S["case=EHS_equilibrium"], "slab_averages", BETA),
+            ("inhomogeneous IHS, Eq. 3.5, N_I(N_I−1)/2 pairs", dc["case=IHS_equilibrium"], "slab_averages", 1.0),
             ("homogeneous IHS, Eq. 3.12", hi, "shear_rheology", 1.0),
             ("homogeneous EHS, Eq. 3.12", he, "shear_rheology", BETA)]
     names = {"slab_averages": ("T_bar", "minus_Pxy_over_nT", "Pxx_minus_Pyy_over_nT"),

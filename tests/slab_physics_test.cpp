@@ -284,6 +284,33 @@ TEST(slab_physics, LeesEdwardsHeatsAtTheViscousRateAndShearsLinearly) {
   EXPECT_GT(total_tally, 0);
 }
 
+// The candidate count of a cell rests on its pair count. With N_c (N_c - 1)/2 (distinct, the
+// default) an elastic gas at T0 collides at the Boltzmann rate whatever the cell occupation:
+// s(t) = t / (sqrt(pi) tau0) (each particle collides 2/(sqrt(pi) tau0) times per unit time, two per
+// collision). With N_c^2/2 (squared, 000 Eq. 4.13 as written) the multinomial occupation of M
+// layers gives <N_c^2> = <N_c>^2 + <N_c>(1 - 1/M): 1 + (1 - 1/M)/<N_c> = 1.0995 times more at
+// <N_c> = 10. Tolerance: 4 standard errors of a Poisson count of the accepted collisions.
+TEST(slab_physics, CandidatePairsDistinctGiveTheBoltzmannRateAtTenPerLayer) {
+  t::TempDir dir;
+  SlabSpec s;
+  s.particles = 2000;
+  s.layers = 200;
+  s.gap = 5.0;
+  s.boundaries = "{y: {plugin: periodic}}";
+  s.dt = 0.02;
+  s.stop = "{time: {value: 40, unit: tau0}}";
+  for (const char* scheme : {"distinct", "squared"}) {
+    host::Pipeline p = t::load_yaml(dir, slab_yaml(s), {std::string("run.candidate_pairs=") + scheme});
+    host::Engine e(p);
+    e.run();
+    const double accepted = static_cast<double>(e.context().collisions);
+    const double expected = e.context().time_in_tau0() / std::sqrt(M_PI) * 2000.0 *
+                            (std::string(scheme) == "squared" ? 1.0 + (1.0 - 1.0 / 200) / 10.0 : 1.0 - 1.0 / 2000);
+    std::printf("%s: %.0f accepted collisions, expected %.0f (ratio %.4f)\n", scheme, accepted, expected, accepted / expected);
+    EXPECT_NEAR(accepted, expected, 4.0 * std::sqrt(expected)) << scheme;
+  }
+}
+
 // Lees-Edwards, IHS alpha = 0.9, a tau0 = 4 from the equilibrium at rest (000 Eq. 3.5): the
 // steady rheology equals that of the homogeneous engine (Lagrangian frame, uniform_shear, from
 // Eq. 3.12), because the USF is an exact solution of the inhomogeneous problem (000 Sec. III).

@@ -64,6 +64,9 @@ struct Pipeline {
   std::optional<SteadyStop> stop_steady;
   std::uint64_t sample_every = 1, record_every = 1, moments_every = 4;
   std::uint32_t realizations = 1;
+  // run.candidate_pairs: false = distinct (N_c (N_c - 1)/2 pairs per cell), true = squared (N_c^2/2,
+  // 000 Eq. 4.13 as written).
+  bool candidate_pairs_squared = false;
   // Steady-state averages of every series over the records with s >= this (or t/tau0 >= this).
   std::optional<double> average_after_collisions_per_particle;
   std::optional<double> average_after_time_tau0;

@@ -124,7 +124,14 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
     c.error("run", run, "expected a mapping");
   } else {
     c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
-                              "realizations", "average_after"});
+                              "realizations", "average_after", "candidate_pairs"});
+    if (const YAML::Node cp = run["candidate_pairs"]) {
+      if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;
+      else if (!(cp.IsScalar() && cp.Scalar() == "distinct"))
+        c.error("run.candidate_pairs", cp,
+                "valid: distinct (N_c (N_c - 1)/2 pairs per cell, the default: the Boltzmann collision rate whatever "
+                "the cell's occupation) or squared (N_c^2/2, as paper 000 Eq. 4.13 writes it: 1/N_c more collisions)");
+    }
     if (run["realizations"]) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {
         if (*v < 1 || *v > 100000) c.error("run.realizations", run["realizations"], "realizations must be between 1 and 100000");

@@ -26,6 +26,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     cell.particles = particles;
     cell.members = grid.members(c);
     cell.count = grid.members_count(c);
+    cell.pairs = pair_count(scheme_, cell.count);
     cell.index = static_cast<std::uint32_t>(c);
     cell.volume = grid.cell_volume();
     cell.sigma = sigma;

@@ -13,8 +13,20 @@
 
 namespace gdsmc::host {
 
+// How many pairs a cell of N_c particles offers to the candidate count (CellCollision::pairs).
+enum class PairCount : std::uint32_t {
+  distinct = 0,  // N_c (N_c - 1) / 2: every distinct pair once; unbiased when N_c fluctuates
+  squared = 1,   // N_c^2 / 2, as 000 Eq. 4.13 writes it: 1/<N_c> more collisions than Boltzmann
+};
+inline double pair_count(PairCount scheme, std::uint32_t n) {
+  const double d = static_cast<double>(n);
+  return scheme == PairCount::squared ? 0.5 * d * d : 0.5 * d * (d - 1.0);
+}
+
 class CollisionStage {
  public:
+  explicit CollisionStage(PairCount scheme = PairCount::distinct) : scheme_(scheme) {}
+  void set_pair_count(PairCount scheme) { scheme_ = scheme; }
   struct Totals {
     std::uint64_t candidates = 0, accepted = 0, majorant_exceeded = 0;
     double energy_change = 0;  // summed in cell order, whatever the processing order
@@ -32,6 +44,7 @@ class CollisionStage {
              bool reversed = false);
 
  private:
+  PairCount scheme_;
   std::vector<double> ratio_, remainder_, energy_;
 };
 

@@ -47,6 +47,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   open_ledger();
   const std::size_t cells = system_.cells;
   collisions_.reset(cells);
+  collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
   cells_.assign(cells, CellMoments{});
   if (setup == Setup::full) {
     if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());

@@ -105,8 +105,8 @@ class CollisionRuleAdapter final : public CollisionRule {
     return de;
   }
 
-  // Majorant-frequency scheme (000 Eqs. 4.13, 4.23): N_c^2 sigma^2 Omega_B w dt / (2 V_c)
-  // candidate pairs, each accepted with probability rate / w. For the hard-sphere kernel the
+  // Majorant-frequency scheme (000 Eqs. 4.13, 4.23): 2 P_c sigma^2 Omega_B w dt / (2 V_c)
+  // candidate pairs, with P_c = c.pairs the host's pair count (N_c (N_c - 1)/2 or N_c^2/2), each accepted with probability rate / w. For the hard-sphere kernel the
   // sigma_hat-integrated rate pi |g| is used for acceptance (Omega_B = pi) and sigma_hat is then
   // drawn from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly (Omega_B = 4 pi).
   void collide_cell(CellCollision& c) const override {
@@ -117,9 +117,8 @@ class CollisionRuleAdapter final : public CollisionRule {
     constexpr bool general = detail::HasGeneralKernel<Rule>;
     const double solid_angle = general ? 4.0 * M_PI : M_PI;
     const double w = c.majorant;
-    const double n = static_cast<double>(c.count);
-    const double expected = 0.5 * n * n * c.sigma * c.sigma * solid_angle * (general ? 1.0 : scale()) *
-                                w * c.dt / c.volume + c.remainder;
+    const double expected =
+        c.pairs * c.sigma * c.sigma * solid_angle * (general ? 1.0 : scale()) * w * c.dt / c.volume + c.remainder;
     const auto candidates = static_cast<std::uint64_t>(expected);
     c.remainder = expected - static_cast<double>(candidates);
 

@@ -57,6 +57,9 @@ struct CellCollision {
   ParticleSpan particles;
   const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: all of them
   std::uint32_t count = 0;                 // N_c
+  double pairs = 0;                        // P_c, the pair count the candidate number is built on,
+                                           // chosen by the host: N_c (N_c - 1) / 2 (distinct pairs,
+                                           // the default) or N_c^2 / 2 (000 Eq. 4.13 as written)
   std::uint32_t index = 0;                 // the cell (layer) index
   double volume = 0;                       // cell volume (slab: A delta y)
   double sigma = 1;                        // diameter
