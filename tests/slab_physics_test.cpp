@@ -284,6 +284,46 @@ TEST(slab_physics, LeesEdwardsHeatsAtTheViscousRateAndShearsLinearly) {
   EXPECT_GT(total_tally, 0);
 }
 
+// The initial states place particles in space: local_equilibrium in the laboratory frame gives
+// the linear profile u_x = a y of 000 Eq. 3.12 with a taken from the lees_edwards boundary, and
+// delta_shell gives every particle the peculiar speed V0 = sqrt(3 T0/m) about u0(y) (Eqs. 3.6-3.8).
+// Slope: least squares over the layers of the sampled state, within 4 standard errors (the
+// thermal noise of each layer mean, sqrt(T0/N_I)).
+TEST(slab_physics, InitialStatesPlaceTheProfilesOfPaper000) {
+  t::TempDir dir;
+  SlabSpec s;
+  s.particles = 20000;
+  s.layers = 20;
+  s.boundaries = "{y: {plugin: lees_edwards, shear_rate: 4}}";
+  s.initial = "{plugin: local_equilibrium, frame: laboratory}";
+  host::Pipeline p = t::load_yaml(dir, slab_yaml(s));
+  host::Engine e(p);
+  const SystemInfo& sys = e.system();
+  const ParticleSpan q = e.particles();
+  const double a = 4.0 / sys.time_unit0;
+  double sy = 0, su = 0, syy = 0, syu = 0;
+  for (std::size_t i = 0; i < q.count; ++i) {
+    sy += q.y[i]; su += q.vx[i]; syy += q.y[i] * q.y[i]; syu += q.y[i] * q.vx[i];
+  }
+  const double n = static_cast<double>(q.count);
+  const double slope = (n * syu - sy * su) / (n * syy - sy * sy);
+  const double slope_error = 1.0 / std::sqrt(n * (syy / n - (sy / n) * (sy / n)));  // sd(v_x) = sqrt(T0/m) = 1
+  EXPECT_NEAR(slope, a, 4 * slope_error) << "slope " << slope << " a " << a;
+
+  s.initial = "{plugin: delta_shell}";
+  host::Pipeline shell = t::load_yaml(dir, slab_yaml(s), {}, "shell.yaml");
+  host::Engine f(shell);
+  const ParticleSpan r = f.particles();
+  const double L = f.system().box[1], U = 4.0 / f.system().time_unit0 * L;
+  double worst = 0;
+  for (std::size_t i = 0; i < r.count; ++i) {
+    const double ux = U * (std::cos(M_PI * r.y[i] / L) - 2.0 / M_PI);  // Eq. 3.8
+    const double V2 = (r.vx[i] - ux) * (r.vx[i] - ux) + r.vy[i] * r.vy[i] + r.vz[i] * r.vz[i];
+    worst = std::max(worst, std::fabs(std::sqrt(V2) - std::sqrt(3.0)));
+  }
+  EXPECT_LT(worst, 1e-12 * (1 + U));  // exactly V0 = sqrt(3 T0/m), round-off of subtracting u0
+}
+
 // The candidate count of a cell rests on its pair count. With N_c (N_c - 1)/2 (distinct, the
 // default) an elastic gas at T0 collides at the Boltzmann rate whatever the cell occupation:
 // s(t) = t / (sqrt(pi) tau0) (each particle collides 2/(sqrt(pi) tau0) times per unit time, two per
