@@ -267,7 +267,7 @@ def main():
         host = host_steady_error(g, diag, names[diag][0])
         w(f"| {label} | {pm(*vals[0], 1)} [{host:.1f}] | {pm(*vals[1], 4)} | {pm(*vals[2], 4)} |")
     w("| paper 000, inhomogeneous IHS (Sec. V.A) | ≈ 147 (at s ≈ 50, t/τ⁰ ≈ 9.8) | ≈ 0.33 | ≈ 0.24 (after s ≈ 40) |")
-    w("| our homogeneous IHS, docs/validation/usf.md (N = 10⁴, one realization, s ∈ [60, 120]) | 149.3 ± 0.2 | 0.3312–0.3327 | 0.237–0.241 |")
+    w("| our earlier single homogeneous IHS run (docs/validation/usf.md; its error was 3.5 times too small, see README.md: 34 runs give 148.1 ± 0.1) | 149.3 ± 0.2 | 0.3312–0.3327 | 0.237–0.241 |")
     w("")
     _, s_ihs, tb, _ = series(S["case=IHS_equilibrium"], "slab_averages", "T_bar")
     t_ihs = S["case=IHS_equilibrium"]["diagnostics"]["slab_averages"]["time"][()]
