@@ -259,8 +259,9 @@ void Engine::stream(double dt) {
 
 void Engine::reorder_by_layer() {
   if (!grid_.is_slab()) return;
-  store_.permute(grid_.all_members());
   const ParticleSpan span = store_.span();
+  grid_.assign_and_sort(span.y, store_.cells(), span.count);  // from the positions as they are now
+  store_.permute(grid_.all_members());
   grid_.sort(store_.cells(), span.count);
 }
 
