@@ -1,5 +1,7 @@
 #include "engine/cells.hpp"
 
+#include <gdsmc/moments.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -119,28 +121,17 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
   out.kinetic_energy = 0.5 * v2;  // 004 Eq. A1 (m = 1)
   out.cell_mean_velocity = u;
   // Pass 2: moments of the local peculiar velocities V = v - u_I.
-  double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0, v4 = 0, v6 = 0;
+  PeculiarSums sums;
   for (std::size_t c = 0; c < layers_; ++c) {
     const std::uint32_t* mem = members(c);
     const std::uint32_t n = members_count(c);
     const double ux = u[3 * c], uy = u[3 * c + 1], uz = u[3 * c + 2];
     for (std::uint32_t k = 0; k < n; ++k) {
       const std::uint32_t i = mem ? mem[k] : k;
-      const double cx = p.vx[i] - ux, cy = p.vy[i] - uy, cz = p.vz[i] - uz;
-      xx += cx * cx; yy += cy * cy; zz += cz * cz;
-      xy += cx * cy; xz += cx * cz; yz += cy * cz;
-      const double c2 = cx * cx + cy * cy + cz * cz;
-      v4 += c2 * c2;
-      v6 += c2 * c2 * c2;
+      sums.add(p.vx[i] - ux, p.vy[i] - uy, p.vz[i] - uz);
     }
   }
-  m.second[0][0] = xx * inv; m.second[1][1] = yy * inv; m.second[2][2] = zz * inv;
-  m.second[0][1] = m.second[1][0] = xy * inv;
-  m.second[0][2] = m.second[2][0] = xz * inv;
-  m.second[1][2] = m.second[2][1] = yz * inv;
-  m.temperature = (xx + yy + zz) * inv / 3.0;  // T-bar (000 Eq. 4.8), T in a homogeneous system (4.15)
-  m.fourth = v4 * inv;
-  m.sixth = v6 * inv;
+  sums.finish(m, inv);  // T is T-bar (000 Eq. 4.8) in a slab, T (Eq. 4.15) in a homogeneous system
 }
 
 }  // namespace gdsmc::host

@@ -12,6 +12,28 @@
 
 namespace gdsmc {
 
+// Sums of the peculiar velocities' second, fourth and sixth moments, added particle by particle
+// in a fixed order; finish() writes <V_a V_b>, T (000 Eq. 4.15), <V^4> and <V^6> given 1/N.
+struct PeculiarSums {
+  double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0, v4 = 0, v6 = 0;
+  void add(double cx, double cy, double cz) {
+    xx += cx * cx; yy += cy * cy; zz += cz * cz;
+    xy += cx * cy; xz += cx * cz; yz += cy * cz;
+    const double c2 = cx * cx + cy * cy + cz * cz;
+    v4 += c2 * c2;
+    v6 += c2 * c2 * c2;
+  }
+  void finish(VelocityMoments& m, double inv) const {
+    m.second[0][0] = xx * inv; m.second[1][1] = yy * inv; m.second[2][2] = zz * inv;
+    m.second[0][1] = m.second[1][0] = xy * inv;
+    m.second[0][2] = m.second[2][0] = xz * inv;
+    m.second[1][2] = m.second[2][1] = yz * inv;
+    m.temperature = (xx + yy + zz) * inv / 3.0;
+    m.fourth = v4 * inv;
+    m.sixth = v6 * inv;
+  }
+};
+
 // Moments of the particles listed in `members` (nullptr: all of particles). Two passes in a fixed
 // order, so the result is bit-reproducible.
 inline VelocityMoments velocity_moments(const ParticleSpan& p, const std::uint32_t* members = nullptr,
@@ -31,23 +53,12 @@ inline VelocityMoments velocity_moments(const ParticleSpan& p, const std::uint32
   m.mean[0] = sx * inv;
   m.mean[1] = sy * inv;
   m.mean[2] = sz * inv;
-  double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0, v4 = 0, v6 = 0;
+  PeculiarSums sums;
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = members ? members[k] : k;
-    const double cx = p.vx[i] - m.mean[0], cy = p.vy[i] - m.mean[1], cz = p.vz[i] - m.mean[2];
-    xx += cx * cx; yy += cy * cy; zz += cz * cz;
-    xy += cx * cy; xz += cx * cz; yz += cy * cz;
-    const double c2 = cx * cx + cy * cy + cz * cz;
-    v4 += c2 * c2;
-    v6 += c2 * c2 * c2;
+    sums.add(p.vx[i] - m.mean[0], p.vy[i] - m.mean[1], p.vz[i] - m.mean[2]);
   }
-  m.second[0][0] = xx * inv; m.second[1][1] = yy * inv; m.second[2][2] = zz * inv;
-  m.second[0][1] = m.second[1][0] = xy * inv;
-  m.second[0][2] = m.second[2][0] = xz * inv;
-  m.second[1][2] = m.second[2][1] = yz * inv;
-  m.temperature = (xx + yy + zz) * inv / 3.0;
-  m.fourth = v4 * inv;
-  m.sixth = v6 * inv;
+  sums.finish(m, inv);
   return m;
 }
 
