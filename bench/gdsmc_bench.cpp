@@ -1,4 +1,7 @@
-// gdsmc_bench: cost of the DSMC collision stage of inelastic hard spheres in one homogeneous cell.
+// gdsmc_bench: cost of the DSMC collision stage of inelastic hard spheres in one homogeneous cell,
+// of the slab's streaming and layer collisions, and of Engine::step.
+// (Over 600 lines on purpose: the hand-written reference loop, the plugin path and the engine
+// paths stay in one file so the start-up bit-identity check compares exactly what is timed.)
 //
 //   BM_PluginCollideCell  the IHS plugin (.so loaded at run time with gdsmc::host::load_plugin +
 //                         create_object, bound once to the particles with CollisionRule::bind),
