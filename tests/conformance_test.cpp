@@ -110,6 +110,21 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       {"conformance_leaky_wall", "boundary.containment", {"conformance_leaky_wall", "outside"}},
       // A diffuse wall that emits at 1.5 times its `temperature` parameter.
       {"conformance_hot_wall", "boundary.wall_flux", {"conformance_hot_wall", "wall flux", "temperature", "p = 0"}},
+      // Declares the loss with (1 - e) instead of (1 - e^2): right at e = 0 and 1, wrong inside.
+      {"conformance_wrong_loss",
+       "parameter_interior",
+       {"conformance_wrong_loss", "restitution = 0.25", "energy change differs from the declared one",
+        "[reproduce: gdsmc conformance", "--seed 1 --only parameter_interior]"}},
+      // Declares the inelastic loss for elastic (slow) impacts too: right whenever one parameter
+      // is at its default, wrong at a random point of both ranges.
+      {"conformance_elastic_loss",
+       "parameter_interior",
+       {"conformance_elastic_loss", "random point 1 of 3", "alpha = ", "elastic_below = ",
+        "energy change differs from the declared one"}},
+      // A white-noise thermostat declaring half its heating rate.
+      {"conformance_white_noise_half",
+       "forcing.expected_energy",
+       {"conformance_white_noise_half", "differs from the declared expected_energy_rate()", "standard errors"}},
   };
   for (const auto& b : bad) {
     SCOPED_TRACE(b.plugin);
@@ -212,4 +227,80 @@ TEST(Conformance, CommandLineOptions) {
   EXPECT_EQ(run("conformance '" + ihs + "' --only no_such_check").status, 2);
   EXPECT_EQ(run("conformance --help").status, 0);
   fs::remove_all(tmp);
+}
+
+// The two wrong-loss rules are exactly the bugs a defaults-and-bounds check cannot see: every
+// check of the previous suite passes, only parameter_interior fails, the same way for the same seed.
+TEST(Conformance, WrongLossRulesPassDefaultsAndBoundsAndFailInside) {
+  for (const char* plugin : {"conformance_wrong_loss", "conformance_elastic_loss"}) {
+    SCOPED_TRACE(plugin);
+    const Outcome r = run("conformance '" + test_plugin(plugin) + "'");
+    EXPECT_EQ(r.status, 1) << r.out;
+    for (const char* c : {"defaults_construct", "parameter_bounds", "determinism", "collision.finite", "collision.mass",
+                          "collision.momentum", "collision.energy", "collision.rate", "collision.cell"})
+      EXPECT_EQ(line_of(r.out, c).rfind("PASS", 0), 0u) << c << ":\n" << r.out;
+    EXPECT_EQ(line_of(r.out, "parameter_interior").rfind("FAIL", 0), 0u) << r.out;
+    const Outcome again = run("conformance '" + test_plugin(plugin) + "' --only parameter_interior");
+    EXPECT_EQ(line_of(again.out, "parameter_interior"), line_of(r.out, "parameter_interior"));
+  }
+  // Another seed draws other random points, and says so.
+  const Outcome r = run("conformance '" + test_plugin("conformance_elastic_loss") + "' --seed 5 --only parameter_interior");
+  const std::string line = line_of(r.out, "parameter_interior");
+  EXPECT_EQ(line.rfind("FAIL", 0), 0u) << r.out;
+  EXPECT_NE(line.find("--seed 5 --only parameter_interior"), std::string::npos) << line;
+}
+
+// Several --params sets: each set is checked in turn, the bounds sweep is kept (it varies the
+// parameters the set gives too), and a failure's reproduce line carries the set's --params.
+TEST(Conformance, SeveralParameterSets) {
+  const fs::path tmp = temp_dir();
+  const std::string ihs = std::string(GDSMC_TEST_PLUGIN_DIR) + "/gdsmc_inelastic_hard_spheres.so";
+  const fs::path a = tmp / "a.yaml", b = tmp / "b.yaml";
+  std::ofstream(a) << "alpha: 0.5\n";
+  std::ofstream(b) << "alpha: 0.9\n";
+  {
+    const Outcome r = run("conformance '" + ihs + "' --params '" + a.string() + "' --params '" + b.string() +
+                          "' --only defaults_construct,parameter_bounds,parameter_interior");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("parameter set 1 of 2"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("parameter set 2 of 2"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("alpha = 0.5"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("alpha = 0.9"), std::string::npos) << r.out;
+    // the bounds sweep still varies alpha, which the sets fix
+    const std::string bounds = line_of(r.out, "parameter_bounds");
+    EXPECT_EQ(bounds.rfind("PASS", 0), 0u) << r.out;
+    EXPECT_EQ(bounds.find("no parameter with bounds"), std::string::npos) << bounds;
+    EXPECT_EQ(line_of(r.out, "parameter_interior").rfind("PASS", 0), 0u) << r.out;
+  }
+  {
+    const fs::path e = tmp / "e.yaml";
+    std::ofstream(e) << "restitution: 1\n";
+    const fs::path ctx = tmp / "ctx.yaml";
+    std::ofstream(ctx) << "initial_state: {plugin: maxwellian}\n";
+    const Outcome r2 = run("conformance '" + test_plugin("conformance_wrong_loss") + "' --params '" + e.string() +
+                           "' --context '" + ctx.string() + "' --seed 3 --only parameter_interior");
+    const std::string line = line_of(r2.out, "parameter_interior");
+    EXPECT_EQ(line.rfind("FAIL", 0), 0u) << r2.out;
+    for (const std::string& w : std::vector<std::string>{"--params " + e.string(), "--context " + ctx.string(),
+                                                          "--seed 3", "--only parameter_interior"})
+      EXPECT_NE(line.find(w), std::string::npos) << "'" << w << "' not in: " << line;
+  }
+  fs::remove_all(tmp);
+}
+
+// A stochastic forcing that declares its mean energy input is held to it; one that does not is
+// skipped with the reason.
+TEST(Conformance, ForcingExpectedEnergy) {
+  const Outcome r = run("conformance '" + test_plugin("conformance_white_noise") + "'");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find(": conforming"), std::string::npos) << r.out;
+  const std::string line = line_of(r.out, "forcing.expected_energy");
+  EXPECT_EQ(line.rfind("PASS", 0), 0u) << r.out;
+  EXPECT_NE(line.find("standard errors"), std::string::npos) << line;
+  EXPECT_EQ(line_of(r.out, "forcing.order").rfind("SKIP", 0), 0u) << r.out;         // stochastic
+  EXPECT_EQ(line_of(r.out, "forcing.conservation").rfind("SKIP", 0), 0u) << r.out;  // declares neither
+  const Outcome drag = run("conformance '" + std::string(GDSMC_TEST_PLUGIN_DIR) +
+                           "/gdsmc_drag.so' --only forcing.expected_energy");
+  EXPECT_EQ(drag.status, 0) << drag.out;
+  EXPECT_EQ(line_of(drag.out, "forcing.expected_energy").rfind("SKIP", 0), 0u) << drag.out;
 }

@@ -145,8 +145,8 @@ std::vector<Variant> bound_variants(const Subject& s) {
     v.params[p.name] = value;
     out.push_back(std::move(v));
   };
+  // Parameters given by --params are swept too: the set is the point the others stay at.
   for (const auto& p : s.desc().parameters) {
-    if (s.user_params.count(p.name)) continue;  // fixed by --params
     if (p.type == ParamType::real || p.type == ParamType::integer) {
       const bool integer = p.type == ParamType::integer;
       auto inside = [&](double bound, bool inclusive, double dir) {
@@ -171,10 +171,12 @@ PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& att
                       std::size_t random_pairs);
 std::string pair_failure(const PairReport& r);
 
-Result check_bounds(const Subject& s) {
-  const auto variants = bound_variants(s);
-  if (variants.empty()) return pass("no parameter with bounds or choices to vary");
-  std::size_t built = 0, refused = 0;
+// Build the plugin with each variant's values (through the host's validation): each must construct
+// or be refused with a ParameterError; a collision rule must also pass the pair checks there.
+// Returns a failure, or nothing and the counts.
+std::optional<Result> sweep(const Subject& s, const std::vector<Variant>& variants, std::size_t& built,
+                            std::size_t& refused) {
+  built = refused = 0;
   for (const auto& v : variants) {
     std::unique_ptr<Pipeline> p;
     try {
@@ -196,8 +198,105 @@ Result check_bounds(const Subject& s) {
       if (!f.empty()) return fail("with " + v.label + ": " + f);
     }
   }
+  return std::nullopt;
+}
+
+Result check_bounds(const Subject& s) {
+  const auto variants = bound_variants(s);
+  if (variants.empty()) return pass("no parameter with bounds or choices to vary");
+  std::size_t built = 0, refused = 0;
+  if (auto failure = sweep(s, variants, built, refused)) return *failure;
   return pass(fmt("%zu values at or inside the bounds: %zu construct%s, %zu refused with a message", variants.size(),
                   built, s.kind() == PluginKind::collision_rule ? " (and collide soundly)" : "", refused));
+}
+
+// Inside the range: the interval a numeric parameter's interior and random values come from. Both
+// bounds: the range itself; one bound: from it to twice the distance to the default (or the
+// in-range filler value), at least 2 wide; none: nothing (the parameter stays where it is).
+std::optional<std::pair<double, double>> sample_interval(const ParamSpec& p) {
+  if (p.type != ParamType::real && p.type != ParamType::integer) return std::nullopt;
+  if (p.min && p.max) return std::make_pair(*p.min, *p.max);
+  if (!p.min && !p.max) return std::nullopt;
+  double ref = std::atof(in_range_value(p).c_str());
+  if (p.default_) {
+    if (auto d = std::get_if<double>(&*p.default_)) ref = *d;
+    if (auto i = std::get_if<std::int64_t>(&*p.default_)) ref = static_cast<double>(*i);
+  }
+  const double bound = p.min ? *p.min : *p.max;
+  const double width = std::max(2.0, 2 * std::fabs(ref - bound));
+  return p.min ? std::make_pair(bound, bound + width) : std::make_pair(bound - width, bound);
+}
+
+// The value at fraction u in (0, 1) of a parameter's interval, strictly inside an exclusive bound.
+std::optional<std::string> value_at(const ParamSpec& p, double u) {
+  const auto iv = sample_interval(p);
+  if (!iv) return std::nullopt;
+  const auto [lo, hi] = *iv;
+  double v = lo + u * (hi - lo);
+  if (p.type == ParamType::integer) {
+    v = std::round(v);
+    if (p.min && (p.min_inclusive ? v < *p.min : v <= *p.min)) v = std::floor(*p.min) + 1;
+    if (p.max && (p.max_inclusive ? v > *p.max : v >= *p.max)) v = std::ceil(*p.max) - 1;
+    if ((p.min && v < *p.min) || (p.max && v > *p.max)) return std::nullopt;
+    return fmt("%.0f", v);
+  }
+  return num(v);
+}
+
+std::string short_value(const std::string& v) {
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  return end && *end == 0 && !v.empty() ? fmt("%.6g", x) : v;
+}
+
+constexpr int kRandomPoints = 3;
+
+// Interior values one parameter at a time (1/4, 1/2, 3/4 of its interval, the others at the base
+// assignment) and kRandomPoints points with every numeric parameter drawn uniformly from its
+// interval (and booleans and choices at random), all from the seed: bugs that vanish at the
+// bounds (a (1 - e) that should be (1 - e^2)) or only show when two parameters act together.
+std::vector<Variant> interior_variants(const Subject& s) {
+  const Assignment base = base_assignment(s);
+  std::vector<Variant> out;
+  for (const auto& p : s.desc().parameters)
+    for (const double u : {0.25, 0.5, 0.75}) {
+      const auto v = value_at(p, u);
+      if (!v) continue;
+      Variant var{fmt("%s = %s (%g of its range)", p.name.c_str(), short_value(*v).c_str(), u), base};
+      var.params[p.name] = *v;
+      if (std::none_of(out.begin(), out.end(), [&](const Variant& o) { return o.params == var.params; }))
+        out.push_back(std::move(var));
+    }
+  Rng rng = StreamFactory::standalone(s.cfg.seed, 2, StreamPurpose::host);
+  for (int k = 0; k < kRandomPoints; ++k) {
+    Variant var{"", base};
+    std::vector<std::string> parts;
+    for (const auto& p : s.desc().parameters) {
+      std::optional<std::string> v;
+      const double u = 0.02 + 0.96 * rng.uniform();  // drawn for every parameter: stable sequences
+      if (p.type == ParamType::boolean) v = u < 0.5 ? "true" : "false";
+      else if (p.type == ParamType::choice && !p.choices.empty())
+        v = quoted(p.choices[std::min(p.choices.size() - 1, static_cast<std::size_t>(u * p.choices.size()))]);
+      else v = value_at(p, u);
+      if (!v) continue;
+      var.params[p.name] = *v;
+      parts.push_back(p.name + " = " + short_value(*v));
+    }
+    if (parts.empty()) break;
+    var.label = fmt("random point %d of %d (", k + 1, kRandomPoints) + join(parts, ", ") + ")";
+    out.push_back(std::move(var));
+  }
+  return out;
+}
+
+Result check_interior(const Subject& s) {
+  const auto variants = interior_variants(s);
+  if (variants.empty()) return pass("no numeric parameter with a range, boolean or choice to vary");
+  std::size_t built = 0, refused = 0;
+  if (auto failure = sweep(s, variants, built, refused)) return *failure;
+  return pass(fmt("%zu interior and random values (seed %llu): %zu construct%s, %zu refused with a message",
+                  variants.size(), static_cast<unsigned long long>(s.cfg.seed), built,
+                  s.kind() == PluginKind::collision_rule ? " and collide soundly (2000 pairs each)" : "", refused));
 }
 
 Result expect_refused(const Subject& s, const std::string& param, const std::string& value, const std::string& what,

@@ -1,4 +1,5 @@
-// Forcing checks: declared conservation, the energy apply() returns, and the integration order.
+// Forcing checks: declared conservation, the energy apply() returns, the declared mean energy input
+// of a stochastic forcing, and the integration order.
 #include "conformance/internal.hpp"
 
 namespace gdsmc::host::conformance {
@@ -112,6 +113,70 @@ Result check_forcing_energy(const Subject& s) {
   return pass(fmt("%d steps of dt = %g tau0 on %zu particles: apply() returned %.10g in total, the measured change is "
                   "%.10g (worst step: %.2g of the kinetic energy, tolerance %.0e)", steps, kTimeStepTau0, n,
                   total_returned, total_added, worst, rel));
+}
+
+// A forcing that declares its mean energy input (expected_energy_rate(), e.g. a white-noise
+// thermostat's heating rate): over many steps the mean measured input per unit time must agree
+// with the declared rate (queried before each step, from the state apply() will see) within
+// 4 standard errors, estimated from the scatter of batch means (batches of 10 steps, so that short
+// step-to-step correlations do not shrink the error), plus a round-off allowance.
+Result check_forcing_expected_energy(const Subject& s) {
+  constexpr std::size_t n = 1000;
+  constexpr int batches = 40, batch_steps = 10;
+  constexpr double z_max = 4;
+  auto h = make_harness(s, base_assignment(s), n);
+  auto* f = static_cast<Forcing*>(h->subject.get());
+  if (const auto g = declared_acceleration(*f))
+    return skip(fmt("declares the constant acceleration g = %s: the host integrates it and records its energy",
+                    vec_text(*g).c_str()));
+  const ParticleSpan p = h->span();
+  double probe = 0;
+  h->update_moments();
+  if (!f->expected_energy_rate(h->ctx, p, probe))
+    return skip("declares no expected energy input (expected_energy_rate() returns false): nothing to compare; "
+                "forcing.energy still checks what apply() returns");
+  const double dt = h->ctx.dt;
+  std::vector<double> excess(batches, 0.0);  // per batch: mean (measured - declared) input per unit time
+  double measured_total = 0, declared_total = 0, scale = 0;
+  for (int b = 0; b < batches; ++b) {
+    for (int k = 0; k < batch_steps; ++k) {
+      h->update_moments();
+      double rate = 0;
+      if (!f->expected_energy_rate(h->ctx, p, rate))
+        return fail(fmt("expected_energy_rate() declared a rate at the first step but not at step %d",
+                        b * batch_steps + k + 1));
+      if (!std::isfinite(rate)) return fail(fmt("expected_energy_rate() declared the rate %g", rate));
+      Vec3 mom;
+      double e0, e1, speeds;
+      velocity_totals(p, mom, e0, speeds);
+      (void)apply_once(*h, *f);
+      velocity_totals(p, mom, e1, speeds);
+      if (!std::isfinite(e1)) return fail(fmt("the kinetic energy is %g after step %d", e1, b * batch_steps + k + 1));
+      measured_total += e1 - e0;
+      declared_total += rate * dt;
+      excess[b] += ((e1 - e0) - rate * dt) / (batch_steps * dt);
+      scale = std::max({scale, e0, e1});
+    }
+  }
+  const int steps = batches * batch_steps;
+  const double time = steps * dt;
+  const double mean = std::accumulate(excess.begin(), excess.end(), 0.0) / batches;
+  double var = 0;
+  for (double x : excess) var += (x - mean) * (x - mean);
+  var /= batches - 1;
+  const double se = std::sqrt(var / batches);
+  const double roundoff = 1e-9 * scale / dt;  // per unit time
+  const double tol = z_max * se + roundoff;
+  const std::string data =
+      fmt("over %d steps of dt = %g tau0 on %zu particles the measured mean energy input is %.6g per unit time "
+          "(%.6g per tau0), the declared %.6g (%.6g per tau0): difference %.4g = %.2f standard errors (standard "
+          "error %.3g from the scatter of %d batch means of %d steps; tolerance %g standard errors)",
+          steps, kTimeStepTau0, n, measured_total / time, measured_total / time * h->sys.time_unit0,
+          declared_total / time, declared_total / time * h->sys.time_unit0, mean, se > 0 ? mean / se : 0.0, se,
+          batches, batch_steps, z_max);
+  if (std::fabs(mean) > tol)
+    return fail("the mean energy input differs from the declared expected_energy_rate(): " + data);
+  return pass("the mean energy input agrees with the declared expected_energy_rate(): " + data);
 }
 
 Result check_forcing_order(const Subject& s) {

@@ -64,7 +64,8 @@ using Assignment = std::map<std::string, std::string>;  // parameter -> YAML tex
 struct Config {
   fs::path plugin;
   std::vector<fs::path> plugin_paths;
-  std::optional<fs::path> params_file, context_file;
+  std::vector<fs::path> params_files;  // --params, repeatable: each set is checked in turn
+  std::optional<fs::path> params_file, context_file;  // params_file: the set being checked
   std::uint64_t seed = 1;
   std::vector<std::string> only;
   bool fork = true, list = false;
@@ -128,6 +129,7 @@ Result check_descriptor(const Subject& s);
 Result check_schema(const Subject& s);
 Result check_defaults(const Subject& s);
 Result check_bounds(const Subject& s);
+Result check_interior(const Subject& s);
 Result expect_refused(const Subject& s, const std::string& param, const std::string& value, const std::string& what,
                       std::string& note);
 Result check_out_of_range(const Subject& s);
@@ -148,6 +150,7 @@ Result check_collision_rate(const Subject& s);
 Result check_collision_cell(const Subject& s);
 Result check_forcing_conservation(const Subject& s);
 Result check_forcing_energy(const Subject& s);
+Result check_forcing_expected_energy(const Subject& s);
 Result check_forcing_order(const Subject& s);
 Result check_boundary_containment(const Subject& s);
 Result check_boundary_elastic(const Subject& s);

@@ -26,12 +26,17 @@ runner. Exit status: 0 when nothing failed or crashed, 1 otherwise, 2 for a bad 
 Checks (by kind):
   all kinds    load, abi_version, descriptor, parameter_schema, defaults_construct,
                parameter_bounds (values at and inside the declared bounds construct or are
-               refused with a message), out_of_range_rejected, wrong_type_rejected, determinism
+               refused with a message), parameter_interior (one parameter at a time at 1/4,
+               1/2 and 3/4 of its range, and 3 random points of all the ranges together, drawn
+               from the seed: construct or are refused; collision rules must also pass the pair
+               checks there), out_of_range_rejected, wrong_type_rejected, determinism
   collision    collision.finite, collision.mass, collision.momentum, collision.energy,
                collision.rate (on random pairs and edge cases: zero relative velocity, grazing,
                huge and tiny speeds), collision.cell (collide_cell on a population)
   forcing      forcing.conservation (what conserves() declares), forcing.energy (the energy
-               apply() returns equals the measured change), forcing.order (one step of dt
+               apply() returns equals the measured change), forcing.expected_energy (a
+               forcing that declares expected_energy_rate(): the mean measured energy input
+               over 400 steps within 4 standard errors of it), forcing.order (one step of dt
                against two of dt/2 scales as dt^(order+1))
   boundary     in a 1x1x1 slab streamed by the host's mover, the plugin on both planes:
                boundary.containment (no particle lost or left outside), boundary.elastic
@@ -45,7 +50,9 @@ Checks (by kind):
 
 Options:
   --params FILE.yaml   parameter values for the plugin (a mapping name: value, units as in a
-                       pipeline); required parameters without a default get in-range values
+                       pipeline); required parameters without a default get in-range values.
+                       Repeatable: every check runs once per set (the bounds and interior
+                       sweeps vary each parameter from the set's values)
   --context FILE.yaml  a pipeline whose initial_state, collision, forcings, system and
                        boundaries entries (and plugins: paths) are used around the plugin, e.g.
                        for a diagnostic that needs the attributes of a particular collision
@@ -71,6 +78,7 @@ std::vector<Check> checks_for(PluginKind kind) {
   std::vector<Check> c = {{"parameter_schema", check_schema},
                           {"defaults_construct", check_defaults},
                           {"parameter_bounds", check_bounds},
+                          {"parameter_interior", check_interior},
                           {"out_of_range_rejected", check_out_of_range},
                           {"wrong_type_rejected", check_wrong_type},
                           {"determinism", check_determinism}};
@@ -86,6 +94,7 @@ std::vector<Check> checks_for(PluginKind kind) {
     case PluginKind::forcing:
       c.insert(c.end(), {{"forcing.conservation", check_forcing_conservation},
                          {"forcing.energy", check_forcing_energy},
+                         {"forcing.expected_energy", check_forcing_expected_energy},
                          {"forcing.order", check_forcing_order}});
       break;
     case PluginKind::boundary:
@@ -137,7 +146,7 @@ int parse_config(int argc, char** argv, Config& cfg) {
   }
   cfg.list = args.has("--list");
   cfg.fork = !args.has("--no-fork");
-  if (args.has("--params")) cfg.params_file = args.all("--params").back();
+  for (const auto& v : args.all("--params")) cfg.params_files.emplace_back(v);
   if (args.has("--context")) cfg.context_file = args.all("--context").back();
   for (const auto& v : args.all("--plugin-path")) cfg.plugin_paths.emplace_back(v);
   for (const char* opt : {"--seed", "--timeout"})
@@ -163,19 +172,21 @@ int parse_config(int argc, char** argv, Config& cfg) {
 }
 
 // --params and --context. Returns -1 to go on, else the exit status of a usage error.
-int read_inputs(const Config& cfg, Subject& s) {
+int read_inputs(const Config& cfg, Subject& s, std::vector<Assignment>& param_sets) {
   // Parameters and context are read up front: a mistake there is the user's, not the plugin's.
   try {
-    if (cfg.params_file) {
-      const YAML::Node n = YAML::LoadFile(cfg.params_file->string());
+    for (const auto& file : cfg.params_files) {
+      Assignment set;
+      const YAML::Node n = YAML::LoadFile(file.string());
       if (n && !n.IsNull()) {
-        if (!n.IsMap()) return usage(cfg.params_file->string() + ": expected a mapping of parameter: value");
+        if (!n.IsMap()) return usage(file.string() + ": expected a mapping of parameter: value");
         for (auto it = n.begin(); it != n.end(); ++it) {
           const std::string key = it->first.Scalar();
-          if (key == "plugin" || key == "name") return usage(cfg.params_file->string() + ": '" + key + "' is not a parameter");
-          s.user_params[key] = yaml_text(it->second);
+          if (key == "plugin" || key == "name") return usage(file.string() + ": '" + key + "' is not a parameter");
+          set[key] = yaml_text(it->second);
         }
       }
+      param_sets.push_back(std::move(set));
     }
     if (cfg.context_file) {
       const YAML::Node n = YAML::LoadFile(cfg.context_file->string());
@@ -235,6 +246,30 @@ bool run_stage1(const Subject& s, Tally& tally, const std::string& file_label) {
   return usable;
 }
 
+// A word for a shell: quoted unless it is plain.
+std::string shell_word(const std::string& w) {
+  const bool plain = !w.empty() && std::all_of(w.begin(), w.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("/._-+=:,@%", c);
+  });
+  if (plain) return w;
+  std::string q = "'";
+  for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The command that repeats one check: every option that shaped it (--params of the set being
+// checked, --context, --plugin-path, --seed, --timeout).
+std::string reproduce_line(const Subject& s, const std::string& check) {
+  const Config& cfg = s.cfg;
+  std::string line = "gdsmc conformance " + shell_word(s.file.string());
+  if (cfg.params_file) line += " --params " + shell_word(fs::absolute(*cfg.params_file).string());
+  if (cfg.context_file) line += " --context " + shell_word(fs::absolute(*cfg.context_file).string());
+  for (const auto& p : cfg.plugin_paths) line += " --plugin-path " + shell_word(fs::absolute(p).string());
+  line += fmt(" --seed %llu", static_cast<unsigned long long>(cfg.seed));
+  if (cfg.timeout != 120) line += fmt(" --timeout %d", cfg.timeout);
+  return line + " --only " + check;
+}
+
 // The checks of the plugin's kind (those selected by --only), each isolated.
 void run_checks(const Subject& s, const std::vector<Check>& checks, Tally& tally, const std::string& label) {
   const Config& cfg = s.cfg;
@@ -250,8 +285,7 @@ void run_checks(const Subject& s, const std::vector<Check>& checks, Tally& tally
       if (!selected(cfg, c.name) && constructed) continue;  // a silent prerequisite of --only
     }
     if (r.status == Status::fail || r.status == Status::crash)
-      r.message += fmt(" [reproduce: gdsmc conformance %s --seed %llu --only %s]", s.file.string().c_str(),
-                       static_cast<unsigned long long>(cfg.seed), c.name.c_str());
+      r.message += " [reproduce: " + reproduce_line(s, c.name) + "]";
     tally.print(c.name, r, label);
     tally.count(r);
   }
@@ -265,7 +299,8 @@ int run_conformance(int argc, char** argv) {
   Subject s;
   s.cfg = cfg;
   s.file = fs::absolute(cfg.plugin);
-  if (const int status = read_inputs(cfg, s); status >= 0) return status;
+  std::vector<Assignment> param_sets;
+  if (const int status = read_inputs(cfg, s, param_sets); status >= 0) return status;
 
   const std::string file_label = "plugin file " + s.file.filename().string();
   Tally tally;
@@ -294,7 +329,22 @@ int run_conformance(int argc, char** argv) {
   char tmpl[] = "/tmp/gdsmc-conformance-XXXXXX";
   if (const char* t = ::mkdtemp(tmpl)) s.workdir = t;
   else return usage(std::string("cannot create a temporary directory: ") + std::strerror(errno));
-  run_checks(s, checks, tally, label);
+  if (param_sets.empty()) {
+    run_checks(s, checks, tally, label);
+  } else {
+    // Every set in turn, each with its own --params in the reproduce line.
+    for (std::size_t k = 0; k < param_sets.size(); ++k) {
+      s.user_params = param_sets[k];
+      s.cfg.params_file = cfg.params_files[k];
+      std::string set_label = label;
+      if (param_sets.size() > 1) {
+        set_label += " with --params " + cfg.params_files[k].filename().string();
+        std::printf("gdsmc conformance: parameter set %zu of %zu: %s\n", k + 1, param_sets.size(),
+                    cfg.params_files[k].string().c_str());
+      }
+      run_checks(s, checks, tally, set_label);
+    }
+  }
   std::error_code ec;
   fs::remove_all(s.workdir, ec);
   std::printf("gdsmc conformance: %s (%s, %s): %d passed, %d failed, %d skipped: %s\n", label.c_str(),

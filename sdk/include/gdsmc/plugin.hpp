@@ -115,8 +115,18 @@ class GDSMC_API Forcing : public PluginObject {
   // the host's energy ledger records it, and conformance checks it against the particles.
   virtual double apply(const StepContext& ctx, const ParticleSpan& particles) = 0;
   virtual Conservation conserves() const { return {}; }
-  // Order in dt of the integration error of one step (0: exact; used by conformance).
+  // Order in dt of the integration error of one step (0: exact; used by conformance). For a
+  // stochastic forcing, the weak order of its scheme (1 for Euler-Maruyama white noise).
   virtual int order() const { return 1; }
+  // [step] Optional: a stochastic forcing (a white-noise thermostat, random kicks) may declare
+  // the kinetic energy per unit time it adds on average over the coming step, given the state
+  // `particles` before apply() (m = 1; e.g. 3 N D for white noise of strength D per velocity
+  // component). Returns true and sets `rate` if it declares one; conformance then compares the
+  // mean measured energy input over many steps with it (forcing.expected_energy).
+  virtual bool expected_energy_rate(const StepContext& ctx, const ParticleSpan& particles, double& rate) const {
+    (void)ctx; (void)particles; (void)rate;
+    return false;
+  }
 };
 
 // A particle meeting a boundary plane during free flight, as the host's mover hands it over.
@@ -192,7 +202,8 @@ inline constexpr const char abi_interfaces[] =
     "PluginObject{attributes,publish};"
     "CollisionRule{bind(ParticleSpan),collide_cell(CellCollision&)const,pair_rate(Vec3,Vec3),"
     "collide_pair(ParticleSpan,u32,u32,Vec3,double,Rng&)const};"
-    "Forcing{stage,acceleration(Vec3&),apply(StepContext,ParticleSpan)->double,conserves,order};"
+    "Forcing{stage,acceleration(Vec3&),apply(StepContext,ParticleSpan)->double,conserves,order,"
+    "expected_energy_rate(StepContext,ParticleSpan,double&)const->bool};"
     "Boundary{begin(SystemInfo,QuantityBoard,Vec3),transfers,interact(StepContext,WallHit&,Rng&)const};"
     "InitialState{generate(SystemInfo,QuantityBoard,ParticleSpan,Streams)};"
     "Diagnostic{begin(SystemInfo,QuantityBoard,OutputSink&),sample,record,finish};"
