@@ -2,6 +2,10 @@
 // steady averages (framework/study.cpp, framework/engine.cpp).
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include <gdsmc/series.hpp>
+
 #include "output/hdf5_file.hpp"
 #include "study/study.hpp"
 #include "test_support.hpp"
@@ -273,6 +277,243 @@ TEST(Study, SteadyProfileMeansArePerBinOverTheRecordsAfterTheThreshold) {
   host::add_steady_averages(ss, 10.0, std::nullopt);
   EXPECT_EQ(ss[0].scalars[0].value, mean.data[0]);
   EXPECT_EQ(ss[0].scalars[1].value, se.data[0]);
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// Honest error bars (issue 8, item 6).
+
+double scalar_named(const host::DiagnosticOutput& d, const std::string& name) {
+  for (const auto& s : d.scalars)
+    if (s.name == name) return s.value;
+  throw std::runtime_error("no scalar " + name);
+}
+const host::DiagnosticOutput::Scalar& scalar_item(const host::DiagnosticOutput& d, const std::string& name) {
+  for (const auto& s : d.scalars)
+    if (s.name == name) return s;
+  throw std::runtime_error("no scalar " + name);
+}
+
+// An AR(1) series x_k = phi x_{k-1} + noise: integrated autocorrelation time (1 + phi)/(1 - phi).
+std::vector<double> ar1(std::size_t n, double phi, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> x(n);
+  double v = g(rng) / std::sqrt(1 - phi * phi);
+  for (auto& xi : x) {
+    v = phi * v + g(rng);
+    xi = v;
+  }
+  return x;
+}
+
+host::DiagnosticOutput series_output(const std::vector<double>& x) {
+  host::DiagnosticOutput d("g", nullptr);
+  const auto id = d.series("x", "1", "test series");
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    d.begin_record(0.1 * static_cast<double>(k), 0.1 * static_cast<double>(k));
+    d.append(id, x[k]);
+  }
+  return d;
+}
+
+TEST(Study, IntegratedAutocorrelationTimeOfAnAr1Series) {
+  for (double phi : {0.0, 0.5, 0.8}) {
+    const double expected = (1 + phi) / (1 - phi);
+    const double tau = host::integrated_autocorrelation_time(ar1(40000, phi, 7));
+    EXPECT_NEAR(tau, expected, 0.1 * expected) << "phi " << phi;
+  }
+}
+
+// One realization: batches of >= 5 tau_int records; too short a window gives NaN and says why.
+TEST(Study, SingleRealizationBatchesAreLongerThanTheCorrelationTimeOrTheErrorIsNaN) {
+  std::vector<host::DiagnosticOutput> longer{series_output(ar1(4000, 0.9, 3))};  // tau_int = 19 records
+  host::add_steady_averages(longer, 0.0, std::nullopt);
+  const auto& se = scalar_item(longer[0], "x.steady_stderr");
+  EXPECT_TRUE(std::isfinite(se.value));
+  EXPECT_NE(se.doc.find("integrated autocorrelation time"), std::string::npos) << se.doc;
+  const host::BatchSpec spec = host::choose_batches(ar1(4000, 0.9, 3));
+  EXPECT_GE(static_cast<double>(spec.length), 5 * spec.tau);
+  EXPECT_GE(spec.batches, host::kMinBatches);
+  // sigma / sqrt(n) * sqrt(tau_int) is the true standard error: the estimate within 40 %.
+  const double truth = std::sqrt(1 / (1 - 0.81)) * std::sqrt(19.0 / 4000.0);
+  EXPECT_NEAR(se.value, truth, 0.4 * truth);
+
+  // 40 records of tau_int = 19: at most 2 batches of >= 5 measured tau_int (the measured tau_int of
+  // a window this short is itself too small; the error is NaN all the same).
+  std::vector<host::DiagnosticOutput> shorter{series_output(ar1(40, 0.9, 3))};
+  host::add_steady_averages(shorter, 0.0, std::nullopt);
+  const auto& nan = scalar_item(shorter[0], "x.steady_stderr");
+  EXPECT_TRUE(std::isnan(nan.value));
+  EXPECT_NE(nan.doc.find("NaN: the window holds only"), std::string::npos) << nan.doc;
+  EXPECT_TRUE(std::isfinite(scalar_named(shorter[0], "x.steady_mean")));
+}
+
+// Several realizations: the error is the scatter of the realizations' own time averages / sqrt(K),
+// and the mean is unchanged (the time average of the realization average).
+TEST(Study, SeveralRealizationsTakeTheSteadyErrorFromTheScatterOfTheirOwnMeans) {
+  const std::size_t K = 5, n = 300;
+  std::vector<std::vector<host::DiagnosticOutput>> runs;
+  std::vector<double> own;
+  for (std::size_t r = 0; r < K; ++r) {
+    const auto x = ar1(n, 0.7, 100 + r);
+    runs.push_back({series_output(x)});
+    double m = 0;
+    for (std::size_t k = 100; k < n; ++k) m += x[k];  // records with s >= 10: k >= 100
+    own.push_back(m / static_cast<double>(n - 100));
+  }
+  auto avg = host::average_realizations(runs, nullptr);
+  host::add_steady_averages(avg, 10.0, std::nullopt, runs);
+  const MeanError expected = mean_error(own);
+  EXPECT_NEAR(scalar_named(avg[0], "x.steady_mean"), expected.mean, 1e-12);
+  EXPECT_NEAR(scalar_named(avg[0], "x.steady_stderr"), expected.standard_error, 1e-12);
+  EXPECT_NE(scalar_item(avg[0], "x.steady_stderr").doc.find("K = 5 realizations"), std::string::npos);
+}
+
+// Many short independent realizations of an equilibrium gas (elastic hard spheres: a2 fluctuates
+// about a fixed mean): each run's single-realization steady error, used as a z-score of its steady
+// mean against the grand mean, must have unit variance. Tolerance: the chi^2 of the K z-scores in
+// the central 99.9 % interval of chi^2 with K - 1 degrees of freedom (Wilson-Hilferty), its upper
+// end widened by the Student-t variance of z-scores whose errors come from B batches; and the
+// scatter of the means over the mean squared error in the plain interval. Seeds 5-11 gave z-score
+// chi^2 = 112-181 and scatter chi^2 = 98-156 (mean 130 = 1.10 x 119) for 119 degrees of freedom.
+// The errors before issue 8 (batch length not checked against the correlation time) are printed.
+TEST(Study, SteadyErrorsOfIndependentRealizationsHaveUnitVarianceZScores) {
+  TempDir dir;
+  const char* yaml = R"(run:
+  seed: 5
+  particles: 60
+  time_step: {value: 0.1, unit: tau0}
+  stop: {collisions_per_particle: 300}
+  sample_every: 1
+  record_every: 4
+  average_after: {collisions_per_particle: 5}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 1.0}
+diagnostics: [cumulants]
+)";
+  const host::Pipeline p = load_yaml(dir, yaml, {});
+  const int K = 120;
+  std::vector<double> mean(K), se(K), se_before(K);
+  std::size_t fewest_batches = SIZE_MAX;
+  double t_inflation = 0;  // mean over the runs of the Student-t variance (B - 1)/(B - 3)
+  for (int r = 0; r < K; ++r) {
+    host::Engine e(p, static_cast<std::uint32_t>(r));
+    e.run();
+    auto d = e.diagnostics();
+    host::add_steady_averages(d, 5.0, std::nullopt);
+    mean[r] = scalar_named(d[0], "a2.steady_mean");
+    se[r] = scalar_named(d[0], "a2.steady_stderr");
+    ASSERT_TRUE(std::isfinite(se[r]) && se[r] > 0) << scalar_item(d[0], "a2.steady_stderr").doc;
+    if (r == 0) std::printf("%s\n", scalar_item(d[0], "a2.steady_stderr").doc.c_str());
+    // The estimate before issue 8 (BatchMeans: up to 64 batches, length not checked), for the record.
+    BatchMeans before;
+    std::vector<double> window;
+    const auto& a2 = column(d, "cumulants", "a2");
+    for (std::size_t k = 0; k < a2.size(); ++k)
+      if (d[0].collisions_per_particle[k] >= 5.0 && std::isfinite(a2[k])) {
+        before.add(a2[k]);
+        window.push_back(a2[k]);
+      }
+    se_before[r] = before.standard_error();
+    const double batches = static_cast<double>(host::choose_batches(window).batches);
+    fewest_batches = std::min(fewest_batches, static_cast<std::size_t>(batches));
+    t_inflation += (batches - 1) / (batches - 3) / K;
+  }
+  double grand = 0;
+  for (double m : mean) grand += m;
+  grand /= K;
+  double chi2 = 0, chi2_before = 0, scatter = 0, mean_var = 0;
+  for (int r = 0; r < K; ++r) {
+    scatter += (mean[r] - grand) * (mean[r] - grand);
+    mean_var += se[r] * se[r] / K;
+  }
+  const double chi2_pooled = scatter / mean_var;
+  for (int r = 0; r < K; ++r) {
+    chi2 += (mean[r] - grand) * (mean[r] - grand) / (se[r] * se[r]);
+    chi2_before += (mean[r] - grand) * (mean[r] - grand) / (se_before[r] * se_before[r]);
+  }
+  const double nu = K - 1, z = 3.2905;  // two-sided 99.9 %
+  auto quantile = [nu](double zp) { return nu * std::pow(1 - 2 / (9 * nu) + zp * std::sqrt(2 / (9 * nu)), 3); };
+  // Each z-score divides by an error estimated from B batches: Student's t with B - 1 degrees of
+  // freedom, variance (B - 1)/(B - 3); the mean of that over the runs widens the z-score interval.
+  std::printf("steady a2 of %d independent runs (>= %zu batches each):\n"
+              "  sum of squared z-scores chi^2 = %.1f for %.0f degrees of freedom (99.9%% interval [%.1f, %.1f],"
+              " x %.3f for Student's t)\n"
+              "  scatter of the means / mean squared error: chi^2 = %.1f (99.9%% interval [%.1f, %.1f])\n"
+              "  with the batch-means error before issue 8: chi^2 = %.1f\n",
+              K, fewest_batches, chi2, nu, quantile(-z), quantile(z), t_inflation, chi2_pooled, quantile(-z), quantile(z),
+              chi2_before);
+  ASSERT_GE(fewest_batches, 8u) << "the test needs well-estimated errors";
+  // The squared errors are unbiased estimates of the variance of a run's steady mean:
+  EXPECT_GT(chi2_pooled, quantile(-z));
+  EXPECT_LT(chi2_pooled, quantile(z));
+  // and the z-scores have unit variance up to Student's t:
+  EXPECT_GT(chi2, quantile(-z));
+  EXPECT_LT(chi2, quantile(z) * t_inflation);
+}
+
+// output.realizations: each realization's own series under <group>/realizations/<k>.
+TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
+  TempDir dir;
+  host::Pipeline p = load_yaml(dir, kHcs, {"run.realizations=3", "output.realizations=true",
+                                           "run.average_after={collisions_per_particle: 1}"});
+  ASSERT_TRUE(p.output_realizations);
+  const auto cases = host::expand_cases(p, {"run.realizations=3", "output.realizations=true",
+                                            "run.average_after={collisions_per_particle: 1}"}, {plugin_dir()});
+  auto result = host::run_study(cases, nullptr, 1.0, nullptr);
+  const fs::path file = dir.path() / "out.h5";
+  host::write_hdf5(file, result.output);
+  h5::File h(file);
+  const hid_t f = h.id();
+  for (int k = 0; k < 3; ++k) {
+    const std::string g = "diagnostics/temperature/realizations/" + std::to_string(k) + "/";
+    EXPECT_EQ(h5::read_doubles(f, g + "temperature"), column(std::vector<host::DiagnosticOutput>{run_one(p, k)}, "temperature", "temperature"))
+        << "realization " << k;
+    EXPECT_TRUE(h5::is_dataset(f, g + "collisions_per_particle"));
+    EXPECT_TRUE(h5::is_dataset(f, g + "temperature.steady_mean"));
+  }
+  EXPECT_FALSE(h5::exists(f, "diagnostics/temperature/realizations/3"));
+  EXPECT_NE(h5::read_string_attribute(f, "diagnostics/temperature/collisions_per_particle", "description")
+                .find("accepted collisions / N"),
+            std::string::npos);
+  EXPECT_NE(h5::read_string_attribute(f, "run", "collisions_per_particle.description").find("two particles"),
+            std::string::npos);
+  // Without the option, no realizations group.
+  const host::Pipeline q = load_yaml(dir, kHcs, {"run.realizations=2"});
+  const auto plain = host::expand_cases(q, {"run.realizations=2"}, {plugin_dir()});
+  auto r2 = host::run_study(plain, nullptr, 1.0, nullptr);
+  const fs::path file2 = dir.path() / "plain.h5";
+  host::write_hdf5(file2, r2.output);
+  h5::File h2(file2);
+  const hid_t f2 = h2.id();
+  EXPECT_FALSE(h5::exists(f2, "diagnostics/temperature/realizations"));
+}
+
+// The progress of a study: fraction, elapsed time and time left of the whole study.
+TEST(Study, ProgressReportsCoverTheWholeStudy) {
+  TempDir dir;
+  host::Pipeline p = load_yaml(dir, kHcs, {"run.realizations=3"});
+  const auto cases = host::expand_cases(p, {"run.realizations=3"}, {plugin_dir()});
+  std::vector<host::StudyProgress> seen;
+  host::run_study(cases, [&](const host::StudyProgress& sp) { seen.push_back(sp); }, 0.0, nullptr);
+  ASSERT_FALSE(seen.empty());
+  double last_fraction = -1, last_elapsed = -1;
+  bool saw_later_run = false;
+  for (const auto& sp : seen) {
+    EXPECT_GE(sp.fraction, last_fraction - 1e-12);
+    EXPECT_GE(sp.elapsed_seconds, last_elapsed);
+    EXPECT_GE(sp.elapsed_seconds, sp.progress.elapsed_seconds - 1e-9) << "study time includes the run's";
+    last_fraction = sp.fraction;
+    last_elapsed = sp.elapsed_seconds;
+    if (sp.run == 2) {
+      saw_later_run = true;
+      EXPECT_GE(sp.fraction, 2.0 / 3.0 - 1e-12);
+    }
+  }
+  EXPECT_TRUE(saw_later_run);
+  EXPECT_NEAR(seen.back().fraction, 1.0, 1e-9);
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ std::string format_seconds(double s) {
 }
 
 std::function<void(const StudyProgress&)> progress_reporter(bool tty) {
+  // Percentage, elapsed and time left are for the whole study (every case and realization).
   return [tty](const StudyProgress& sp) {
     const Progress& pr = sp.progress;
     char line[384];
@@ -35,7 +36,7 @@ std::function<void(const StudyProgress&)> progress_reporter(bool tty) {
     if (!sp.label.empty()) run += "(" + sp.label + ") ";
     std::snprintf(line, sizeof line, "[%3.0f%%] %ss = %-8.4g t = %-9.4g tau0  T/T0 = %-10.4g elapsed %s, left ~%s",
                   100 * sp.fraction, run.c_str(), pr.collisions_per_particle, pr.time_tau0, pr.temperature_over_T0,
-                  format_seconds(pr.elapsed_seconds).c_str(), format_seconds(sp.remaining_seconds).c_str());
+                  format_seconds(sp.elapsed_seconds).c_str(), format_seconds(sp.remaining_seconds).c_str());
     if (tty) std::cerr << "\r" << line << "\033[K" << std::flush;
     else std::cerr << line << "\n";
   };

@@ -11,7 +11,8 @@ namespace gdsmc::host {
 // "42s", "3m07s", "1.5h"; "?" for a negative (unknown) time.
 std::string format_seconds(double s);
 
-// Prints the progress line on stderr: refreshed in place on a terminal (tty), one line per call otherwise.
+// Prints the progress line on stderr (percentage, elapsed time and time left of the whole study;
+// s, t and T of the current run): refreshed in place on a terminal (tty), one line per call otherwise.
 std::function<void(const StudyProgress&)> progress_reporter(bool tty);
 
 // Set by SIGINT and SIGTERM once install_interrupt_handlers() has run.

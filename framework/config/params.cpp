@@ -108,7 +108,7 @@ bool convert_real(Checker& c, const Pipeline& p, const ParamSpec& spec, const YA
   std::optional<double> value;
   double reference_value = 0;
   if (v.IsMap()) {
-    if (spec.dimension == Dimension::none) {
+    if (spec.dimension.dimensionless()) {
       c.error(sub, v, who + " is dimensionless: give a plain number");
       return false;
     }
@@ -119,11 +119,10 @@ bool convert_real(Checker& c, const Pipeline& p, const ParamSpec& spec, const YA
     }
     auto num = c.real(v["value"], sub + ".value");
     if (!num) return false;
-    std::string valid;
-    value = to_reduced(*num, v["unit"].Scalar(), spec.dimension, p.mean_free_path0(), p.time_unit0(),
-                       p.temperature, p.sigma, valid);
+    std::string why;
+    value = to_reduced(*num, v["unit"].Scalar(), spec.dimension, unit_scales(p), why);
     if (!value) {
-      c.error(sub + ".unit", v["unit"], "unknown unit '" + v["unit"].Scalar() + "' for " + who + " (valid: " + valid + ")");
+      c.error(sub + ".unit", v["unit"], "unknown unit '" + v["unit"].Scalar() + "' for " + who + ": " + why);
       return false;
     }
     reference_value = *value / reference_factor(spec.dimension, p);
@@ -131,13 +130,13 @@ bool convert_real(Checker& c, const Pipeline& p, const ParamSpec& spec, const YA
     auto num = c.real(v, sub);
     if (!num) return false;
     reference_value = *num;
-    value = *num * (spec.dimension == Dimension::none ? 1.0 : reference_factor(spec.dimension, p));
+    value = *num * reference_factor(spec.dimension, p);
   }
   const bool low = spec.min && (spec.min_inclusive ? reference_value < *spec.min : reference_value <= *spec.min);
   const bool high = spec.max && (spec.max_inclusive ? reference_value > *spec.max : reference_value >= *spec.max);
   if (low || high) {
     c.error(at, sub, "value " + value_text(reference_value) + " is out of range for " + who + "; valid: " +
-                         spec.range_text() + (spec.dimension == Dimension::none ? "" : std::string(" in ") + to_string(spec.dimension)));
+                         spec.range_text() + (spec.dimension.dimensionless() ? "" : " in " + reference_unit(spec.dimension)));
     return false;
   }
   use.params.set(spec.name, *value, at);
@@ -198,7 +197,7 @@ bool default_param(Checker& c, const Pipeline& p, const ParamSpec& spec, const s
     return false;
   }
   ParamValue dv = *spec.default_;
-  if (spec.type == ParamType::real && spec.dimension != Dimension::none)
+  if (spec.type == ParamType::real && !spec.dimension.dimensionless())
     dv = std::get<double>(dv) * reference_factor(spec.dimension, p);
   use.params.set(spec.name, dv, use.where, true);
   return true;

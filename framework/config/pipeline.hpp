@@ -89,6 +89,7 @@ struct Pipeline {
 
   std::filesystem::path output_file;
   bool output_particles = false;  // write the final particle state (/particles)
+  bool output_realizations = false;  // also write each realization's own diagnostics (<group>/realizations/<k>)
   std::shared_ptr<PluginRegistry> registry;
   // Problems that do not refuse the pipeline but that the user should see: plugin files on the
   // search path that could not be used (and are so shadowed by others or missing), `plugins:`

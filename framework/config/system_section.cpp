@@ -116,10 +116,12 @@ void parse_output(Checker& c, const YAML::Node& out, Pipeline& p) {
   if (!out.IsMap()) {
     c.error("output", out, "expected {file: NAME.h5}");
   } else {
-    c.check_keys(out, "output", {"file", "particles"});
+    c.check_keys(out, "output", {"file", "particles", "realizations"});
     if (out["file"]) p.output_file = out["file"].Scalar();
     if (out["particles"])
       if (auto b = c.boolean(out["particles"], "output.particles")) p.output_particles = *b;
+    if (out["realizations"])
+      if (auto b = c.boolean(out["realizations"], "output.realizations")) p.output_realizations = *b;
   }
 }
 

@@ -68,6 +68,8 @@ class DiagnosticOutput final : public OutputSink {
   std::vector<Histogram> histograms;
   std::vector<Scalar> scalars;
   std::map<std::string, std::string> attributes;
+  // Each realization's own output (output.realizations), written under <group>/realizations/<k>.
+  std::vector<DiagnosticOutput> realizations;
 
  private:
   void check_name(const std::string& name) const;

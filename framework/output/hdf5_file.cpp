@@ -12,6 +12,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The definition of s, the host's clock of collisions (paper 000's s(t)).
+constexpr const char* kCollisionsPerParticle =
+    "s(t), collisions per particle: accepted collisions / N (paper 000's s(t)); each collision involves two "
+    "particles, so a particle has taken part in 2s collisions on average";
+
 // Minimal RAII over HDF5 identifiers.
 struct Id {
   hid_t id = -1;
@@ -93,6 +98,31 @@ Id open_or_create(hid_t parent, const std::string& path) {
   return Id(H5Gopen2(parent, path.c_str(), H5P_DEFAULT), H5Gclose, "open group " + path);
 }
 
+// One diagnostic's datasets (and its host columns) into g.
+void write_diagnostic(hid_t g, const DiagnosticOutput& d) {
+  for (const auto& [k, v] : d.attributes) attr_string(g, k, v);
+  const hsize_t n = d.time.size();
+  dataset(g, "time", d.time, {n}, "tau0", "time t / tau0 (mean over the samples of each record)");
+  dataset(g, "collisions_per_particle", d.collisions_per_particle, {n}, "1",
+          std::string(kCollisionsPerParticle) + "; per record, the mean over the record's samples");
+  for (const auto& c : d.columns) dataset(g, c.name, c.values, {c.values.size()}, c.unit, c.doc);
+  if (!d.profiles.empty())
+    dataset(g, "bin_centre", d.bin_centres, {d.bins()}, "lambda0",
+            "centre y of each sampling bin of the profiles (the slab spans y in [-Ly/2, Ly/2])");
+  for (const auto& p : d.profiles) dataset(g, p.name, p.values, {p.values.size() / d.bins(), d.bins()}, p.unit, p.doc);
+  for (const auto& a : d.arrays) {
+    std::vector<hsize_t> shape(a.shape.begin(), a.shape.end());
+    dataset(g, a.name, a.data, shape, a.unit, a.doc);
+  }
+  for (const auto& s : d.scalars) dataset(g, s.name, {s.value}, {}, s.unit, s.doc);
+  for (const auto& h : d.histograms) {
+    Id hg = group(g, h.name);
+    attr_string(hg, "description", h.doc);
+    dataset(hg, "edges", h.edges, {h.edges.size()}, h.edge_unit, "bin edges");
+    dataset(hg, "values", h.values, {h.values.size()}, h.value_unit, h.doc);
+  }
+}
+
 void write_case(hid_t file_id, const CaseOutput& out) {
   Id root = open_or_create(file_id, out.group);
   hid_t file = root;
@@ -104,6 +134,8 @@ void write_case(hid_t file_id, const CaseOutput& out) {
   {
     Id g = group(file, "run");
     for (const auto& [k, v] : out.run) attr_double(g, k, v);
+    if (out.run.count("collisions_per_particle"))
+      attr_string(g, "collisions_per_particle.description", std::string(kCollisionsPerParticle) + "; the value at the end of the run (realization 0)");
   }
   {
     Id plugins = group(file, "plugins");
@@ -128,26 +160,16 @@ void write_case(hid_t file_id, const CaseOutput& out) {
   Id diags = group(file, "diagnostics");
   for (const auto& d : out.diagnostics) {
     Id g = group(diags, d.group());
-    for (const auto& [k, v] : d.attributes) attr_string(g, k, v);
-    const hsize_t n = d.time.size();
-    dataset(g, "time", d.time, {n}, "tau0", "time t / tau0 (mean over the samples of each record)");
-    dataset(g, "collisions_per_particle", d.collisions_per_particle, {n}, "1",
-            "s(t): accepted collisions / N (mean over the samples of each record)");
-    for (const auto& c : d.columns) dataset(g, c.name, c.values, {c.values.size()}, c.unit, c.doc);
-    if (!d.profiles.empty())
-      dataset(g, "bin_centre", d.bin_centres, {d.bins()}, "lambda0",
-              "centre y of each sampling bin of the profiles (the slab spans y in [-Ly/2, Ly/2])");
-    for (const auto& p : d.profiles) dataset(g, p.name, p.values, {p.values.size() / d.bins(), d.bins()}, p.unit, p.doc);
-    for (const auto& a : d.arrays) {
-      std::vector<hsize_t> shape(a.shape.begin(), a.shape.end());
-      dataset(g, a.name, a.data, shape, a.unit, a.doc);
-    }
-    for (const auto& s : d.scalars) dataset(g, s.name, {s.value}, {}, s.unit, s.doc);
-    for (const auto& h : d.histograms) {
-      Id hg = group(g, h.name);
-      attr_string(hg, "description", h.doc);
-      dataset(hg, "edges", h.edges, {h.edges.size()}, h.edge_unit, "bin edges");
-      dataset(hg, "values", h.values, {h.values.size()}, h.value_unit, h.doc);
+    write_diagnostic(g, d);
+    if (!d.realizations.empty()) {
+      Id rg = group(g, "realizations");
+      attr_string(rg, "description",
+                  "each realization's own output, realizations/<k> for realization k (output.realizations: true); "
+                  "its steady averages use the realization alone (batch means)");
+      for (std::size_t k = 0; k < d.realizations.size(); ++k) {
+        Id kg = group(rg, std::to_string(k));
+        write_diagnostic(kg, d.realizations[k]);
+      }
     }
   }
 }

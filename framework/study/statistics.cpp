@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 
 #include <gdsmc/series.hpp>
@@ -144,51 +145,171 @@ struct SteadyWindow {
 
 bool is_stderr(const std::string& name) { return name.size() > 7 && name.compare(name.size() - 7, 7, "_stderr") == 0; }
 
-void add_finite(BatchMeans& bm, double x) {
-  if (std::isfinite(x)) bm.add(x);
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
 }
 
-void add_steady_series(DiagnosticOutput& d, const SteadyWindow& w) {
+// One value per record: a series (stride 1) or one bin of a profile (stride bins, offset bin).
+struct Values {
+  const std::vector<double>* values = nullptr;
+  std::size_t stride = 1, offset = 0;
+  double at(std::size_t k) const {
+    const std::size_t i = k * stride + offset;
+    return values && i < values->size() && offset < stride ? (*values)[i] : std::nan("");
+  }
+};
+using ValuesOf = std::function<Values(const DiagnosticOutput&)>;
+
+// The window's records of one value, non-finite values skipped.
+std::vector<double> window_values(const Values& src, const std::vector<std::size_t>& records) {
+  std::vector<double> v;
+  v.reserve(records.size());
+  for (std::size_t k : records) {
+    const double x = src.at(k);
+    if (std::isfinite(x)) v.push_back(x);
+  }
+  return v;
+}
+
+// The steady mean of one value and its error, with how the error was found.
+struct SteadyEstimate {
+  double mean = std::nan(""), stderr_ = std::nan("");
+  double tau = std::nan("");  // single realization: integrated autocorrelation time, records
+  std::size_t batch_length = 0, batches = 0;
+};
+
+SteadyEstimate single_realization(const std::vector<double>& v) {
+  SteadyEstimate e;
+  if (v.empty()) return e;
+  e.mean = mean_of(v);
+  const BatchSpec spec = choose_batches(v);
+  e.tau = spec.tau;
+  e.batch_length = spec.length;
+  e.batches = spec.batches;
+  if (spec.batches < kMinBatches) return e;
+  std::vector<double> means(spec.batches, 0.0);
+  const std::size_t skip = v.size() - spec.batches * spec.length;  // the earliest records of the window
+  for (std::size_t i = 0; i < spec.batches; ++i) {
+    for (std::size_t j = 0; j < spec.length; ++j) means[i] += v[skip + i * spec.length + j];
+    means[i] /= static_cast<double>(spec.length);
+  }
+  e.stderr_ = stderr_of(means);
+  return e;
+}
+
+// Several realizations: the mean over the pooled window (as before: the time average of the
+// realization average) and the error from the scatter of each realization's own time average.
+SteadyEstimate between_realizations(const std::vector<double>& pooled, const std::vector<std::vector<double>>& own) {
+  SteadyEstimate e;
+  if (!pooled.empty()) e.mean = mean_of(pooled);
+  std::vector<double> means;
+  for (const auto& v : own)
+    if (!v.empty()) means.push_back(mean_of(v));
+  if (means.size() >= 2) e.stderr_ = stderr_of(means);
+  e.batches = means.size();
+  return e;
+}
+
+// The records of d inside the window.
+std::vector<std::size_t> window_records(const DiagnosticOutput& d, const SteadyWindow& w, std::size_t limit) {
+  std::vector<std::size_t> r;
+  for (std::size_t k = 0; k < d.time.size() && k < limit; ++k)
+    if (w.contains(d, k)) r.push_back(k);
+  return r;
+}
+
+SteadyEstimate estimate(const DiagnosticOutput& d, const std::vector<const DiagnosticOutput*>& own,
+                        const std::vector<std::size_t>& records, const ValuesOf& of, std::size_t& finite) {
+  const std::vector<double> pooled = window_values(of(d), records);
+  finite = pooled.size();
+  if (own.size() < 2) return single_realization(pooled);
+  std::vector<std::vector<double>> per_run;
+  for (const DiagnosticOutput* r : own) per_run.push_back(window_values(of(*r), records));
+  return between_realizations(pooled, per_run);
+}
+
+std::string error_text(const std::string& of, std::size_t realizations, const SteadyEstimate& e, std::size_t n) {
+  if (realizations >= 2)
+    return "standard error of " + of + ": sd / sqrt(K) of the K = " + std::to_string(realizations) +
+           " realizations' own time averages over the window (each realization's series is independent)";
+  std::string s = "batch-means standard error of " + of + ": " + std::to_string(n) +
+                  " records, integrated autocorrelation time tau_int = " + number(e.tau) +
+                  " records (1 + 2 sum of the autocorrelations), batches of " + std::to_string(e.batch_length) +
+                  " records (>= " + number(kBatchTaus) + " tau_int)";
+  if (e.batches >= kMinBatches) return s + ", " + std::to_string(e.batches) + " batches";
+  return s + "; NaN: the window holds only " + std::to_string(e.batches) + " such batches, fewer than " +
+         std::to_string(kMinBatches) + " (run longer, average from earlier, or use several realizations)";
+}
+
+void add_steady_series(DiagnosticOutput& d, const std::vector<const DiagnosticOutput*>& own, const SteadyWindow& w,
+                       std::size_t limit) {
+  const std::vector<std::size_t> records = window_records(d, w, limit);
   const std::size_t columns = d.columns.size();
   for (std::size_t c = 0; c < columns; ++c) {
-    const auto& col = d.columns[c];
-    if (is_stderr(col.name)) continue;
-    BatchMeans bm;
-    for (std::size_t k = 0; k < d.time.size(); ++k)
-      if (w.contains(d, k)) add_finite(bm, col.values[k]);
-    d.scalars.push_back({col.name + ".steady_mean", col.unit,
-                         "time average of " + col.name + " over the records with " + w.text() + " (" +
-                             std::to_string(bm.count()) + " records)",
-                         bm.mean()});
-    d.scalars.push_back({col.name + ".steady_stderr", col.unit,
-                         "batch-means standard error of " + col.name + ".steady_mean (NaN: too few records)",
-                         bm.standard_error()});
+    if (is_stderr(d.columns[c].name)) continue;
+    const std::string name = d.columns[c].name, unit = d.columns[c].unit;
+    const ValuesOf of = [&name](const DiagnosticOutput& o) {
+      for (const auto& col : o.columns)
+        if (col.name == name) return Values{&col.values, 1, 0};
+      return Values{};
+    };
+    std::size_t n = 0;
+    const SteadyEstimate e = estimate(d, own, records, of, n);
+    d.scalars.push_back({name + ".steady_mean", unit,
+                         "time average of " + name + " over the records with " + w.text() + " (" + std::to_string(n) +
+                             " records)",
+                         e.mean});
+    d.scalars.push_back({name + ".steady_stderr", unit, error_text(name + ".steady_mean", own.size(), e, n), e.stderr_});
   }
 }
 
 // The same per bin for every profile, as arrays of shape (bins).
-void add_steady_profiles(DiagnosticOutput& d, const SteadyWindow& w) {
+void add_steady_profiles(DiagnosticOutput& d, const std::vector<const DiagnosticOutput*>& own, const SteadyWindow& w,
+                         std::size_t limit) {
   const std::size_t bins = d.bins();
-  for (const auto& prof : d.profiles) {
-    if (is_stderr(prof.name)) continue;
-    std::vector<BatchMeans> bm(bins);
-    std::size_t records = 0;
-    for (std::size_t k = 0; k < d.time.size() && (k + 1) * bins <= prof.values.size(); ++k) {
-      if (!w.contains(d, k)) continue;
-      ++records;
-      for (std::size_t b = 0; b < bins; ++b) add_finite(bm[b], prof.values[k * bins + b]);
-    }
+  std::vector<std::size_t> records;
+  for (std::size_t p = 0; p < d.profiles.size(); ++p) {
+    if (is_stderr(d.profiles[p].name)) continue;
+    const std::string name = d.profiles[p].name, unit = d.profiles[p].unit;
+    records.clear();
+    for (std::size_t k : window_records(d, w, limit))
+      if ((k + 1) * bins <= d.profiles[p].values.size()) records.push_back(k);
     std::vector<double> mean(bins), se(bins);
+    double tau_max = 0;
+    std::size_t nan_bins = 0, fewest_batches = SIZE_MAX;
     for (std::size_t b = 0; b < bins; ++b) {
-      mean[b] = bm[b].mean();
-      se[b] = bm[b].standard_error();
+      const ValuesOf of = [&name, b, bins](const DiagnosticOutput& o) {
+        for (const auto& prof : o.profiles)
+          if (prof.name == name) return Values{&prof.values, bins, b};
+        return Values{};
+      };
+      std::size_t n = 0;
+      const SteadyEstimate e = estimate(d, own, records, of, n);
+      mean[b] = e.mean;
+      se[b] = e.stderr_;
+      if (std::isfinite(e.tau)) tau_max = std::max(tau_max, e.tau);
+      if (!std::isfinite(e.stderr_)) ++nan_bins;
+      fewest_batches = std::min(fewest_batches, e.batches);
     }
-    d.arrays.push_back({prof.name + ".steady_mean", prof.unit,
-                        "time average per bin of " + prof.name + " over the records with " + w.text() + " (" +
-                            std::to_string(records) + " records; non-finite values skipped)",
+    std::string how;
+    if (own.size() >= 2) {
+      how = "per bin: sd / sqrt(K) of the K = " + std::to_string(own.size()) +
+            " realizations' own time averages over the window";
+    } else {
+      how = "per bin, batch means with batches of >= " + number(kBatchTaus) +
+            " integrated autocorrelation times of that bin's series (largest tau_int " + number(tau_max) +
+            " records; fewest batches " + std::to_string(fewest_batches == SIZE_MAX ? 0 : fewest_batches) + ")";
+      if (nan_bins)
+        how += "; NaN in " + std::to_string(nan_bins) + " bins: fewer than " + std::to_string(kMinBatches) +
+               " such batches in the window (or no finite values)";
+    }
+    d.arrays.push_back({name + ".steady_mean", unit,
+                        "time average per bin of " + name + " over the records with " + w.text() + " (" +
+                            std::to_string(records.size()) + " records; non-finite values skipped)",
                         std::move(mean), {bins}});
-    d.arrays.push_back({prof.name + ".steady_stderr", prof.unit,
-                        "batch-means standard error per bin of " + prof.name + ".steady_mean (NaN: too few records)",
+    d.arrays.push_back({name + ".steady_stderr", unit, "standard error of " + name + ".steady_mean " + how,
                         std::move(se), {bins}});
   }
 }
@@ -196,13 +317,50 @@ void add_steady_profiles(DiagnosticOutput& d, const SteadyWindow& w) {
 }  // namespace
 
 void add_steady_averages(std::vector<DiagnosticOutput>& diagnostics, std::optional<double> after_s,
-                         std::optional<double> after_t) {
+                         std::optional<double> after_t, const std::vector<std::vector<DiagnosticOutput>>& runs) {
   if (!after_s && !after_t) return;
   const SteadyWindow window{after_s, after_t};
-  for (auto& d : diagnostics) {
-    add_steady_series(d, window);
-    add_steady_profiles(d, window);
+  for (std::size_t i = 0; i < diagnostics.size(); ++i) {
+    auto& d = diagnostics[i];
+    std::vector<const DiagnosticOutput*> own;
+    if (runs.size() >= 2)
+      for (const auto& r : runs) own.push_back(&r.at(i));
+    const std::size_t limit = d.time.size();
+    add_steady_series(d, own, window, limit);
+    add_steady_profiles(d, own, window, limit);
   }
+}
+
+double integrated_autocorrelation_time(const std::vector<double>& v) {
+  const std::size_t n = v.size();
+  if (n < 2) return 1.0;
+  const double m = mean_of(v);
+  double c0 = 0;
+  for (double x : v) c0 += (x - m) * (x - m);
+  c0 /= static_cast<double>(n);
+  if (!(c0 > 0)) return 1.0;
+  // Sokal's automatic window: the smallest W with W >= c tau(W), c = 5.
+  double tau = 1;
+  for (std::size_t t = 1; t < n; ++t) {
+    double ct = 0;
+    for (std::size_t i = 0; i + t < n; ++i) ct += (v[i] - m) * (v[i + t] - m);
+    ct /= static_cast<double>(n);
+    tau += 2 * ct / c0;
+    if (static_cast<double>(t) >= 5.0 * tau) break;
+  }
+  return std::max(tau, 1.0);
+}
+
+BatchSpec choose_batches(const std::vector<double>& v) {
+  BatchSpec s;
+  s.tau = integrated_autocorrelation_time(v);
+  s.length = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(kBatchTaus * s.tau)));
+  s.batches = v.size() / s.length;
+  if (s.batches > kMaxBatches) {
+    s.length = (v.size() + kMaxBatches - 1) / kMaxBatches;
+    s.batches = v.size() / s.length;
+  }
+  return s;
 }
 
 }  // namespace gdsmc::host

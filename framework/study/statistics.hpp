@@ -15,10 +15,29 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
                                                    std::vector<std::string>* summary);
 
 // Steady-state averages: for every series, the mean over the records with s >= after_s (or
-// t/tau0 >= after_t) and its batch-means standard error, as scalars "<series>.steady_mean" and
+// t/tau0 >= after_t) and its standard error, as scalars "<series>.steady_mean" and
 // "<series>.steady_stderr"; for every profile, the same per bin as arrays of shape (bins)
 // "<profile>.steady_mean" and "<profile>.steady_stderr".
+// The error: with two or more `runs` (the realizations `diagnostics` averages, in the same order),
+// sd / sqrt(K) of the realizations' own time averages over the same records; otherwise batch
+// means with batches of at least kBatchTaus integrated autocorrelation times of the series, NaN
+// (and said in the description) when the window holds fewer than kMinBatches of them.
 void add_steady_averages(std::vector<DiagnosticOutput>& diagnostics, std::optional<double> after_s,
-                         std::optional<double> after_t);
+                         std::optional<double> after_t, const std::vector<std::vector<DiagnosticOutput>>& runs = {});
+
+inline constexpr double kBatchTaus = 5.0;
+inline constexpr std::size_t kMinBatches = 4, kMaxBatches = 64;
+
+// The integrated autocorrelation time of a series, in records: 1 + 2 sum_t rho(t), summed up to
+// Sokal's automatic window (the smallest W >= 5 tau(W)); at least 1 (1 for uncorrelated values).
+double integrated_autocorrelation_time(const std::vector<double>& v);
+
+// Batches for a batch-means error: length >= kBatchTaus tau_int (longer when that would give more
+// than kMaxBatches), as many whole batches as fit.
+struct BatchSpec {
+  double tau = 1;
+  std::size_t length = 1, batches = 0;
+};
+BatchSpec choose_batches(const std::vector<double>& v);
 
 }  // namespace gdsmc::host

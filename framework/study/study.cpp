@@ -1,5 +1,6 @@
 #include "study/study.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -36,8 +37,10 @@ CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result,
         sp.runs = clock.total_runs;
         sp.label = label;
         sp.progress = pr;
-        sp.fraction = (static_cast<double>(clock.run_index) + pr.fraction) / static_cast<double>(clock.total_runs);
+        sp.fraction = (static_cast<double>(clock.run_index) + std::clamp(pr.fraction, 0.0, 1.0)) /
+                      static_cast<double>(clock.total_runs);
         const double elapsed = std::chrono::duration<double>(Clock::now() - clock.start).count();
+        sp.elapsed_seconds = elapsed;
         sp.remaining_seconds = sp.fraction > 0 ? elapsed * (1 - sp.fraction) / sp.fraction : -1;
         report(sp);
       };
@@ -58,7 +61,12 @@ CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result,
   }
   case_out.run["realizations"] = p.realizations;
   case_out.diagnostics = average_realizations(runs, nullptr);
-  add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0);
+  add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0, runs);
+  if (p.output_realizations) {
+    for (auto& run : runs) add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
+    for (std::size_t d = 0; d < case_out.diagnostics.size(); ++d)
+      for (auto& run : runs) case_out.diagnostics[d].realizations.push_back(std::move(run[d]));
+  }
   return case_out;
 }
 

@@ -18,8 +18,9 @@ struct StudyProgress {
   std::size_t run = 0, runs = 1;  // current run (case x realization), total
   std::string label;              // case label, realization
   Progress progress;              // of the current run
-  double fraction = 0;            // of the whole study
-  double remaining_seconds = -1;
+  double fraction = 0;            // of the whole study (every case and realization)
+  double elapsed_seconds = 0;     // since the study began (progress.elapsed_seconds: this run only)
+  double remaining_seconds = -1;  // of the whole study; -1 while unknown
 };
 
 struct StudyResult {

@@ -16,9 +16,36 @@ namespace gdsmc {
 
 enum class ParamType { real, integer, boolean, string, choice };
 
-// The physical dimension of a real parameter. The host converts values given with a unit
-// ({value: 4, unit: 1/tau0}) into reduced units (m = 1, k_B = 1, sigma, T0) once, at load time.
+// The physical dimension of a real parameter: a product of powers of length, time, temperature
+// and mass. The host converts the values a user writes, in reduced units or in the reference units
+// (lambda0, sigma, tau0, T0, m and any product of their powers, e.g. {value: 4, unit: T0/tau0})
+// into reduced units (m = 1, k_B = 1, sigma, T0) once, at load time; a bare number means the
+// reference unit lambda0^length tau0^time T0^temperature m^mass. With k_B = 1 a temperature is an
+// energy (mass length^2 / time^2): dimensions are compared after that reduction, so
+// {.temperature = 1, .mass = -1, .time = -1} and {.length = 2, .time = -3} are the same.
+struct Dimensions {
+  int length = 0, time = 0, temperature = 0, mass = 0;
+  constexpr bool dimensionless() const { return length == 0 && time == 0 && temperature == 0 && mass == 0; }
+  friend constexpr bool operator==(const Dimensions&, const Dimensions&) = default;
+};
+
+// Shorthands for common dimensions (the names of SDK 1.x; each is a Dimensions).
 enum class Dimension { none, length, time, inverse_time, temperature, velocity, acceleration };
+
+constexpr Dimensions dimensions_of(Dimension d) {
+  switch (d) {
+    case Dimension::none: return {};
+    case Dimension::length: return {1, 0, 0, 0};
+    case Dimension::time: return {0, 1, 0, 0};
+    case Dimension::inverse_time: return {0, -1, 0, 0};
+    case Dimension::temperature: return {0, 0, 1, 0};
+    case Dimension::velocity: return {1, -1, 0, 0};
+    case Dimension::acceleration: return {1, -2, 0, 0};
+  }
+  return {};
+}
+// Exact comparison with a shorthand (the declared exponents, not the reduced dimension).
+constexpr bool operator==(const Dimensions& a, Dimension d) { return a == dimensions_of(d); }
 
 inline const char* to_string(ParamType t) {
   switch (t) {
@@ -31,18 +58,32 @@ inline const char* to_string(ParamType t) {
   return "?";
 }
 
-inline const char* to_string(Dimension d) {
-  switch (d) {
-    case Dimension::none: return "1";
-    case Dimension::length: return "length (lambda0 | sigma | reduced)";
-    case Dimension::time: return "time (tau0 | reduced)";
-    case Dimension::inverse_time: return "1/time (1/tau0 | reduced)";
-    case Dimension::temperature: return "temperature (T0 | reduced)";
-    case Dimension::velocity: return "velocity (sqrt(2T0/m) | reduced)";
-    case Dimension::acceleration: return "acceleration (2T0/(m lambda0) | reduced)";
+// The powers of d written with the four base names (length, time, temperature, mass order):
+// "length^2 time^-3" with {"length", "time", "temperature", "mass"}; "" when dimensionless.
+inline std::string powers_text(const Dimensions& d, const char* const (&base)[4]) {
+  std::string s;
+  const int exponents[4] = {d.length, d.time, d.temperature, d.mass};
+  for (int i = 0; i < 4; ++i) {
+    if (exponents[i] == 0) continue;
+    if (!s.empty()) s += " ";
+    s += base[i];
+    if (exponents[i] != 1) s += "^" + std::to_string(exponents[i]);
   }
-  return "?";
+  return s;
 }
+
+// "velocity", or the powers: "length^2 time^-3", "1" when dimensionless.
+inline std::string to_string(const Dimensions& d) {
+  static constexpr struct { Dimension shorthand; const char* name; } named[] = {
+      {Dimension::length, "length"},           {Dimension::time, "time"},
+      {Dimension::inverse_time, "1/time"},     {Dimension::temperature, "temperature"},
+      {Dimension::velocity, "velocity"},       {Dimension::acceleration, "acceleration"}};
+  for (const auto& n : named)
+    if (d == n.shorthand) return n.name;
+  if (d.dimensionless()) return "1";
+  return powers_text(d, {"length", "time", "temperature", "mass"});
+}
+inline std::string to_string(Dimension d) { return to_string(dimensions_of(d)); }
 
 using ParamValue = std::variant<double, std::int64_t, bool, std::string>;
 
@@ -63,7 +104,7 @@ struct ParamSpec {
   std::string name;
   ParamType type = ParamType::real;
   std::string doc;
-  Dimension dimension = Dimension::none;
+  Dimensions dimension;                // dimensionless unless .unit() is given
   std::optional<ParamValue> default_;  // none: the parameter is required
   std::optional<double> min, max;      // for real and integer
   bool min_inclusive = true, max_inclusive = true;
@@ -82,7 +123,9 @@ struct ParamSpec {
   ParamSpec&& above(double lo) && { min = lo; min_inclusive = false; return std::move(*this); }
   ParamSpec&& at_least(double lo) && { min = lo; return std::move(*this); }
   ParamSpec&& below(double hi) && { max = hi; max_inclusive = false; return std::move(*this); }
-  ParamSpec&& unit(Dimension d) && { dimension = d; return std::move(*this); }
+  ParamSpec&& unit(Dimension d) && { dimension = dimensions_of(d); return std::move(*this); }
+  // Any product of powers, e.g. a noise strength (velocity^2 / time): .unit({.length = 2, .time = -3})
+  ParamSpec&& unit(Dimensions d) && { dimension = d; return std::move(*this); }
   ParamSpec&& default_value(double v) && { default_ = v; return std::move(*this); }
   ParamSpec&& default_value(int v) && { default_ = std::int64_t{v}; return std::move(*this); }
   ParamSpec&& default_value(std::int64_t v) && { default_ = v; return std::move(*this); }
