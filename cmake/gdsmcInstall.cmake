@@ -9,7 +9,11 @@
 #   <prefix>/lib/cmake/gdsmc/gdsmcConfigVersion.cmake   gdsmc_add_plugin(), GDSMC_EXECUTABLE
 #   <prefix>/lib/cmake/gdsmc/gdsmcTargets.cmake
 #   <prefix>/lib/cmake/gdsmc/gdsmcPlugin.cmake
-#   <prefix>/share/doc/gdsmc/                       the plugin author guide and the SDK examples
+#   <prefix>/share/doc/gdsmc/*.md                   the documentation, side by side so that their
+#                                                   relative links resolve: user-guide.md,
+#                                                   output-format.md, references.md,
+#                                                   plugin-author-guide.md, bgk-usf.md, validation/
+#   <prefix>/share/doc/gdsmc/examples/              the SDK examples (one project per plugin kind)
 # so that an out-of-tree project needs only
 #   find_package(gdsmc CONFIG REQUIRED)
 #   gdsmc_add_plugin(my_rule SOURCES my_rule.cpp)
@@ -68,9 +72,18 @@ install(FILES ${PROJECT_BINARY_DIR}/gdsmcConfig.cmake ${PROJECT_BINARY_DIR}/gdsm
               ${PROJECT_SOURCE_DIR}/sdk/cmake/gdsmcPlugin.cmake
         DESTINATION ${GDSMC_INSTALL_CMAKEDIR})
 
-# Documentation and examples for plugin authors.
-if(EXISTS ${PROJECT_SOURCE_DIR}/docs/plugin-author-guide.md)
-  install(FILES ${PROJECT_SOURCE_DIR}/docs/plugin-author-guide.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
-endif()
+# Documentation and examples, installed together in <prefix>/share/doc/gdsmc so that the links
+# between them (plugin-author-guide.md -> user-guide.md, output-format.md, references.md; and
+# references.md -> bgk-usf.md, validation/) resolve in the installed tree as in docs/. Every one is
+# required: a missing document is a build-system error, not a silently incomplete installation.
+set(GDSMC_INSTALLED_DOCS user-guide.md output-format.md references.md plugin-author-guide.md bgk-usf.md)
+foreach(doc IN LISTS GDSMC_INSTALLED_DOCS)
+  if(NOT EXISTS ${PROJECT_SOURCE_DIR}/docs/${doc})
+    message(FATAL_ERROR "docs/${doc} is missing: it is installed with gdsmc (cmake/gdsmcInstall.cmake)")
+  endif()
+  install(FILES ${PROJECT_SOURCE_DIR}/docs/${doc} DESTINATION ${CMAKE_INSTALL_DOCDIR})
+endforeach()
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/validation/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/validation
+        FILES_MATCHING PATTERN "*.md")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples
         PATTERN "build*" EXCLUDE)

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -180,5 +181,134 @@ TEST_F(SdkExample, SpeedDistributionWritesItsOwnDatasets) {
   const auto samples = read(h5, g + "samples");
   ASSERT_EQ(samples.size(), 1u);
   EXPECT_GT(samples[0], 1.0);
+  conforms(plugin);
+}
+
+// The documented configure line (section 1 of the plugin author guide) sets no build type: the
+// plugin must still be compiled with the in-tree Release optimisation (-O3 -DNDEBUG), because the
+// SDK compiles the whole per-cell collision loop into it. The author's own build type wins, and
+// GDSMC_PLUGIN_DEFAULT_OPTIMIZATION=OFF turns the default off. Checked on the compile commands,
+// not on timings. CONFORMANCE_PARAMS registers one conformance test per parameter set.
+TEST_F(SdkExample, DocumentedBuildIsOptimised) {
+  const std::string name = "viscoelastic_restitution";
+  const fs::path src = fs::path(GDSMC_SOURCE_DIR) / "sdk/examples" / name;
+  // The plugin's compile command in <dir>/compile_commands.json after configuring with `extra`.
+  auto compile_command = [&](const std::string& tag, const std::string& extra, bool build_it) {
+    const fs::path dir = root_ / ("build-" + tag);
+    Outcome r = sh("cmake -S " + q(src) + " -B " + q(dir) + " -DCMAKE_PREFIX_PATH=" + q(prefix_) +
+                   " -DCMAKE_EXPORT_COMPILE_COMMANDS=ON " + extra);
+    EXPECT_EQ(r.status, 0) << r.out;
+    if (build_it) {
+      r = sh("cmake --build " + q(dir) + " -j2");
+      EXPECT_EQ(r.status, 0) << r.out;
+      EXPECT_TRUE(fs::exists(dir / ("plugins/gdsmc_" + name + ".so")));
+    }
+    const std::string json = gdsmc::test::read_text(dir / "compile_commands.json");
+    const auto at = json.find(name + ".cpp\"");
+    EXPECT_NE(at, std::string::npos) << json;
+    const auto begin = json.rfind("\"command\"", at);
+    return begin == std::string::npos ? json : json.substr(begin, json.find('\n', begin) - begin);
+  };
+  // The documented way: no build type at all.
+  const std::string documented = compile_command("documented", "", true);
+  EXPECT_NE(documented.find(" -O3"), std::string::npos) << documented;
+  EXPECT_NE(documented.find("-DNDEBUG"), std::string::npos) << documented;
+  // The author's build type wins.
+  const std::string debug = compile_command("debug", "-DCMAKE_BUILD_TYPE=Debug", false);
+  EXPECT_EQ(debug.find(" -O3"), std::string::npos) << debug;
+  EXPECT_NE(debug.find(" -g"), std::string::npos) << debug;
+  const std::string own_flags = compile_command("own-flags", "'-DCMAKE_CXX_FLAGS=-O1'", false);
+  EXPECT_EQ(own_flags.find(" -O3"), std::string::npos) << own_flags;
+  EXPECT_NE(own_flags.find(" -O1"), std::string::npos) << own_flags;
+  const std::string off = compile_command("off", "-DGDSMC_PLUGIN_DEFAULT_OPTIMIZATION=OFF", false);
+  EXPECT_EQ(off.find(" -O"), std::string::npos) << off;
+
+  // CONFORMANCE_PARAMS: one CTest test per parameter set, each with --params <file>.
+  const fs::path project = root_ / "params-project";
+  fs::create_directories(project);
+  fs::copy_file(src / (name + ".cpp"), project / (name + ".cpp"));
+  {
+    std::ofstream(project / "soft.yaml") << "delta: 0.4\n";
+    std::ofstream(project / "hard.yaml") << "delta: 0.05\nepsilon_min: 0.5\n";
+    std::ofstream(project / "CMakeLists.txt")
+        << "cmake_minimum_required(VERSION 3.20)\nproject(params_project LANGUAGES CXX)\n"
+           "find_package(gdsmc CONFIG REQUIRED)\nenable_testing()\n"
+           "gdsmc_add_plugin(" << name << " SOURCES " << name << ".cpp CONFORMANCE_PARAMS soft.yaml hard.yaml)\n";
+  }
+  const fs::path pdir = root_ / "build-params";
+  Outcome r = sh("cmake -S " + q(project) + " -B " + q(pdir) + " -DCMAKE_PREFIX_PATH=" + q(prefix_));
+  ASSERT_EQ(r.status, 0) << r.out;
+  r = sh("ctest --test-dir " + q(pdir) + " -N -V");
+  EXPECT_EQ(r.status, 0) << r.out;
+  for (const std::string& t : std::vector<std::string>{"gdsmc_conformance_" + name, "gdsmc_conformance_" + name + "_soft",
+                                                        "gdsmc_conformance_" + name + "_hard"})
+    EXPECT_NE(r.out.find(": " + t + "\n"), std::string::npos) << t << ":\n" << r.out;
+  EXPECT_NE(r.out.find("--params\" \"" + (project / "soft.yaml").string()), std::string::npos) << r.out;
+}
+
+// A forcing: white noise heats an inelastic gas to the steady state where the heating h T0/tau0
+// balances the collisional cooling; Maxwellian estimate (2/3)(1 - alpha^2) T_s^(3/2) / sqrt(pi) = h
+// gives T_s = 2.39 T0 for h = 0.5, alpha = 0.8.
+TEST_F(SdkExample, WhiteNoiseThermostat) {
+  const fs::path dir = build("white_noise_thermostat");
+  const fs::path plugin = dir / "plugins/gdsmc_white_noise_thermostat.so";
+  ASSERT_TRUE(fs::exists(plugin));
+  const fs::path h5 = run("white_noise_thermostat", "white_noise_thermostat.yaml", dir);
+  const auto T = read(h5, "/diagnostics/temperature/temperature");
+  ASSERT_TRUE(all_finite(T));
+  ASSERT_GT(T.size(), 30u);
+  EXPECT_NEAR(T.front(), 1.0, 1e-12);
+  double late = 0;
+  for (std::size_t k = T.size() - 30; k < T.size(); ++k) late += T[k] / 30;
+  EXPECT_NEAR(late, 2.39, 0.15);  // heated to the steady state
+  conforms(plugin);                // forcing.energy and forcing.expected_energy pass
+}
+
+// A wall: Cercignani-Lampis walls at T_w = 1 and 2 on the planes of an elastic slab. Heat flows
+// from y_max to y_min, the profile rises monotonically between the walls with temperature jumps
+// at both, and partial accommodation (a_n = 0.5, a_t = 0.3) passes less heat than the fully
+// diffuse limit a_n = a_t = 1.
+TEST_F(SdkExample, CercignaniLampisWall) {
+  const fs::path dir = build("cercignani_lampis_wall");
+  const fs::path plugin = dir / "plugins/gdsmc_cercignani_lampis_wall.so";
+  ASSERT_TRUE(fs::exists(plugin));
+  const std::string yaml = "cercignani_lampis_wall.yaml";
+  const fs::path h5 = run("cercignani_lampis_wall", yaml, dir);
+  const auto T = read(h5, "/diagnostics/profiles/T.steady_mean");
+  const auto q = read(h5, "/diagnostics/profiles/q_y.steady_mean");
+  ASSERT_EQ(T.size(), 10u);
+  ASSERT_TRUE(all_finite(T));
+  ASSERT_TRUE(all_finite(q));
+  EXPECT_GT(T.front(), 1.05);  // jump at the cold wall (T_w = 1)
+  EXPECT_LT(T.back(), 1.95);   // and at the hot one (T_w = 2)
+  EXPECT_GT(T.back(), T.front() + 0.1);
+  double q_mean = 0;
+  for (double x : q) q_mean += x / static_cast<double>(q.size());
+  EXPECT_LT(q_mean, 0);  // heat flows towards y_min
+  const fs::path diffuse = run("cercignani_lampis_wall", yaml, dir,
+                               "--set boundaries.y_min.normal_accommodation=1 --set boundaries.y_min.tangential_accommodation=1 "
+                               "--set boundaries.y_max.normal_accommodation=1 --set boundaries.y_max.tangential_accommodation=1");
+  const auto qd = read(diffuse, "/diagnostics/profiles/q_y.steady_mean");
+  ASSERT_TRUE(all_finite(qd));
+  double qd_mean = 0;
+  for (double x : qd) qd_mean += x / static_cast<double>(qd.size());
+  EXPECT_LT(qd_mean, 1.5 * q_mean);  // the diffuse walls pass more heat (about twice as much)
+  conforms(plugin);
+}
+
+// An initial state: the two-temperature Maxwellian starts at T = T0 with the fourth cumulant
+// a2 = (f T_hot^2 + (1 - f) T_cold^2)/T0^2 - 1 = 0.64 (f = 1/2, r = 9), which the collisions erase.
+TEST_F(SdkExample, BimodalMaxwellian) {
+  const fs::path dir = build("bimodal_maxwellian");
+  const fs::path plugin = dir / "plugins/gdsmc_bimodal_maxwellian.so";
+  ASSERT_TRUE(fs::exists(plugin));
+  const fs::path h5 = run("bimodal_maxwellian", "bimodal_maxwellian.yaml", dir);
+  const auto T = read(h5, "/diagnostics/temperature/temperature");
+  const auto a2 = read(h5, "/diagnostics/cumulants/a2");
+  ASSERT_TRUE(all_finite(T));
+  ASSERT_TRUE(all_finite(a2));
+  EXPECT_NEAR(T.front(), 1.0, 1e-12);
+  EXPECT_NEAR(a2.front(), 0.64, 0.12);  // sampling error of a2 on 5000 particles is about 0.05
+  EXPECT_LT(std::fabs(a2.back()), 0.05);
   conforms(plugin);
 }

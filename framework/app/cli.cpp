@@ -40,10 +40,21 @@ bool parse_args(int argc, char** argv, int first, const std::vector<OptionSpec>&
   return true;
 }
 
-bool parse(int argc, char** argv, int first, Options& o, std::string& error) {
-  static const std::vector<OptionSpec> specs = {{{"--help", "-h"}, ""},          {{"--quiet", "-q"}, ""},
-                                                {{"--set"}, "a value"},          {{"--output", "-o"}, "a value"},
-                                                {{"--plugin-path"}, "a value"}};
+const std::vector<OptionSpec>& command_options(const std::string& command) {
+  static const std::vector<OptionSpec> run = {{{"--help", "-h"}, ""},
+                                              {{"--quiet", "-q"}, ""},
+                                              {{"--set"}, "a value"},
+                                              {{"--output", "-o"}, "a value"},
+                                              {{"--plugin-path"}, "a value"}};
+  static const std::vector<OptionSpec> plugins = {{{"--help", "-h"}, ""}, {{"--plugin-path"}, "a value"}};
+  static const std::vector<OptionSpec> none;
+  if (command == "run" || command == "validate") return run;
+  if (command == "plugins") return plugins;
+  return none;
+}
+
+bool parse(const std::string& command, int argc, char** argv, int first, Options& o, std::string& error) {
+  const std::vector<OptionSpec>& specs = command_options(command);
   Args args;
   if (!parse_args(argc, argv, first, specs, args, error)) return false;
   o.positional = args.positional;

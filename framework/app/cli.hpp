@@ -26,6 +26,13 @@ struct Args {
 // "unknown option '--x'").
 bool parse_args(int argc, char** argv, int first, const std::vector<OptionSpec>& specs, Args& out, std::string& error);
 
+// The options each of run, validate and plugins accepts (`gdsmc conformance` has its own table in
+// conformance/runner.cpp; `gdsmc help` takes none). run and validate accept the same options, so
+// that a run's command line can be checked by changing the command word; plugins accepts only
+// --plugin-path and --help. The main help (app/main.cpp) lists every one of them, which
+// tests/cli_help_test.cpp checks against these tables. Returns an empty table for any other word.
+const std::vector<OptionSpec>& command_options(const std::string& command);
+
 // The options of run, validate and plugins.
 struct Options {
   std::vector<std::string> positional, sets;
@@ -33,6 +40,7 @@ struct Options {
   std::string output;
   bool quiet = false, help = false;
 };
-bool parse(int argc, char** argv, int first, Options& o, std::string& error);
+// Parse the options of `command` (run, validate or plugins: command_options(command)).
+bool parse(const std::string& command, int argc, char** argv, int first, Options& o, std::string& error);
 
 }  // namespace gdsmc::host

@@ -4,6 +4,7 @@
 
 #include "app/commands.hpp"
 #include "config/suggest.hpp"
+#include "config/units.hpp"
 #include "plugins/registry.hpp"
 #include "util/text.hpp"
 
@@ -15,6 +16,10 @@ Without arguments: every plugin found on the search path, by kind, with its vers
 one-line summary, and any file on the path that could not be loaded (and why).
 With names or .so files: the full documentation of each, and every parameter with its type,
 default, range and unit. A .so file is loaded and checked (ABI version, descriptor) first.
+
+Options:
+  --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  -h, --help             this text
 )";
 
 namespace {
@@ -38,7 +43,9 @@ void print_plugin_doc(const LoadedPlugin& lp) {
     else std::cout << "  required";
     const std::string r = s.range_text();
     if (!r.empty()) std::cout << "  range " << r;
-    if (s.dimension != Dimension::none) std::cout << "  unit " << to_string(s.dimension);
+    if (!s.dimension.dimensionless())
+      std::cout << "  dimension " << to_string(s.dimension) << "  unit " << reference_unit(s.dimension)
+                << " (or {value, unit}: reduced, or any product of powers of lambda0, sigma, tau0, T0, m)";
     std::cout << "\n        " << s.doc << "\n";
   }
   if (d.kind == PluginKind::diagnostic)

@@ -25,15 +25,16 @@ Options:
                          --set collision.alpha=0.5  --set run.particles=20000
                          --set diagnostics[1].record_every=40 (lists by index)
                          --set boundaries.y_min.temperature=2
-  --output FILE          write to FILE instead of output.file
-  --quiet                no progress and no summary (errors are still printed)
+  -o, --output FILE      write to FILE instead of output.file
+  -q, --quiet            no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  -h, --help             this text
 
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
 )";
 
-const char* const kValidateHelp = R"(gdsmc validate PIPELINE.yaml [--set key.path=value]... [--plugin-path P]...
+const char* const kValidateHelp = R"(gdsmc validate PIPELINE.yaml [options]
 
 Checks the pipeline without running it: YAML syntax, every key, every plugin and parameter
 (type, range, unit), and that every plugin accepts its parameters and sets up (every plugin
@@ -41,6 +42,13 @@ object is constructed and every diagnostic begins; no particles are allocated an
 state is not generated, so a large N is checked as quickly as a small one). Every problem is
 reported with file:line:column. Exit 0 when valid, 1 otherwise. Plugin files on the search path
 that could not be loaded (and are therefore shadowed or missing) are reported as warnings.
+
+Options (those of `run`, so that a run's command line can be checked by changing the command):
+  --set key.path=value   override a pipeline value before checking it (repeatable)
+  -o, --output FILE      the output file the verdict names (nothing is written)
+  -q, --quiet            accepted as for run (validate prints only its verdict and problems)
+  --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  -h, --help             this text
 )";
 
 int usage_error(const std::string& message) {

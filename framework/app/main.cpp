@@ -13,24 +13,59 @@ using namespace gdsmc::host;
 
 namespace {
 
+// Every option of every command: tests/cli_help_test.cpp checks this text against the option
+// tables of the parsers (app/cli.cpp command_options, conformance/runner.cpp parse_config), each
+// option inside its command's section (a section starts with a line "gdsmc COMMAND").
 const char* kMainHelp = R"(gdsmc — Direct Simulation Monte Carlo of granular gases, with plugins.
 
-Usage:
-  gdsmc run PIPELINE.yaml [--set key.path=value]... [--output FILE] [--quiet] [--plugin-path P]...
-  gdsmc validate PIPELINE.yaml [--set key.path=value]... [--plugin-path P]...
-  gdsmc plugins [NAME | FILE.so]... [--plugin-path P]...
-  gdsmc conformance PLUGIN.so [--params FILE.yaml] [--seed N] [--only CHECK]...
-  gdsmc help [COMMAND]        (or COMMAND --help)
-  gdsmc --version
+Usage: gdsmc COMMAND [arguments] [options]     (options: "--name value" or "--name=value")
 
-Commands:
-  run        run a pipeline and write one HDF5 file (docs/user-guide.md describes both)
-  validate   check a pipeline and every plugin parameter without running it
-  plugins    list the plugins found, or document the ones named
-  conformance  check a plugin binary against the contract of its kind (`gdsmc conformance --help`)
+gdsmc run PIPELINE.yaml [options]
+  Run a pipeline and write one HDF5 file (docs/user-guide.md, docs/output-format.md).
+  --set key.path=value   override a pipeline value before checking it (repeatable), e.g.
+                         --set collision.alpha=0.5  --set diagnostics[1].record_every=40
+  -o, --output FILE      write to FILE instead of the pipeline's output.file
+  -q, --quiet            no progress and no summary (errors are still printed)
+  --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  -h, --help             the help of `run`
+
+gdsmc validate PIPELINE.yaml [options]
+  Check a pipeline and every plugin parameter without running it. Takes the options of `run`,
+  so that a run's command line can be checked by changing the command word:
+  --set key.path=value   override a pipeline value before checking it (repeatable)
+  -o, --output FILE      the output file the verdict names (nothing is written)
+  -q, --quiet            accepted as for run (validate prints only its verdict and problems)
+  --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  -h, --help             the help of `validate`
+
+gdsmc plugins [NAME | FILE.so]... [options]
+  List the plugins found, by kind; or document the ones named, with every parameter.
+  --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  -h, --help             the help of `plugins`
+
+gdsmc conformance PLUGIN.so [options]
+  Check a plugin binary against the contract of its kind, one line per check.
+  --params FILE.yaml     parameter values for the plugin (a mapping name: value)
+  --context FILE.yaml    a pipeline whose initial state, collision rule, forcings, system and
+                         boundaries surround the plugin
+  --seed N               seed of every random input (default 1); a failure names it
+  --only CHECK           run only CHECK (a name or a prefix; repeatable, comma-separated)
+  --plugin-path P        more plugin directories or files (for the context's plugins)
+  --list                 list the checks that apply to the plugin and exit
+  --no-fork              run the checks in this process (for a debugger)
+  --timeout S            seconds allowed per check (default 120)
+  -h, --help             the help of `conformance`: every check, by kind
+
+gdsmc help [COMMAND]
+  This text, or the help of COMMAND (run, validate, plugins, conformance). No options.
+
+gdsmc --version          the release and the plugin SDK ABI version
+gdsmc --help, -h         this text
 
 Plugins are shared libraries found on the search path: --plugin-path entries, the pipeline's
 `plugins:` list, $GDSMC_PLUGIN_PATH (colon-separated), then the plugins installed with gdsmc.
+The documentation is installed in <prefix>/share/doc/gdsmc/ (user-guide.md, output-format.md,
+references.md, plugin-author-guide.md and examples/, one plugin project of each kind).
 
 Exit status: 0 success, 1 invalid input or failed run (nothing written), 2 bad command line,
 130 interrupted (nothing written).
@@ -54,13 +89,22 @@ int main(int argc, char** argv) {
   }
   if (cmd == "help") {
     const std::string topic = argc > 2 ? argv[2] : "";
+    if (argc > 3) return usage_error("help takes one COMMAND");
+    if (topic == "conformance") {
+      char name[] = "conformance", help[] = "--help";
+      char* args[] = {name, help, nullptr};
+      return run_conformance(2, args);
+    }
+    if (!topic.empty() && topic != "run" && topic != "validate" && topic != "plugins" && topic != "help")
+      return usage_error("help: unknown command '" + topic + "'");
     std::cout << (topic == "run" ? kRunHelp : topic == "validate" ? kValidateHelp : topic == "plugins" ? kPluginsHelp : kMainHelp);
     return 0;
   }
   if (cmd == "conformance") return run_conformance(argc - 1, argv + 1);
+  if (cmd != "run" && cmd != "validate" && cmd != "plugins") return usage_error("unknown command '" + cmd + "'");
   Options o;
   std::string error;
-  if (!parse(argc, argv, 2, o, error)) return usage_error(error);
+  if (!parse(cmd, argc, argv, 2, o, error)) return usage_error(cmd + ": " + error);
   try {
     if (cmd == "run") {
       if (o.help) return std::cout << kRunHelp, 0;
