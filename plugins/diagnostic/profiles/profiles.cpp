@@ -72,8 +72,6 @@ class Profiles final : public gdsmc::Diagnostic {
     if (sys.geometry != gdsmc::Geometry::slab)
       throw std::runtime_error("profiles: needs a slab system (system.domain: slab)");
     bins_ = sys.bins;
-    half_ = 0.5 * sys.box[1];
-    inv_width_ = 1.0 / sys.bin_width();
     mass_ = sys.mass;
     bin_volume_ = sys.bin_width() * sys.cross_section();
     n0_ = sys.number_density;
@@ -87,9 +85,9 @@ class Profiles final : public gdsmc::Diagnostic {
     for (std::size_t k = 0; k < kProf; ++k) ids_[k] = out.profile(kColumns[k].name, kColumns[k].unit, kColumns[k].doc);
   }
 
-  void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan& p) override {
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     for (std::size_t i = 0; i < p.count; ++i) {
-      double* a = &acc_[bin(p.y[i]) * kAcc];
+      double* a = &acc_[ctx.system->bin_of(p.y[i]) * kAcc];
       const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
       const double v2 = vx * vx + vy * vy + vz * vz;
       a[kN] += 1.0;
@@ -109,13 +107,6 @@ class Profiles final : public gdsmc::Diagnostic {
   }
 
  private:
-  std::size_t bin(double y) const {
-    const double s = (y + half_) * inv_width_;
-    if (!(s > 0)) return 0;
-    const auto b = static_cast<std::size_t>(s);
-    return b < bins_ ? b : bins_ - 1;
-  }
-
   // The record-time formulas of the documentation, for one bin's window sums.
   void compute_bin(const double* a, std::size_t b) {
     double v[kProf];
@@ -157,7 +148,7 @@ class Profiles final : public gdsmc::Diagnostic {
   }
 
   std::size_t bins_ = 1, samples_ = 0;
-  double half_ = 0, inv_width_ = 1, mass_ = 1, bin_volume_ = 1, n0_ = 1, t0_ = 1, v0_ = 1, sigma_ = 1, width_ = 1;
+  double mass_ = 1, bin_volume_ = 1, n0_ = 1, t0_ = 1, v0_ = 1, sigma_ = 1, width_ = 1;
   std::vector<double> acc_;     // bins x kAcc window sums
   std::vector<double> values_;  // kProf x bins: the record being written
   std::size_t ids_[kProf] = {};

@@ -92,7 +92,7 @@ class SlabAverages final : public gdsmc::Diagnostic {
 
     sums_.assign(sums_.size(), 0.0);
     for (std::size_t i = 0; i < p.count; ++i) {
-      const std::size_t I = layer(p.y[i]);
+      const std::size_t I = ctx.system->layer_of(p.y[i]);
       if (!in_group_[kCentre][I] && !in_group_[kTop][I]) continue;
       double* s = &sums_[I * kSums];
       const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
@@ -122,13 +122,6 @@ class SlabAverages final : public gdsmc::Diagnostic {
 
  private:
   enum Group : int { kCentre = 0, kTop = 1 };
-
-  std::size_t layer(double y) const {
-    const double s = (y + half_) / dy_;
-    if (!(s > 0)) return 0;
-    const auto I = static_cast<std::size_t>(s);
-    return I < layers_ ? I : layers_ - 1;
-  }
 
   std::size_t layers_ = 1;
   double half_ = 0, dy_ = 1, layer_volume_ = 1, mass_ = 1, n0_ = 1, t0_ = 1, v0_ = 1;
