@@ -102,7 +102,6 @@ struct PairReport {
 };
 
 const char* status_text(Status s);
-std::string fmt(const char* f, ...);
 std::string vec_text(const Vec3& v);
 Result guarded(const std::function<Result()>& fn);
 Result isolated(const std::function<Result()>& fn, bool use_fork, int timeout_seconds);

@@ -16,16 +16,6 @@ const char* status_text(Status s) {
   return "?";
 }
 
-std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* f, ...) {
-  char buf[2048];
-  va_list ap;
-  va_start(ap, f);
-  std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  return buf;
-}
-
 std::string vec_text(const Vec3& v) { return fmt("(%.6g, %.6g, %.6g)", v.x, v.y, v.z); }
 
 Result guarded(const std::function<Result()>& fn) {

@@ -16,11 +16,6 @@ namespace {
 std::string where_text(const PluginUse& u) {
   return "plugin '" + u.plugin->descriptor->name + "' (" + u.path + ", " + u.where.str() + ")";
 }
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 std::string params_text(const PluginUse& u) {
   std::string t;
   for (const auto& [k, e] : u.params.entries()) t += k + "=" + value_text(e.value) + ";";

@@ -1,5 +1,7 @@
 // Small text helpers shared by the host: one copy of each.
 #pragma once
+#include <cstdarg>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,17 @@ inline std::string quoted(const std::string& s) {
     q += c;
   }
   return q + "\"";
+}
+
+// printf-style formatting into a std::string (messages, summary lines; up to 2047 characters).
+inline std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
+inline std::string fmt(const char* format, ...) {
+  char buf[2048];
+  va_list ap;
+  va_start(ap, format);
+  std::vsnprintf(buf, sizeof buf, format, ap);
+  va_end(ap);
+  return buf;
 }
 
 }  // namespace gdsmc::host
