@@ -70,7 +70,7 @@ Result check_boundary_containment(const Subject& s) {
       return fail(fmt("particle moved off its plane by a reflection (returned y = %.17g, the plane is y = %g): ", y,
                       hr.in.side * half) + hit_text(hr));
   }
-  if (p.count != kParticles || h.particles.id != r.start.id)
+  if (p.count != kParticles || h.particles.ids() != r.start.id)
     return fail(fmt("particle count or identities changed: %zu particles after streaming, %zu before", p.count, kParticles));
   const std::string bad = nonfinite_in(p);
   if (!bad.empty()) return fail("particle lost: " + bad);

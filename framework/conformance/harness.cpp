@@ -7,7 +7,7 @@ Snapshot Particles::save() {
   const ParticleSpan p = span();
   Snapshot s;
   auto copy = [&](const double* d) { return std::vector<double>(d, d + p.count); };
-  s.id = id;
+  s.id.assign(p.id, p.id + p.count);
   s.x = copy(p.x); s.y = copy(p.y); s.z = copy(p.z);
   s.vx = copy(p.vx); s.vy = copy(p.vy); s.vz = copy(p.vz);
   for (std::size_t a = 0; a < p.attribute_count; ++a)
@@ -17,6 +17,7 @@ Snapshot Particles::save() {
 
 void Particles::restore(const Snapshot& s, const std::vector<std::uint32_t>* perm) {
   const ParticleSpan p = span();
+  std::uint64_t* id = store.ids();
   for (std::size_t k = 0; k < p.count; ++k) {
     const std::size_t i = perm ? (*perm)[k] : k;
     id[k] = s.id[i];
@@ -103,7 +104,7 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
   static_cast<InitialState*>(h->initial.get())
       ->generate(h->sys, h->board, h->span(), h->factory.streams(StreamPurpose::initial_state, 0));
   static_cast<CollisionRule*>(h->collision.get())->bind(h->span());  // once: the storage never moves
-  h->grid.assign_and_sort(h->span().y, h->particles.cell.data(), n);
+  h->grid.assign_and_sort(h->span().y, h->particles.cells(), n);
   h->update_moments();
   ctx.cells = h->cells.data();
   ctx.cell_count = h->cells.size();
@@ -125,8 +126,8 @@ void SlabHarness::stream(int steps, double dt) {
     ctx.step = step;
     ctx.time = time;
     ctx.dt = dt;
-    mover.stream(p, particles.cell.data(), grid, time, dt, ctx, factory, tally);
-    grid.sort(particles.cell.data(), p.count);
+    mover.stream(p, particles.cells(), grid, time, dt, ctx, factory, tally);
+    grid.sort(particles.cells(), p.count);
     time += dt;
     ++step;
   }
@@ -165,7 +166,7 @@ std::unique_ptr<SlabHarness> make_slab(const Subject& s, const Assignment& a, st
   sample_maxwellian(sys, h->span(), SlabHarness::kTemperature,
                     StreamFactory::standalone_streams(s.cfg.seed, StreamPurpose::host, 0));
   h->grid.slab(n, sys.cells, sys.box[1], sys.cross_section());
-  h->grid.assign_and_sort(h->span().y, h->particles.cell.data(), n);
+  h->grid.assign_and_sort(h->span().y, h->particles.cells(), n);
   h->factory = StreamFactory(s.cfg.seed, 0);
   return h;
 }

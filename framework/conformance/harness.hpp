@@ -29,24 +29,14 @@ struct Snapshot {
   std::vector<std::vector<double>> attributes;
 };
 
-// Particles in the host's storage plus the identities and cells SDK 2.0 spans carry.
+// Particles in the host's storage (with the identities and cells SDK 2.0 spans carry).
 struct Particles {
   ParticleStore store;
-  std::vector<std::uint64_t> id;
-  std::vector<std::uint32_t> cell;
 
-  void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes) {
-    store.allocate(n, attributes);
-    id.resize(n);
-    for (std::size_t i = 0; i < n; ++i) id[i] = i;
-    cell.assign(n, 0u);
-  }
-  ParticleSpan span() {
-    ParticleSpan s = store.span();
-    s.id = id.data();
-    s.cell = cell.data();
-    return s;
-  }
+  void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes) { store.allocate(n, attributes); }
+  ParticleSpan span() { return store.span(); }
+  std::uint32_t* cells() { return store.cells(); }
+  std::vector<std::uint64_t> ids() { return {store.ids(), store.ids() + store.size()}; }
   Snapshot save();
   // Restore a snapshot; with `perm`, particle k of the span is particle perm[k] of the snapshot
   // (identity included, so per-particle streams follow the particle).
@@ -96,7 +86,7 @@ struct Harness {
   Snapshot save() { return particles.save(); }
   void restore(const Snapshot& s, const std::vector<std::uint32_t>* perm = nullptr) {
     particles.restore(s, perm);
-    grid.assign_and_sort(span().y, particles.cell.data(), span().count);  // cells follow the particles
+    grid.assign_and_sort(span().y, particles.cells(), span().count);  // cells follow the particles
     update_moments();
   }
   // Attributes that the initial state left at zero get random values (so that rules and

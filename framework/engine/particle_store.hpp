@@ -72,6 +72,9 @@ class ParticleStore {
   }
   // The layer of every particle, written by the mover (the span shows it read-only to plugins).
   std::uint32_t* cells() { return cell_.data(); }
+  // The identities, for the host only (the conformance harness restores snapshots in a permuted
+  // order, identities travelling with their particles).
+  std::uint64_t* ids() { return id_.data(); }
   const std::vector<AttributeSpec>& attribute_specs() const { return specs_; }
 
  private:
