@@ -62,7 +62,13 @@ bool parse(const std::string& command, int argc, char** argv, int first, Options
   o.quiet = args.has("--quiet");
   o.sets = args.all("--set");
   for (const auto& p : args.all("--plugin-path")) o.plugin_paths.emplace_back(p);
-  if (args.has("--output")) o.output = args.all("--output").back();
+  if (args.has("--output")) {
+    o.output = args.all("--output").back();
+    if (o.output.empty()) {
+      error = "--output needs a file name, got an empty one";
+      return false;
+    }
+  }
   return true;
 }
 

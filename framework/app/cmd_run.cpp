@@ -1,9 +1,12 @@
 // `gdsmc run` and `gdsmc validate`.
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "app/commands.hpp"
 #include "app/progress.hpp"
@@ -17,8 +20,13 @@ namespace fs = std::filesystem;
 const char* const kRunHelp = R"(gdsmc run PIPELINE.yaml [options]
 
 Runs the pipeline and writes one HDF5 file (the pipeline's output.file, default
-<pipeline name>.h5 in the current directory). The file is written under a temporary name and
-renamed when complete: a failed or interrupted run leaves nothing under the final name.
+<pipeline name>.h5 in the current directory). The output is checked before the first step: its
+directory exists and is writable, the name is valid, and it is new, a regular file or a symbolic
+link (the link is replaced, not its target), never an input of the run. A file it replaces is
+named on stderr. The file is written under .FILE.gdsmc-partial-HOST-NS-PID-XXXXXX beside it and
+renamed when complete: a failed or interrupted run (also during the final write) leaves nothing
+under either name, and a run removes the temporaries of FILE left by killed runs of this host.
+A failed write (disk full) exits 1 and says the results are lost.
 
 Options:
   --set key.path=value   override a pipeline value before checking it, e.g.
@@ -40,12 +48,14 @@ Checks the pipeline without running it: YAML syntax, every key, every plugin and
 (type, range, unit), and that every plugin accepts its parameters and sets up (every plugin
 object is constructed and every diagnostic begins; no particles are allocated and the initial
 state is not generated, so a large N is checked as quickly as a small one). Every problem is
-reported with file:line:column. Exit 0 when valid, 1 otherwise. Plugin files on the search path
-that could not be loaded (and are therefore shadowed or missing) are reported as warnings.
+reported with file:line:column. The output file is checked as `run` checks it (a temporary file
+is created beside it and removed at once; an existing file a run would replace is named).
+Exit 0 when valid, 1 otherwise. Plugin files on the search path that could not be loaded (and
+are therefore shadowed or missing) are reported as warnings.
 
 Options (those of `run`, so that a run's command line can be checked by changing the command):
   --set key.path=value   override a pipeline value before checking it (repeatable)
-  -o, --output FILE      the output file the verdict names (nothing is written)
+  -o, --output FILE      the output file to check (nothing is left behind)
   -q, --quiet            accepted as for run (validate prints only its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   -h, --help             this text
@@ -67,9 +77,34 @@ void print_warnings(const std::vector<std::string>& messages) {
 
 namespace {
 
-// Load the pipeline and every case of its sweep and set each up once before anything runs
-// (a run builds every engine; validate only the plugin objects). Returns 0, or the exit status.
-int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases) {
+// Where the output name came from, to locate a message about it.
+std::string output_origin(const Options& o, const Pipeline& p) {
+  if (!o.output.empty()) return "--output " + o.output;
+  if (!p.output_file_where.file.empty()) return p.output_file_where.str() + ": output.file";
+  return p.file.string() + ": output file (the default name)";
+}
+
+// What the run reads and must never be written over: the pipeline and every plugin library.
+std::vector<RunInput> run_inputs(const Pipeline& p, const std::vector<StudyCase>& cases) {
+  std::vector<RunInput> in{{p.file, "the pipeline"}};
+  auto add = [&](const LoadedPlugin* lp) {
+    if (lp) in.push_back({lp->file, "the library of plugin '" + lp->descriptor->name + "'"});
+  };
+  if (p.registry)
+    for (const auto& lp : p.registry->plugins()) add(&lp);
+  for (const auto& c : cases) {
+    const Pipeline& q = c.pipeline;
+    for (const PluginUse* u : {&q.initial_state, &q.collision}) add(u->plugin);
+    for (const auto* uses : {&q.forcings, &q.boundaries, &q.diagnostics})
+      for (const auto& u : *uses) add(u.plugin);
+  }
+  return in;
+}
+
+// Load the pipeline and every case of its sweep, check the output path (validate also creates
+// and removes a temporary file beside it) and set each case up once before anything runs (a run
+// builds every engine; validate only the plugin objects). Returns 0, or the exit status.
+int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases, OutputTarget& target) {
   try {
     p = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
   } catch (const PipelineError& e) {
@@ -78,15 +113,15 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
   }
   print_warnings(p.warnings);
   if (!o.output.empty()) p.output_file = o.output;
-  if (run_it) {
-    const fs::path dir = fs::absolute(p.output_file).parent_path();
-    if (!fs::is_directory(dir)) {
-      print_errors({"output file " + p.output_file.string() + ": the directory " + dir.string() + " does not exist"});
-      return 1;
-    }
-  }
   try {
     cases = expand_cases(p, o.sets, o.plugin_paths);
+    try {
+      target = check_output_path(p.output_file, run_inputs(p, cases));
+      if (!run_it) probe_temporary(target);
+    } catch (const OutputPathError& e) {
+      print_errors({output_origin(o, p) + ": " + e.what()});
+      return 1;
+    }
     for (const auto& c : cases) {
       if (run_it) Engine check(c.pipeline, 0);
       else Engine::check_setup(c.pipeline);
@@ -117,30 +152,69 @@ int cmd_run(const Options& o, bool run_it) {
   if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
   Pipeline p;
   std::vector<StudyCase> cases;
-  if (const int status = prepare(o, run_it, p, cases)) return status;
+  OutputTarget target;
+  if (const int status = prepare(o, run_it, p, cases, target)) return status;
+  const std::string notice = target.replacement_notice(run_it);
   if (!run_it) {
+    if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
     std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
               << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
               << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string() << ")\n";
     return 0;
   }
+  // Handlers first: a signal from here on removes the temporary file (exit 130).
   install_interrupt_handlers();
+  std::signal(SIGXFSZ, SIG_IGN);  // a file size limit (ulimit -f) is a write error, not a kill
+  const auto start = std::chrono::steady_clock::now();
   const bool tty = ::isatty(STDERR_FILENO);
   std::function<void(const StudyProgress&)> report;
   if (!o.quiet) report = progress_reporter(tty);
+  auto end_line = [&] {
+    if (report && tty) std::cerr << "\n";
+  };
+  auto lost = [&](const std::exception& e) {
+    end_line();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "gdsmc: error: cannot write " << p.output_file.string() << ": " << e.what()
+              << "; the results computed in " << format_seconds(seconds)
+              << " are lost (they were held only in memory) and nothing was written\n";
+    return 1;
+  };
+  std::optional<OutputFile> out;
+  try {
+    for (const auto& line : remove_stale_temporaries(target)) std::cerr << "gdsmc: " << line << "\n";
+    out.emplace(target, &g_interrupted);
+  } catch (const OutputPathError& e) {
+    print_errors({output_origin(o, p) + ": " + e.what()});
+    return 1;
+  }
+  if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
+  auto interrupted = [&](const std::string& when) {
+    end_line();
+    std::cerr << "gdsmc: interrupted" << when << "; no output written\n";
+    return 130;
+  };
   StudyResult result;
   try {
     result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted);
-    if (report && tty) std::cerr << "\n";
-    write_hdf5(p.output_file, result.output);
+    end_line();
   } catch (const Engine::Interrupted&) {
-    if (report && tty) std::cerr << "\n";
-    std::cerr << "gdsmc: interrupted; no output written\n";
-    return 130;
+    return interrupted("");
+  } catch (const OutputInterrupted&) {
+    return interrupted(" while writing " + p.output_file.string());
+  } catch (const OutputWriteError& e) {  // the final particles, written as the run ends
+    return lost(e);
   } catch (const std::exception& e) {
-    if (report && tty) std::cerr << "\n";
-    print_errors({p.file.string() + ": " + e.what()});
+    end_line();
+    std::cerr << "error: " << p.file.string() << ": " << e.what() << "\ngdsmc: the run failed; nothing was written\n";
     return 1;
+  }
+  try {
+    out->commit(result.output);
+  } catch (const OutputInterrupted&) {
+    return interrupted(" while writing " + p.output_file.string());
+  } catch (const std::exception& e) {
+    return lost(e);
   }
   if (!o.quiet) print_summary(p, cases.size(), result);
   return 0;

@@ -88,6 +88,7 @@ struct Pipeline {
   std::vector<PluginUse> diagnostics;
 
   std::filesystem::path output_file;
+  SourceLocation output_file_where;  // where output.file was given (file "": the default name)
   bool output_particles = false;  // write the final particle state (/particles)
   bool output_realizations = false;  // also write each realization's own diagnostics (<group>/realizations/<k>)
   std::shared_ptr<PluginRegistry> registry;

@@ -117,7 +117,15 @@ void parse_output(Checker& c, const YAML::Node& out, Pipeline& p) {
     c.error("output", out, "expected {file: NAME.h5}");
   } else {
     c.check_keys(out, "output", {"file", "particles", "realizations"});
-    if (out["file"]) p.output_file = out["file"].Scalar();
+    if (const YAML::Node f = out["file"]) {
+      if (f.IsScalar() && !f.Scalar().empty()) {
+        p.output_file = f.Scalar();
+        p.output_file_where = c.where("output.file", f);
+      } else {
+        c.error("output.file", f, "expected a file name such as NAME.h5, got " +
+                                      (f.IsScalar() ? std::string("an empty name") : Checker::describe(f)));
+      }
+    }
     if (out["particles"])
       if (auto b = c.boolean(out["particles"], "output.particles")) p.output_particles = *b;
     if (out["realizations"])

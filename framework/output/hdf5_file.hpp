@@ -1,13 +1,66 @@
-// Writing a study's results to one HDF5 file, under a temporary name renamed only on success.
+// Writing a study's results to one HDF5 file: created under a temporary name before the first
+// step, renamed over the output name only when complete.
 #pragma once
-#include <filesystem>
+#include <hdf5.h>
 
+#include <atomic>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+#include "output/output_path.hpp"
 #include "output/records.hpp"
 
 namespace gdsmc::host {
 
-// Write under "<file>.partial-<pid>" and rename to `file` on success. On failure, no file is left
-// under either name and the error is thrown.
+// The interrupt flag was set while the file was being written (SIGINT, SIGTERM).
+class OutputInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Writing failed (disk full, file size limit, I/O error); the message says what and why.
+class OutputWriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The run's HDF5 file, open under a temporary name (TemporaryFile) from before the first step.
+// Destroyed without commit(), it closes and removes the temporary file.
+class OutputFile {
+ public:
+  // Creates the temporary file beside target.file (throws OutputPathError). `interrupt`, when
+  // set during a write, stops it with OutputInterrupted.
+  explicit OutputFile(const OutputTarget& target, const std::atomic<bool>* interrupt = nullptr);
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile();
+
+  // Writes `out` (particle datasets staged before are moved into place) and renames the file over
+  // target.file. Throws OutputWriteError, OutputPathError or OutputInterrupted; the temporary
+  // file is then removed when this object is destroyed.
+  void commit(const StudyOutput& out);
+
+  // Writes the final particles into the file now, in bounded chunks straight from the particle
+  // store (no second copy of them), and returns the datasets naming where they are.
+  std::vector<ParticleDataset> stage_particles(const std::vector<ParticleColumn>& columns);
+
+  // The file open in this process, if any: Engine::output hands it the final particles while the
+  // store still holds them (particle_datasets), since the engine does not know the file.
+  static OutputFile* current();
+
+  const std::filesystem::path& temporary_path() const { return tmp_.path(); }
+
+ private:
+  OutputTarget target_;
+  TemporaryFile tmp_;
+  hid_t file_ = -1;
+  const std::atomic<bool>* interrupt_;
+  std::size_t staged_ = 0;
+};
+
+// Check `file`, create it under a temporary name and write `out` (no inputs to protect: for tests
+// and tools that write a study's output in one go).
 void write_hdf5(const std::filesystem::path& file, const StudyOutput& out);
 
 }  // namespace gdsmc::host

@@ -2,27 +2,35 @@
 
 #include <cmath>
 
+#include "output/hdf5_file.hpp"
+
 namespace gdsmc::host {
 
-std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system) {
-  std::vector<ParticleDataset> out;
+std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const SystemInfo& system) {
   const double length = system.mean_free_path0, speed = std::sqrt(2.0 * system.initial_temperature / system.mass);
-  auto column = [&](const char* name, const double* v, double scale, const char* unit, const char* doc) {
-    ParticleDataset d{name, unit, doc, 1, std::vector<double>(v, v + s.count)};
-    for (double& x : d.data) x /= scale;
-    out.push_back(std::move(d));
-  };
-  column("x", s.x, length, "lambda0", "final position x");
-  column("y", s.y, length, "lambda0", "final position y");
-  column("z", s.z, length, "lambda0", "final position z");
-  column("vx", s.vx, speed, "sqrt(2T0/m)", "final velocity x");
-  column("vy", s.vy, speed, "sqrt(2T0/m)", "final velocity y");
-  column("vz", s.vz, speed, "sqrt(2T0/m)", "final velocity z");
+  std::vector<ParticleColumn> out = {
+      {"x", "lambda0", "final position x", 1, s.x, s.count, length},
+      {"y", "lambda0", "final position y", 1, s.y, s.count, length},
+      {"z", "lambda0", "final position z", 1, s.z, s.count, length},
+      {"vx", "sqrt(2T0/m)", "final velocity x", 1, s.vx, s.count, speed},
+      {"vy", "sqrt(2T0/m)", "final velocity y", 1, s.vy, s.count, speed},
+      {"vz", "sqrt(2T0/m)", "final velocity z", 1, s.vz, s.count, speed}};
   for (std::size_t a = 0; a < s.attribute_count; ++a) {
     const AttributeSpec& spec = s.attribute_specs[a];
-    const double* data = s.attribute_data[a];
-    out.push_back(ParticleDataset{spec.name, spec.unit, spec.doc, spec.components,
-                                  std::vector<double>(data, data + s.count * spec.components)});
+    out.push_back({spec.name, spec.unit, spec.doc, spec.components, s.attribute_data[a], s.count, 1.0});
+  }
+  return out;
+}
+
+std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system) {
+  const std::vector<ParticleColumn> columns = particle_columns(s, system);
+  if (OutputFile* file = OutputFile::current()) return file->stage_particles(columns);
+  std::vector<ParticleDataset> out;
+  for (const auto& c : columns) {
+    ParticleDataset d{c.name, c.unit, c.doc, c.components, {c.values, c.values + c.count * c.components}, ""};
+    if (c.scale != 1)
+      for (double& x : d.data) x /= c.scale;
+    out.push_back(std::move(d));
   }
   return out;
 }

@@ -9,6 +9,12 @@
 
 namespace gdsmc::host {
 
+// Positions, velocities and every declared attribute, as views of the particle store.
+std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const SystemInfo& system);
+
+// The datasets of particle_columns: written at once into the run's open output file
+// (OutputFile::current()), in bounded chunks straight from the store, or, with no file open,
+// copied into memory.
 std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system);
 
 }  // namespace gdsmc::host

@@ -14,10 +14,23 @@ struct PluginProvenance {
 };
 
 // A per-particle dataset of the final state: shape [components, N] (or [N] for one component).
+// While a run's output file is open its data is written there at once (`staged`: where), so
+// that no second copy of the particles is held; otherwise (tests, tools) it is held in `data`.
 struct ParticleDataset {
   std::string name, unit, doc;
   int components = 1;
   std::vector<double> data;
+  std::string staged;  // the dataset's path in the open output file, or "" (in `data`)
+};
+
+// A per-particle quantity as the particle store holds it: components x count values,
+// component-major, written divided by `scale`.
+struct ParticleColumn {
+  std::string name, unit, doc;
+  int components = 1;
+  const double* values = nullptr;
+  std::size_t count = 0;
+  double scale = 1;
 };
 
 // One simulated case (one point of a sweep; all its realizations averaged).
