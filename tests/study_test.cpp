@@ -83,7 +83,7 @@ sweep:
   yaml.replace(yaml.find("run_extra: 0\n"), 13, "");
   const fs::path file = dir.write("sweep.yaml", yaml);
   host::Pipeline base = host::load_pipeline(file, {"run.average_after.collisions_per_particle=2"}, {plugin_dir()});
-  const auto cases = host::expand_cases(base, {"run.average_after.collisions_per_particle=2"}, {plugin_dir()});
+  const auto cases = host::expand_cases(base);
   ASSERT_EQ(cases.size(), 4u);
   const char* labels[4] = {"collision.alpha=0.5, step=fine", "collision.alpha=0.5, step=coarse",
                            "collision.alpha=0.9, step=fine", "collision.alpha=0.9, step=coarse"};
@@ -116,7 +116,7 @@ TEST(Study, ASweepCaseWithABadValueIsRefusedBeforeAnythingRuns) {
   const fs::path file = dir.write("sweep.yaml", std::string(kHcs) + "sweep:\n  collision.alpha: [0.5, 1.5]\n");
   host::Pipeline base = host::load_pipeline(file, {}, {plugin_dir()});
   try {
-    host::expand_cases(base, {}, {plugin_dir()});
+    host::expand_cases(base);
     FAIL() << "expected a PipelineError";
   } catch (const host::PipelineError& e) {
     const std::string m = e.what();
@@ -460,8 +460,7 @@ TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
   host::Pipeline p = load_yaml(dir, kHcs, {"run.realizations=3", "output.realizations=true",
                                            "run.average_after={collisions_per_particle: 1}"});
   ASSERT_TRUE(p.output_realizations);
-  const auto cases = host::expand_cases(p, {"run.realizations=3", "output.realizations=true",
-                                            "run.average_after={collisions_per_particle: 1}"}, {plugin_dir()});
+  const auto cases = host::expand_cases(p);
   auto result = host::run_study(cases, nullptr, 1.0, nullptr);
   const fs::path file = dir.path() / "out.h5";
   host::write_hdf5(file, result.output);
@@ -482,7 +481,7 @@ TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
             std::string::npos);
   // Without the option, no realizations group.
   const host::Pipeline q = load_yaml(dir, kHcs, {"run.realizations=2"});
-  const auto plain = host::expand_cases(q, {"run.realizations=2"}, {plugin_dir()});
+  const auto plain = host::expand_cases(q);
   auto r2 = host::run_study(plain, nullptr, 1.0, nullptr);
   const fs::path file2 = dir.path() / "plain.h5";
   host::write_hdf5(file2, r2.output);
@@ -495,7 +494,7 @@ TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
 TEST(Study, ProgressReportsCoverTheWholeStudy) {
   TempDir dir;
   host::Pipeline p = load_yaml(dir, kHcs, {"run.realizations=3"});
-  const auto cases = host::expand_cases(p, {"run.realizations=3"}, {plugin_dir()});
+  const auto cases = host::expand_cases(p);
   std::vector<host::StudyProgress> seen;
   host::run_study(cases, [&](const host::StudyProgress& sp) { seen.push_back(sp); }, 0.0, nullptr);
   ASSERT_FALSE(seen.empty());

@@ -12,6 +12,7 @@
 #include "app/progress.hpp"
 #include "output/hdf5_file.hpp"
 #include "study/study.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -40,6 +41,9 @@ Options:
 
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
+
+Before anything runs, the pipeline is checked as `validate` checks it, the memory the study needs
+is estimated and the run is refused when it cannot fit in the memory available (see validate).
 )";
 
 const char* const kValidateHelp = R"(gdsmc validate PIPELINE.yaml [options]
@@ -53,10 +57,16 @@ is created beside it and removed at once; an existing file a run would replace i
 Exit 0 when valid, 1 otherwise. Plugin files on the search path that could not be loaded (and
 are therefore shadowed or missing) are reported as warnings.
 
+The verdict gives the memory the study is estimated to need (particles, attributes, every
+diagnostic's records, what each sweep case keeps until the file is written); a study that needs
+more than is available (the smaller of MemAvailable and what ulimit -v / -d leave) is refused
+with both figures. The pipeline file must be a regular file of at most 16 MiB. Checking a sweep
+that takes more than 2 s prints its progress on stderr every 2 s.
+
 Options (those of `run`, so that a run's command line can be checked by changing the command):
   --set key.path=value   override a pipeline value before checking it (repeatable)
   -o, --output FILE      the output file to check (nothing is left behind)
-  -q, --quiet            accepted as for run (validate prints only its verdict and problems)
+  -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   -h, --help             this text
 )";
@@ -102,19 +112,33 @@ std::vector<RunInput> run_inputs(const Pipeline& p, const std::vector<StudyCase>
 }
 
 // Load the pipeline and every case of its sweep, check the output path (validate also creates
-// and removes a temporary file beside it) and set each case up once before anything runs (a run
-// builds every engine; validate only the plugin objects). Returns 0, or the exit status.
-int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases, OutputTarget& target) {
+// and removes a temporary file beside it), set each case up once and estimate the memory before
+// anything runs (a run builds every engine; validate only the plugin objects). Returns 0, or the
+// exit status.
+int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases, OutputTarget& target,
+            MemoryEstimate& memory) {
   try {
     p = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
   } catch (const PipelineError& e) {
     print_errors(e.messages());
     return 1;
+  } catch (const std::bad_alloc& e) {
+    print_errors({o.positional[0] + ": " + failure_text(e, nullptr)});
+    return 1;
   }
   print_warnings(p.warnings);
   if (!o.output.empty()) p.output_file = o.output;
+  const auto start = std::chrono::steady_clock::now();
+  CheckProgress progress;  // a line every few seconds while a large sweep is checked
+  if (!o.quiet)
+    progress = [&](const char* stage, std::size_t done, std::size_t total) {
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::cerr << "gdsmc: checking the sweep: " << done << " of " << total << " cases " << stage << " ("
+                << format_seconds(seconds) << ")\n";
+    };
+  bool estimated = false;
   try {
-    cases = expand_cases(p, o.sets, o.plugin_paths);
+    cases = expand_cases(p, progress);
     try {
       target = check_output_path(p.output_file, run_inputs(p, cases));
       if (!run_it) probe_temporary(target);
@@ -122,15 +146,15 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
       print_errors({output_origin(o, p) + ": " + e.what()});
       return 1;
     }
-    for (const auto& c : cases) {
-      if (run_it) Engine check(c.pipeline, 0);
-      else Engine::check_setup(c.pipeline);
-    }
+    memory = check_cases(cases, progress);
+    estimated = true;
+    if (run_it)
+      for (const auto& c : cases) Engine check(c.pipeline, 0);
   } catch (const PipelineError& e) {
     print_errors(e.messages());
     return 1;
   } catch (const std::exception& e) {
-    print_errors({p.file.string() + ": " + e.what()});
+    print_errors({p.file.string() + ": " + failure_text(e, estimated ? &memory : nullptr)});
     return 1;
   }
   return 0;
@@ -153,13 +177,15 @@ int cmd_run(const Options& o, bool run_it) {
   Pipeline p;
   std::vector<StudyCase> cases;
   OutputTarget target;
-  if (const int status = prepare(o, run_it, p, cases, target)) return status;
+  MemoryEstimate memory;
+  if (const int status = prepare(o, run_it, p, cases, target, memory)) return status;
   const std::string notice = target.replacement_notice(run_it);
   if (!run_it) {
     if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
     std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
               << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
-              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string() << ")\n";
+              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string()
+              << "; about " << bytes_text(memory.bytes) << " of memory)\n";
     return 0;
   }
   // Handlers first: a signal from here on removes the temporary file (exit 130).
@@ -206,7 +232,8 @@ int cmd_run(const Options& o, bool run_it) {
     return lost(e);
   } catch (const std::exception& e) {
     end_line();
-    std::cerr << "error: " << p.file.string() << ": " << e.what() << "\ngdsmc: the run failed; nothing was written\n";
+    std::cerr << "error: " << p.file.string() << ": " << failure_text(e, &memory)
+              << "\ngdsmc: the run failed; nothing was written\n";
     return 1;
   }
   try {

@@ -30,11 +30,12 @@ gdsmc run PIPELINE.yaml [options]
   -h, --help             the help of `run`
 
 gdsmc validate PIPELINE.yaml [options]
-  Check a pipeline and every plugin parameter without running it. Takes the options of `run`,
-  so that a run's command line can be checked by changing the command word:
+  Check a pipeline and every plugin parameter without running it, and estimate the memory it
+  needs (refused when it cannot fit). Takes the options of `run`, so that a run's command line
+  can be checked by changing the command word:
   --set key.path=value   override a pipeline value before checking it (repeatable)
   -o, --output FILE      the output file the verdict names (nothing is written)
-  -q, --quiet            accepted as for run (validate prints only its verdict and problems)
+  -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   -h, --help             the help of `validate`
 

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "util/text.hpp"
+
 namespace gdsmc::host {
 
 std::vector<std::string> key_parts(std::string key) {
@@ -26,10 +28,12 @@ std::string canonical_key(const std::string& key) {
   return out;
 }
 
-void apply_override(YAML::Node& root, const std::string& assignment, std::vector<std::string>& errors) {
+void apply_override(YAML::Node& root, const std::string& assignment, std::vector<std::string>& errors,
+                    const std::string& origin) {
+  const std::string from = origin.empty() ? "--set " + assignment : origin;
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    errors.push_back("--set " + assignment + ": expected key.path=value");
+    errors.push_back(from + ": expected key.path=value");
     return;
   }
   const std::vector<std::string> parts = key_parts(assignment.substr(0, eq));
@@ -38,19 +42,28 @@ void apply_override(YAML::Node& root, const std::string& assignment, std::vector
   try {
     value_node = YAML::Load(value);
   } catch (const YAML::Exception& e) {
-    errors.push_back("--set " + assignment + ": the value is not valid YAML: " + e.msg);
+    errors.push_back(from + ": the value is not valid YAML: " + e.msg);
     return;
   }
+  // A single value has no keys (yaml-cpp would throw a message that names no key path).
+  auto single_value = [&](const YAML::Node& node, std::size_t k) {
+    if (!node.IsScalar()) return false;
+    std::vector<std::string> above(parts.begin(), parts.begin() + static_cast<std::ptrdiff_t>(k));
+    errors.push_back(from + ": " + canonical_key(join(above, ".")) + " is a single value ('" + node.Scalar() +
+                     "'), not a mapping, so it has no key '" + parts[k] + "'");
+    return true;
+  };
   // Walk with fresh handles (yaml-cpp node assignment rebinds, so use reset()).
   YAML::Node cur;
   cur.reset(root);
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    if (single_value(cur, k)) return;
     YAML::Node next;
     if (cur.IsSequence()) {
       char* end = nullptr;
       const long idx = std::strtol(parts[k].c_str(), &end, 10);
       if (*end || idx < 0 || static_cast<std::size_t>(idx) >= cur.size()) {
-        errors.push_back("--set " + assignment + ": '" + parts[k] + "' is not an index of the list (size " +
+        errors.push_back(from + ": '" + parts[k] + "' is not an index of the list (size " +
                          std::to_string(cur.size()) + ")");
         return;
       }
@@ -61,14 +74,15 @@ void apply_override(YAML::Node& root, const std::string& assignment, std::vector
     cur.reset(next);
   }
   if (parts.empty()) {
-    errors.push_back("--set " + assignment + ": empty key path");
+    errors.push_back(from + ": empty key path");
     return;
   }
+  if (single_value(cur, parts.size() - 1)) return;
   if (cur.IsSequence()) {
     char* end = nullptr;
     const long idx = std::strtol(parts.back().c_str(), &end, 10);
     if (*end || idx < 0 || static_cast<std::size_t>(idx) >= cur.size()) {
-      errors.push_back("--set " + assignment + ": '" + parts.back() + "' is not an index of the list");
+      errors.push_back(from + ": '" + parts.back() + "' is not an index of the list");
       return;
     }
     cur[static_cast<std::size_t>(idx)] = value_node;

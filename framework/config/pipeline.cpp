@@ -1,11 +1,7 @@
 #include "config/pipeline.hpp"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -51,20 +47,11 @@ double Pipeline::time_unit0() const { return mean_free_path0() / std::sqrt(2.0 *
 
 namespace {
 
-// The file as read, parsed, with the --set overrides applied (source and resolved text kept in p).
-YAML::Node read_document(const fs::path& file, const std::vector<std::string>& overrides, Pipeline& p) {
-  if (std::filesystem::is_directory(file))
-    throw PipelineError({file.string() + ": cannot read the pipeline file (it is a directory)"});
-  {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw PipelineError({file.string() + ": cannot read the pipeline file (" + std::strerror(errno) + ")"});
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    p.source_text = ss.str();
-  }
+// `text` (the file as read) parsed: a YAML mapping, or PipelineError at the place it breaks.
+YAML::Node parse_document(const fs::path& file, const std::string& text) {
   YAML::Node root;
   try {
-    root = YAML::Load(p.source_text);
+    root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
     throw PipelineError({file.string() + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
                          ": malformed YAML: " + e.msg});
@@ -72,15 +59,13 @@ YAML::Node read_document(const fs::path& file, const std::vector<std::string>& o
   if (!root.IsMap())
     throw PipelineError({file.string() + ":1:1: a pipeline is a YAML mapping with keys run, system, initial_state, "
                                          "collision, diagnostics, ..."});
-  {
-    std::vector<std::string> errors;
-    for (const auto& o : overrides) apply_override(root, o, errors);
-    if (!errors.empty()) throw PipelineError(errors);
-  }
-  YAML::Emitter emitter;
-  emitter << root;
-  p.resolved_text = emitter.c_str();
   return root;
+}
+
+void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides) {
+  std::vector<std::string> errors;
+  for (const auto& o : overrides) apply_override(root, o, errors);
+  if (!errors.empty()) throw PipelineError(errors);
 }
 
 // Plugin search path: --plugin-path, the pipeline's `plugins:` (relative to the file), then the defaults.
@@ -191,14 +176,12 @@ void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pip
 
 }  // namespace
 
-Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& overrides,
-                       const std::vector<fs::path>& extra_plugin_paths, std::shared_ptr<PluginRegistry> registry) {
-  Pipeline p;
-  p.file = file;
-  p.overrides = overrides;
-  const YAML::Node root = read_document(file, overrides, p);
+namespace {
 
-  Checker c(file, overrides);
+// Everything after the document: the registry (unless shared), every section, every plugin.
+void check_document(Checker& c, const YAML::Node& root, const std::vector<fs::path>& extra_plugin_paths,
+                    std::shared_ptr<PluginRegistry> registry, Pipeline& p) {
+  const fs::path& file = p.file;
   c.check_keys(root, "", {"run", "system", "initial_state", "collision", "forcings", "boundaries", "diagnostics",
                           "output", "plugins", "sweep"});
   auto need = [&](const char* key) -> YAML::Node {
@@ -211,7 +194,10 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
   } else {
     build_registry(c, root, file, extra_plugin_paths, p);
   }
-  if (YAML::Node run = need("run")) parse_run(c, run, p);
+  if (const YAML::Node run = need("run")) {
+    parse_run(c, run, p);
+    if (run.IsMap() && run["particles"]) p.particles_where = c.where("run.particles", run["particles"]);
+  }
   if (YAML::Node sys = need("system")) parse_system(c, sys, p);
   if (p.geometry == Geometry::slab && p.particles > 0 && p.particles < p.layers)
     c.error("system.layers", root["system"]["layers"] ? root["system"]["layers"] : root["system"],
@@ -223,7 +209,82 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
   if (const YAML::Node sw = root["sweep"]) parse_sweep(c, sw, p);
   // Plugins need lambda0 and tau0 for their units: only check them once the system is sound.
   if (p.number_density > 0) parse_plugins(c, root, file, p);
+}
+
+}  // namespace
+
+Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& overrides,
+                       const std::vector<fs::path>& extra_plugin_paths, std::shared_ptr<PluginRegistry> registry) {
+  Pipeline p;
+  p.file = file;
+  p.overrides = overrides;
+  p.source_text = read_pipeline_text(file);
+  YAML::Node root = parse_document(file, p.source_text);
+  apply_overrides(root, overrides);
+  YAML::Emitter emitter;
+  emitter << root;
+  p.resolved_text = emitter.c_str();
+
+  Checker c(file, overrides);
+  check_document(c, root, extra_plugin_paths, std::move(registry), p);
   if (!c.errors().empty()) throw PipelineError(c.errors());
+  return p;
+}
+
+namespace {
+
+// `text` with the lines of its top-level `sweep:` section emptied (line breaks kept, so every other
+// location is unchanged); `text` itself when the section cannot be cut out by lines (a flow mapping).
+std::string without_sweep(const std::string& text) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception&) {
+    return text;
+  }
+  int first = -1, end = -1;
+  for (auto it = root.begin(); it != root.end(); ++it)
+    if (it->first.Scalar() == "sweep" && it->first.Mark().column == 0) first = it->first.Mark().line;
+  if (first < 0) return text;
+  for (auto it = root.begin(); it != root.end(); ++it) {
+    const int line = it->first.Mark().line;
+    if (line == first && it->first.Scalar() != "sweep") return text;  // another key on the sweep's line
+    if (line > first && (end < 0 || line < end)) end = line;
+  }
+  std::string out;
+  out.reserve(text.size());
+  int line = 0;
+  for (char ch : text) {
+    if (ch == '\n' || line < first || (end >= 0 && line >= end)) out += ch;
+    if (ch == '\n') ++line;
+  }
+  return out;
+}
+
+}  // namespace
+
+SweepCaseLoader::SweepCaseLoader(const Pipeline& base) : base_(base), text_(without_sweep(base.source_text)) {}
+
+Pipeline SweepCaseLoader::load(const std::vector<const SweepAxis::Value*>& values) const {
+  Pipeline p;
+  p.file = base_.file;
+  p.overrides = base_.overrides;
+  YAML::Node root = parse_document(p.file, text_);
+  apply_overrides(root, base_.overrides);
+  std::vector<std::pair<std::string, SourceLocation>> from_sweep;
+  std::vector<std::string> errors;
+  for (const SweepAxis::Value* v : values)
+    for (std::size_t k = 0; k < v->overrides.size(); ++k) {
+      const SourceLocation& at = v->where[k];
+      apply_override(root, v->overrides[k], errors, at.str() + ": sweep value " + v->overrides[k]);
+      from_sweep.emplace_back(v->overrides[k], at);
+    }
+  if (!errors.empty()) throw PipelineError(errors);
+  root.remove("sweep");  // a --set may have written one
+  Checker c(p.file, base_.overrides, std::move(from_sweep));
+  check_document(c, root, {}, base_.registry, p);
+  if (!c.errors().empty()) throw PipelineError(c.errors());
+  p.output_file = base_.output_file;
   return p;
 }
 

@@ -36,6 +36,7 @@ struct SweepAxis {
   struct Value {
     std::string label;                   // the value as text, or the variant name
     std::vector<std::string> overrides;  // "key.path=value" assignments
+    std::vector<SourceLocation> where;   // of each assignment: its entry in the sweep
   };
   std::vector<Value> values;
 };
@@ -57,6 +58,7 @@ struct Pipeline {
   // run
   std::uint64_t seed = 1;
   std::size_t particles = 0;
+  SourceLocation particles_where;  // where run.particles was given (file:line:column or --set)
   double time_step_tau0 = 0;       // c in dt = c tau0 [sqrt(T0/T)]
   bool time_step_follows_temperature = false;
   std::optional<double> stop_collisions_per_particle;
@@ -111,5 +113,23 @@ struct Pipeline {
 Pipeline load_pipeline(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                        const std::vector<std::filesystem::path>& extra_plugin_paths = {},
                        std::shared_ptr<PluginRegistry> registry = nullptr);
+
+// The cases of a sweep, each loaded in time independent of the size of the sweep (so that
+// expanding N cases costs N times one case): the base pipeline's file is not read again and its
+// `sweep:` section is never parsed again; each case parses the base text with that section's
+// lines emptied (every other location unchanged), applies the base's --set overrides and then the
+// case's values, and is checked like load_pipeline with the base's registry. A problem in a value
+// the sweep gave is located at that value's entry in the sweep, not phrased as a --set.
+class SweepCaseLoader {
+ public:
+  explicit SweepCaseLoader(const Pipeline& base);  // keeps a reference to `base`
+  // The case with these values (one per axis). Throws PipelineError with every problem found.
+  // Its source_text and resolved_text are empty (the study's provenance is the base pipeline's).
+  Pipeline load(const std::vector<const SweepAxis::Value*>& values) const;
+
+ private:
+  const Pipeline& base_;
+  std::string text_;  // base.source_text without its sweep section
+};
 
 }  // namespace gdsmc::host

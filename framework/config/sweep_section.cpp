@@ -21,11 +21,11 @@ void parse_sweep(Checker& c, const YAML::Node& sw, Pipeline& p) {
         for (std::size_t k = 0; k < v.size(); ++k) {
           YAML::Emitter e;
           e << YAML::Flow << v[k];
-          axis.values.push_back({e.c_str(), {name + "=" + e.c_str()}});
+          axis.values.push_back({e.c_str(), {name + "=" + e.c_str()}, {c.where(item(sub, k), v[k])}});
         }
       } else if (v.IsMap() && v.size() > 0) {
         for (auto vt = v.begin(); vt != v.end(); ++vt) {
-          SweepAxis::Value value{vt->first.Scalar(), {}};
+          SweepAxis::Value value{vt->first.Scalar(), {}, {}};
           if (!vt->second.IsMap()) {
             c.error(sub + "." + value.label, vt->second, "a named variant is a mapping of key.path: value overrides");
             continue;
@@ -34,6 +34,7 @@ void parse_sweep(Checker& c, const YAML::Node& sw, Pipeline& p) {
             YAML::Emitter e;
             e << YAML::Flow << ot->second;
             value.overrides.push_back(ot->first.Scalar() + "=" + e.c_str());
+            value.where.push_back(c.where(sub + "." + value.label + "." + ot->first.Scalar(), ot->second));
           }
           axis.values.push_back(std::move(value));
         }

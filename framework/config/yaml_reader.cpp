@@ -1,21 +1,61 @@
 #include "config/yaml_reader.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <set>
 
+#include "config/errors.hpp"
 #include "config/overrides.hpp"
 #include "config/suggest.hpp"
 #include "util/text.hpp"
 
 namespace gdsmc::host {
 
-SourceLocation Checker::where(const std::string& path, const YAML::Node& node) const {
-  for (const auto& o : overrides_) {
-    const std::string key = canonical_key(o.substr(0, o.find('=')));
-    if (path == key || path.rfind(key + ".", 0) == 0 || path.rfind(key + "[", 0) == 0)
-      return SourceLocation{"--set " + o, 0, 0};
+std::string read_pipeline_text(const std::filesystem::path& file) {
+  auto refuse = [&](const std::string& why) {
+    throw PipelineError({file.string() + ": cannot read the pipeline file (" + why + ")"});
+  };
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) refuse(std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) refuse("it is a directory");
+  if (!S_ISREG(st.st_mode)) {
+    const char* kind = S_ISCHR(st.st_mode) ? "a character device" : S_ISBLK(st.st_mode) ? "a block device"
+                       : S_ISFIFO(st.st_mode) ? "a pipe" : S_ISSOCK(st.st_mode) ? "a socket" : "not a file";
+    refuse(std::string("it is ") + kind + ", not a regular file; a pipeline is a YAML text file of at most " +
+           bytes_text(kMaxPipelineBytes));
   }
+  const auto too_large = [&](const std::string& size) {
+    refuse("it is " + size + "; a pipeline file is at most " + bytes_text(kMaxPipelineBytes));
+  };
+  if (static_cast<std::uintmax_t>(st.st_size) > kMaxPipelineBytes)
+    too_large(bytes_text(static_cast<double>(st.st_size)) + " (" + std::to_string(st.st_size) + " bytes)");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) refuse(std::strerror(errno));
+  std::string text;
+  text.reserve(static_cast<std::size_t>(st.st_size));
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    text.append(buf, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxPipelineBytes) too_large("more than " + bytes_text(kMaxPipelineBytes) + " (it grew while it was read)");
+  }
+  if (in.bad()) refuse(std::strerror(errno));
+  return text;
+}
+
+SourceLocation Checker::where(const std::string& path, const YAML::Node& node) const {
+  auto sets = [&](const std::string& assignment) {
+    const std::string key = canonical_key(assignment.substr(0, assignment.find('=')));
+    return path == key || path.rfind(key + ".", 0) == 0 || path.rfind(key + "[", 0) == 0;
+  };
+  for (auto it = from_sweep_.rbegin(); it != from_sweep_.rend(); ++it)
+    if (sets(it->first)) return it->second;
+  for (const auto& o : overrides_)
+    if (sets(o)) return SourceLocation{"--set " + o, 0, 0};
   const YAML::Mark m = node.Mark();
   if (m.line < 0) return SourceLocation{file_.string(), 0, 0};
   return SourceLocation{file_.string(), m.line + 1, m.column + 1};  // yaml-cpp marks are 0-based

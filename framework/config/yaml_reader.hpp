@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -13,13 +14,24 @@
 
 namespace gdsmc::host {
 
+// A pipeline is a small text file: anything that is not a regular file, or is larger than this,
+// is refused before it is read (`validate /dev/zero` would otherwise read until memory runs out).
+inline constexpr std::uintmax_t kMaxPipelineBytes = 16u << 20;
+
+// The text of a pipeline file; throws PipelineError naming the file and why it cannot be read.
+std::string read_pipeline_text(const std::filesystem::path& file);
+
 // Reads a YAML document and records every problem with its location.
 class Checker {
  public:
-  Checker(std::filesystem::path file, std::vector<std::string> overrides)
-      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+  // `overrides`: the --set assignments; `from_sweep`: the assignments a sweep case applied after
+  // them, each with its entry in the sweep.
+  Checker(std::filesystem::path file, std::vector<std::string> overrides,
+          std::vector<std::pair<std::string, SourceLocation>> from_sweep = {})
+      : file_(std::move(file)), overrides_(std::move(overrides)), from_sweep_(std::move(from_sweep)) {}
 
-  // Where the value at `path` came from: the --set assignment that gave it, else the node's mark.
+  // Where the value at `path` came from: the sweep entry or the --set assignment that gave it
+  // (the last applied first), else the node's mark.
   SourceLocation where(const std::string& path, const YAML::Node& node) const;
   void error(const SourceLocation& at, const std::string& path, const std::string& message);
   void error(const std::string& path, const YAML::Node& node, const std::string& message);
@@ -37,6 +49,7 @@ class Checker {
  private:
   std::filesystem::path file_;
   std::vector<std::string> overrides_;
+  std::vector<std::pair<std::string, SourceLocation>> from_sweep_;
   std::vector<std::string> errors_;
 };
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "engine/majorant.hpp"
+#include "engine/memory_estimate.hpp"
 #include "engine/stop.hpp"
 #include "output/particle_dump.hpp"
 #include "output/provenance.hpp"
@@ -58,6 +59,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   ctx_.energy_ledger = ledger_.data();
   ctx_.energy_ledger_size = ledger_.size();
   begin_diagnostics();
+  report_layout(attributes, outputs_);  // what the memory estimate counts (validate)
   if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
 }
 

@@ -1,34 +1,123 @@
 #include "study/cases.hpp"
 
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <new>
+
+#include "util/text.hpp"
+
 namespace gdsmc::host {
 
-std::vector<StudyCase> expand_cases(const Pipeline& base, const std::vector<std::string>& overrides,
-                                    const std::vector<std::filesystem::path>& extra_plugin_paths) {
+namespace {
+
+using AxisValues = std::vector<std::pair<std::string, std::string>>;  // axis name -> value label, one per axis
+
+// Calls `progress` every 2 s once a stage has taken 2 s.
+class Ticker {
+ public:
+  Ticker(const CheckProgress& progress, const char* stage) : progress_(progress), stage_(stage) {}
+  void operator()(std::size_t done, std::size_t total) {
+    if (!progress_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_) return;
+    progress_(stage_, done, total);
+    next_ = now + kInterval;
+  }
+
+ private:
+  static constexpr std::chrono::seconds kInterval{2};
+  const CheckProgress& progress_;
+  const char* stage_;
+  std::chrono::steady_clock::time_point next_ = std::chrono::steady_clock::now() + kInterval;
+};
+
+std::string label_of(const AxisValues& values) {
+  std::string label;
+  for (const auto& [axis, value] : values) label += (label.empty() ? "" : ", ") + axis + "=" + value;
+  return label;
+}
+
+// Problems found in the cases, each reported once with the cases it occurs in (a problem a value
+// of one axis causes shows in every case with that value; one of the base pipeline in every case).
+class CaseProblems {
+ public:
+  explicit CaseProblems(std::vector<AxisValues> cases) : cases_(std::move(cases)) {}
+  void add(std::size_t c, const std::string& message) {
+    auto [it, fresh] = hits_.try_emplace(message);
+    if (fresh) order_.push_back(message);
+    it->second.push_back(c);
+  }
+  bool empty() const { return order_.empty(); }
+  PipelineError error() const {
+    std::vector<std::string> messages;
+    for (const auto& m : order_) messages.push_back(m + in_cases(hits_.at(m)));
+    return PipelineError(messages);
+  }
+
+ private:
+  std::string in_cases(const std::vector<std::size_t>& hit) const {
+    const std::size_t total = cases_.size();
+    if (total == 0 || cases_[0].empty()) return "";  // no sweep
+    auto one = [&](std::size_t c) { return std::to_string(c) + " (" + label_of(cases_[c]) + ")"; };
+    if (hit.size() == 1) return "; in sweep case " + one(hit[0]);
+    if (hit.size() == total) return "; in all " + std::to_string(total) + " sweep cases";
+    // The values every case with the problem shares: when exactly the cases with them have it, say so.
+    AxisValues common;
+    for (std::size_t a = 0; a < cases_[hit[0]].size(); ++a) {
+      bool shared = true;
+      for (std::size_t c : hit) shared = shared && cases_[c][a].second == cases_[hit[0]][a].second;
+      if (shared) common.push_back(cases_[hit[0]][a]);
+    }
+    if (!common.empty()) {
+      std::size_t matching = 0;
+      for (const auto& values : cases_) {
+        bool match = true;
+        for (const auto& [axis, value] : common)
+          for (const auto& [a, v] : values) match = match && (a != axis || v == value);
+        matching += match ? 1 : 0;
+      }
+      if (matching == hit.size())
+        return "; in the " + std::to_string(hit.size()) + " sweep cases with " + label_of(common) + " (of " +
+               std::to_string(total) + ")";
+    }
+    std::string s = "; in " + std::to_string(hit.size()) + " of " + std::to_string(total) + " sweep cases: ";
+    for (std::size_t k = 0; k < hit.size() && k < 3; ++k) s += (k ? ", " : "") + one(hit[k]);
+    if (hit.size() > 3) s += " and " + std::to_string(hit.size() - 3) + " more";
+    return s;
+  }
+
+  std::vector<AxisValues> cases_;
+  std::vector<std::string> order_;  // first seen first
+  std::map<std::string, std::vector<std::size_t>> hits_;
+};
+
+// n rounded down to two significant digits (a figure to suggest, not a promise).
+std::size_t round_down(double n) {
+  if (n < 100) return static_cast<std::size_t>(std::max(n, 0.0));
+  const double unit = std::pow(10.0, std::floor(std::log10(n)) - 1);
+  return static_cast<std::size_t>(std::floor(n / unit) * unit);
+}
+
+}  // namespace
+
+std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress) {
   std::vector<StudyCase> cases;
   if (base.sweep.empty()) {
     cases.push_back(StudyCase{"", {}, base});
     return cases;
   }
-  // Cartesian product of the axes, the last axis varying fastest.
+  // The points of the Cartesian product of the axes, the last axis varying fastest.
+  std::vector<std::vector<const SweepAxis::Value*>> points;
+  std::vector<AxisValues> values;
   std::vector<std::size_t> index(base.sweep.size(), 0);
-  std::vector<std::string> errors;
   while (true) {
-    StudyCase c;
-    std::vector<std::string> sets = overrides;
+    points.emplace_back();
+    values.emplace_back();
     for (std::size_t a = 0; a < base.sweep.size(); ++a) {
-      const auto& value = base.sweep[a].values[index[a]];
-      c.axis_values.emplace_back(base.sweep[a].name, value.label);
-      c.label += (c.label.empty() ? "" : ", ") + base.sweep[a].name + "=" + value.label;
-      for (const auto& o : value.overrides) sets.push_back(o);
-    }
-    try {
-      c.pipeline = load_pipeline(base.file, sets, extra_plugin_paths, base.registry);
-      c.pipeline.sweep.clear();
-      c.pipeline.output_file = base.output_file;
-      cases.push_back(std::move(c));
-    } catch (const PipelineError& e) {
-      for (const auto& m : e.messages()) errors.push_back("sweep case " + std::to_string(cases.size() + errors.size()) +
-                                                          " (" + c.label + "): " + m);
+      const SweepAxis::Value& v = base.sweep[a].values[index[a]];
+      points.back().push_back(&v);
+      values.back().emplace_back(base.sweep[a].name, v.label);
     }
     std::size_t a = base.sweep.size();
     while (a-- > 0) {
@@ -37,8 +126,67 @@ std::vector<StudyCase> expand_cases(const Pipeline& base, const std::vector<std:
     }
     if (a == static_cast<std::size_t>(-1)) break;
   }
-  if (!errors.empty()) throw PipelineError(errors);
+  CaseProblems problems(values);
+  const SweepCaseLoader loader(base);
+  Ticker tick(progress, "loaded");
+  cases.reserve(points.size());
+  for (std::size_t c = 0; c < points.size(); ++c) {
+    try {
+      cases.push_back(StudyCase{label_of(values[c]), values[c], loader.load(points[c])});
+    } catch (const PipelineError& e) {
+      for (const auto& m : e.messages()) problems.add(c, m);
+    }
+    tick(c + 1, points.size());
+  }
+  if (!problems.empty()) throw problems.error();
+  cases.front().pipeline.source_text = base.source_text;
+  cases.front().pipeline.resolved_text = base.resolved_text;
   return cases;
+}
+
+MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress) {
+  std::vector<AxisValues> values;
+  for (const auto& c : cases) values.push_back(c.axis_values);
+  CaseProblems problems(std::move(values));
+  std::vector<CaseMemory> memory;
+  Ticker tick(progress, "set up");
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const Pipeline& p = cases[c].pipeline;
+    try {
+      memory.push_back(case_memory(p, setup_layout(p)));
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const PipelineError& e) {
+      for (const auto& m : e.messages()) problems.add(c, m);
+    } catch (const std::exception& e) {
+      problems.add(c, p.file.string() + ": " + failure_text(e, nullptr));
+    }
+    tick(c + 1, cases.size());
+  }
+  if (!problems.empty()) throw problems.error();
+
+  const MemoryEstimate estimate = study_memory(memory);
+  const MemoryAvailable available = available_memory();
+  if (estimate.bytes <= available.bytes) return estimate;
+  const StudyCase& peak = cases[estimate.peak_case];
+  const CaseMemory& m = estimate.at_peak;
+  const double particles = static_cast<double>(m.particles) * m.bytes_per_particle, others = estimate.bytes - particles;
+  // Located at run.particles, unless the records are what does not fit.
+  std::string message = particles >= others ? peak.pipeline.particles_where.str() + ": run.particles: "
+                                            : peak.pipeline.file.string() + ": diagnostics: ";
+  message += std::string(cases.size() > 1 ? "this study needs about " : "this run needs about ") +
+             bytes_text(estimate.bytes) + " of memory";
+  if (!peak.label.empty())
+    message += " (at its peak, in sweep case " + std::to_string(estimate.peak_case) + " (" + peak.label + "))";
+  message += " but " + bytes_text(available.bytes) + " is available (" + available.source + "); the estimate: " +
+             estimate.drivers();
+  if (others < available.bytes)
+    message += "; at most about " + std::to_string(round_down((available.bytes - others) / m.bytes_per_particle)) +
+               " particles fit";
+  else
+    message += "; the records alone need " + bytes_text(others) +
+               ": record less often (record_every), stop sooner (run.stop) or run fewer realizations";
+  throw PipelineError({message});
 }
 
 }  // namespace gdsmc::host

@@ -1,11 +1,13 @@
 // The cases of a study: every point of the pipeline's sweep, each a checked pipeline.
 #pragma once
-#include <filesystem>
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "config/pipeline.hpp"
+#include "engine/memory_estimate.hpp"
 
 namespace gdsmc::host {
 
@@ -15,10 +17,21 @@ struct StudyCase {
   Pipeline pipeline;
 };
 
-// Load and check every case of the sweep (the base pipeline alone when there is no sweep).
-// Every case shares the base pipeline's plugin registry: no library is loaded again.
-// Throws PipelineError naming the case on any problem, before anything runs.
-std::vector<StudyCase> expand_cases(const Pipeline& base, const std::vector<std::string>& overrides,
-                                    const std::vector<std::filesystem::path>& extra_plugin_paths);
+// Told how far a long check is: `done` of `total` cases through `stage` ("loaded", "set up").
+// Called about every 2 s once a stage has taken 2 s; not at all for a quick check.
+using CheckProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
+
+// Load and check every case of the sweep (the base pipeline alone when there is no sweep), in time
+// linear in the number of cases (SweepCaseLoader). Every case shares the base pipeline's plugin
+// registry: no library is loaded again. The first case carries the base's source and resolved
+// text and --set overrides (the study's provenance); the others' texts are empty. Throws
+// PipelineError before anything runs, each problem once, located where its value was given (a
+// sweep value at its entry in the sweep) and naming the cases it occurs in.
+std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress = {});
+
+// Set up every case's plugins as validate does (Engine::check_setup) and estimate the study's
+// memory from what they declared. Throws PipelineError naming the case(s) on a setup problem, and
+// when the estimate exceeds the memory available (both figures, and what drives the estimate).
+MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress = {});
 
 }  // namespace gdsmc::host

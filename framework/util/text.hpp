@@ -35,4 +35,13 @@ inline std::string fmt(const char* format, ...) {
   return buf;
 }
 
+// A size in bytes as people read it: "512 bytes", "9.8 MiB", "298 GiB" (binary units).
+inline std::string bytes_text(double bytes) {
+  static const char* const units[] = {"KiB", "MiB", "GiB", "TiB", "PiB"};
+  if (bytes < 1024) return fmt("%.0f bytes", bytes);
+  int u = -1;
+  while (bytes >= 1024 && u < 4) bytes /= 1024, ++u;
+  return fmt(bytes < 10 ? "%.1f %s" : "%.0f %s", bytes, units[u]);
+}
+
 }  // namespace gdsmc::host
