@@ -78,6 +78,10 @@ def main():
         realizations = int(f.attrs["realizations"]) if "realizations" in f.attrs else 1
         pipeline = text(f.attrs["pipeline"]) if "pipeline" in f.attrs else ""
         particles = int(f["cases/0/system"].attrs["particles"]) if "cases/0/system" in f else 0
+        import re
+        m_after = re.search(r"average_after:\s*\{collisions_per_particle:\s*([0-9.e+-]+)", pipeline)
+        m_stop = re.search(r"stop:\s*\{collisions_per_particle:\s*([0-9.e+-]+)", pipeline)
+        window = (m_after.group(1) if m_after else "?", m_stop.group(1) if m_stop else "?")
 
         def col(name):
             key = "enskog_shear_viscosity." + name
@@ -100,8 +104,9 @@ def main():
         # Measured HCS cumulants per alpha (the reservoir's state).
         gs = g["summary"]
         hcs_alpha = np.array(gs["collision.alpha"][:], dtype=float)
-        hcs_c = np.array(gs["cumulants.a2.steady_mean"][:], dtype=float)
-        hcs_ce = np.array(gs["cumulants.a2.steady_stderr"][:], dtype=float)
+        # c = 2 a2 in 002's convention (f = f_M [1 + (c/4)(V*^4 - 5V*^2 + 15/4)], V* = V/sqrt(2T/m)).
+        hcs_c = 2 * np.array(gs["cumulants.a2.steady_mean"][:], dtype=float)
+        hcs_ce = 2 * np.array(gs["cumulants.a2.steady_stderr"][:], dtype=float)
         hcs_c_of = {round(a, 3): (c, e) for a, c, e in zip(hcs_alpha, hcs_c, hcs_ce)}
 
         w("# Validation: the Navier–Stokes shear viscosity of a dense granular gas (paper 002)\n")
@@ -116,7 +121,7 @@ def main():
         w("**How the Navier–Stokes value is read.** Kn(t) = aσ/(12φχ√(T/m)) falls as 1/t, and after a "
           "transient of a few collisions per particle the reduced viscosities are linear in Kn² (the "
           "hydrodynamic, Burnett-order stage, Figs. 1–2). Over the averaging window (`run.average_after`, "
-          "from s = 800 to the end at s = 2000 collisions per particle; Kn² < 3·10⁻⁴ there) "
+          f"from s = {window[0]} to the end at s = {window[1]} collisions per particle) "
           "`enskog_shear_viscosity` fits y = y_NS + b Kn² by least squares (Eigen) to the records and "
           "reports the intercept y_NS. The error is the standard error over the independent "
           "realizations (the scatter of their intercepts); the fit's own residual error, which "
@@ -228,7 +233,8 @@ def main():
             transient_table(k, ["Pk_xx_over_nT", "Pk_yy_over_nT", "Pk_zz_over_nT"], ["P^k_xx/nT", "P^k_yy/nT", "P^k_zz/nT"])
         w("\n## Fig. 1 (right): the cumulant c relative to the HCS value, α = 0.9, φ = 0.2, 0.3, 0.4\n")
         ch, che = hcs_c_of.get(0.9, (np.nan, np.nan))
-        w(f"c0(0.9) of Eq. 18 = {c0(0.9):.5f}; measured in the HCS (IHS, N = 10⁵, s = 10..50) = {fmt(ch, che, 5)}. "
+        w(f"c0(0.9) of Eq. 18 = {c0(0.9):.5f}; measured in the HCS (IHS, N = 10⁵, s = 10..50; c = 2 a2 in 002's "
+          f"convention, f = f_M[1 + (c/4)(V*⁴ − 5V*² + 15/4)]) = {fmt(ch, che, 5)}. "
           f"The columns divide by Eq. 18's value (the diagnostic's c_over_c0); c/c0_measured = c_over_c0 × "
           f"{c0(0.9) / ch:.4f}. The paper: c/c0 → 1 as Kn → 0.\n")
         for p in (0.2, 0.3, 0.4):

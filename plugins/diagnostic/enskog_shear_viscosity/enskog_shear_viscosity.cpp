@@ -80,7 +80,9 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
       "    first-Sonine values eta^k(1, phi), eta(1, phi) of Eqs. (16)-(17) at the same T (Figs. 2-4);\n"
       "  Kn = a sigma / (12 phi chi sqrt(T/m)) as 002 writes it (lambda / l with lambda =\n"
       "    1/(sqrt 2 pi n sigma^2 chi), l = sqrt(2T/m)/a), and Kn^2;\n"
-      "  c = a2 = <V^4>/(15 (T/m)^2) - 1, the fourth cumulant, and c/c0 with c0(alpha) of Eq. (18);\n"
+      "  c = 2 a2, a2 = <V^4>/(15 (T/m)^2) - 1: the fourth cumulant in the convention of 002 and its\n"
+      "    Ref. 2 (f = f_M [1 + (c/4)(V*^4 - 5 V*^2 + 15/4)], V* = V/sqrt(2T/m), i.e. c = 2 a2; Eq. 18\n"
+      "    is van Noije and Ernst's a2 times 2), and c/c0 with c0(alpha) of Eq. (18);\n"
       "  zeta: the cooling rate of Eq. (6), (increase of the tally dissipated_energy) / ((3/2) N T dt)\n"
       "    (or minus the collisional energy change without the tally), in 1/tau0.\n"
       "Scalars: the first-Sonine eta^k/eta0 and eta/eta0 at (alpha, phi) and at (1, phi), their ratios\n"
@@ -139,7 +141,7 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
         {"eta", "eta0(T)", "shear viscosity eta^k + eta^c over eta0(T)"},
         {"eta_k_over_elastic_sonine", "1", "eta^k / eta^k(1, phi) of Eq. 16 (Fig. 2)"},
         {"eta_over_elastic_sonine", "1", "eta / eta(1, phi) of Eq. 17"},
-        {"c", "1", "fourth cumulant c = a2"},
+        {"c", "1", "fourth cumulant c = 2 a2 (002 / Garzo-Dufty convention)"},
         {"c_over_c0", "1", "c / c0(alpha), c0 of Eq. 18 (NaN where c0 = 0)"},
         {"zeta", "1/tau0", "cooling rate zeta of Eq. 6, measured from the dissipated energy"}};
     for (const auto& c : cols) {
@@ -169,7 +171,7 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
     sums_[kEtaK] += -n_ * m.second[0][1] / (a_ * eta0(T));
     sums_[kKn] += kn(T);
     sums_[kKn2] += kn(T) * kn(T);
-    sums_[kC] += m.a2();
+    sums_[kC] += 2.0 * m.a2();  // c = 2 a2 (002's convention, see the documentation)
     ++samples_;
   }
 
