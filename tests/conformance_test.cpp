@@ -56,6 +56,13 @@ std::map<std::string, std::string> contexts() {
   const std::string walls = slab + "boundaries: {y: diffuse_wall}\n";
   return {{"shear_rheology", "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
                              "forcings: [{plugin: uniform_shear, shear_rate: 0.5}]\n"},
+          // Enskog: a dense, sheared system (the rule needs the published shear rate; the
+          // diagnostic needs it too).
+          {"enskog_hard_spheres", "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
+                                  "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]\n"},
+          {"enskog_shear_viscosity", "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
+                                     "collision: {plugin: enskog_hard_spheres, alpha: 0.8}\n"
+                                     "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]\n"},
           {"delta_shell", slab + "boundaries: {y: {plugin: lees_edwards, shear_rate: 1}}\n"},
           {"profiles", walls},
           {"slab_averages", walls},
@@ -102,7 +109,7 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       {"conformance_leaky", "collision.momentum", {"conformance_leaky", "momentum not conserved", "|p' - p|"}},
       {"conformance_nan", "collision.finite", {"conformance_nan", "NaN", "nan"}},
       {"conformance_throwing", "defaults_construct", {"conformance_throwing", "does not construct", "the factory always fails"}},
-      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 2.0"}},
+      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 3.0"}},
       {"conformance_fake_thermostat", "forcing.conservation", {"conformance_fake_thermostat", "energy not conserved"}},
       // A forcing that heats the gas but reports no energy to the ledger.
       {"conformance_unreported_work", "forcing.energy", {"conformance_unreported_work"}},

@@ -89,15 +89,23 @@ void copy_all(const ParticleSpan& from, const ParticleSpan& to) {
               to.attribute_data[a]);
 }
 
-// pair_rate finite and >= 0 along the case's direction, its opposite and a random one.
+// pair_rate finite, >= 0 and within rate_bound(|g|) along the case's direction, its opposite and
+// a random one.
 void check_rate(CollisionRule& rule, const PairCase& pc, Rng& case_rng, PairReport& r) {
   const Vec3 g = pc.v1 - pc.v2;
   const Vec3 other = case_rng.unit_vector();
+  const double bound = rule.rate_bound(norm(g));
   for (const Vec3& d : {pc.s, -1.0 * pc.s, other}) {
     const double rate = rule.pair_rate(g, d);
     if (!std::isfinite(rate) || rate < 0) {
       r.rate = fmt("pair_rate(g = %s, sigma_hat = %s) = %g (must be finite and >= 0) for a %s pair", vec_text(g).c_str(),
                    vec_text(d).c_str(), rate, pc.what);
+      break;
+    }
+    if (rate > bound * (1 + 64 * kEps) + 1e-300) {
+      r.rate = fmt("pair_rate(g = %s, sigma_hat = %s) = %.10g exceeds rate_bound(|g| = %.6g) = %.10g (the majorant "
+                   "the host draws candidates against) for a %s pair",
+                   vec_text(g).c_str(), vec_text(d).c_str(), rate, norm(g), bound, pc.what);
       break;
     }
   }
@@ -211,6 +219,11 @@ constexpr std::size_t kRandomPairs = 20000;
 PairReport pair_report(const Subject& s) {
   const auto p = load_test_pipeline(s, base_assignment(s), 16);
   auto obj = create_object(*p->collision.plugin, p->collision.params);
+  // The rule begins as in a run: after the context's plugins published (e.g. a shear rate).
+  QuantityBoard board;
+  obj->publish(board);
+  for (const auto& f : p->forcings) create_object(*f.plugin, f.params)->publish(board);
+  static_cast<CollisionRule*>(obj.get())->begin(p->system_info(16, 0), board);
   return pair_suite(*static_cast<CollisionRule*>(obj.get()), obj->attributes(), s.cfg.seed, kRandomPairs);
 }
 
@@ -245,7 +258,7 @@ Result check_collision_energy(const Subject& s) {
 Result check_collision_rate(const Subject& s) {
   const PairReport r = pair_report(s);
   if (!r.rate.empty()) return fail("collision rate invalid: " + r.rate);
-  return pass(fmt("pair_rate finite and >= 0 for %zu pairs in 3 directions each", r.cases));
+  return pass(fmt("pair_rate finite, >= 0 and <= rate_bound(|g|) for %zu pairs in 3 directions each", r.cases));
 }
 
 // collide_cell on a population: three stages at the system's diameter and three at 2.5 times it

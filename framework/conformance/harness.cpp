@@ -86,6 +86,9 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
 
   h->sys = p.system_info(n, 0);
   h->sys.seed = s.cfg.seed;
+  auto* rule = static_cast<CollisionRule*>(h->collision.get());
+  rule->begin(h->sys, h->board);  // after every publish, as the engine does
+  h->stage.set_tally_count(rule->tallies().size());
   if (h->sys.geometry == Geometry::slab) {
     h->grid.slab(n, h->sys.cells, h->sys.box[1], h->sys.cross_section());
     h->ctx.boundaries = h->tallies.data();

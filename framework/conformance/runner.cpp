@@ -31,8 +31,9 @@ Checks (by kind):
                from the seed: construct or are refused; collision rules must also pass the pair
                checks there), out_of_range_rejected, wrong_type_rejected, determinism
   collision    collision.finite, collision.mass, collision.momentum, collision.energy,
-               collision.rate (on random pairs and edge cases: zero relative velocity, grazing,
-               huge and tiny speeds), collision.cell (collide_cell on a population)
+               collision.rate (finite, >= 0 and within rate_bound(|g|); on random pairs and
+               edge cases: zero relative velocity, grazing, huge and tiny speeds),
+               collision.cell (collide_cell on a population)
   forcing      forcing.conservation (what conserves() declares), forcing.energy (the energy
                apply() returns equals the measured change), forcing.expected_energy (a
                forcing that declares expected_energy_rate(): the mean measured energy input

@@ -11,6 +11,13 @@ void CollisionStage::reset(std::size_t cells) {
   ratio_.assign(cells, kInitialMajorantRatio);
   remainder_.assign(cells, 0.0);
   energy_.assign(cells, 0.0);
+  cell_tallies_.assign(cells * tally_count_, 0.0);
+}
+
+void CollisionStage::set_tally_count(std::size_t count) {
+  tally_count_ = count;
+  cell_tallies_.assign(ratio_.size() * count, 0.0);
+  step_tallies_.assign(count, 0.0);
 }
 
 CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const ParticleSpan& particles, const CellGrid& grid,
@@ -36,6 +43,10 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     cell.majorant = ratio_[c] * thermal_speed;
     cell.remainder = remainder_[c];
     cell.rng = &rng;
+    if (tally_count_) {
+      cell.tally = cell_tallies_.data() + c * tally_count_;
+      std::fill(cell.tally, cell.tally + tally_count_, 0.0);
+    }
     rule.collide_cell(cell);
     remainder_[c] = cell.remainder;
     if (cell.max_rate > cell.majorant) ratio_[c] = kMajorantHeadroom * cell.max_rate / thermal_speed;
@@ -47,6 +58,12 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     energy_[c] = cell.energy_change;
   }
   for (std::size_t c = 0; c < n; ++c) sum.energy_change += energy_[c];
+  if (tally_count_) {
+    std::fill(step_tallies_.begin(), step_tallies_.end(), 0.0);
+    for (std::size_t c = 0; c < n; ++c)
+      for (std::size_t k = 0; k < tally_count_; ++k) step_tallies_[k] += cell_tallies_[c * tally_count_ + k];
+    sum.tallies = step_tallies_.data();
+  }
   return sum;
 }
 

@@ -30,11 +30,14 @@ class CollisionStage {
   struct Totals {
     std::uint64_t candidates = 0, accepted = 0, majorant_exceeded = 0;
     double energy_change = 0;  // summed in cell order, whatever the processing order
+    const double* tallies = nullptr;  // this step's sum of each of the rule's tallies (cell order)
     double max_rate = 0;
     bool finite_remainders = true;
   };
   // Majorant ratios back to their initial value and remainders to 0, for `cells` cells.
   void reset(std::size_t cells);
+  // The number of tallies the rule keeps (CollisionRule::tallies().size()); allocates their buffers.
+  void set_tally_count(std::size_t count);
   // One step of collisions in every cell of `grid`. w_I = ratio_I sqrt(T_ref / m) with T_ref the
   // larger of the cell's temperature and the mean one (`cells` null: the mean one), so a cold or
   // sparse layer keeps a safe bound; a candidate above w_I raises ratio_I (kMajorantHeadroom).
@@ -46,6 +49,8 @@ class CollisionStage {
  private:
   PairCount scheme_;
   std::vector<double> ratio_, remainder_, energy_;
+  std::size_t tally_count_ = 0;
+  std::vector<double> cell_tallies_, step_tallies_;  // [cell * tally_count_ + k], [k]
 };
 
 }  // namespace gdsmc::host

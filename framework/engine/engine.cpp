@@ -36,6 +36,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   for (const auto& o : objects_)
     for (auto& a : o->attributes()) attributes.push_back(std::move(a));
   publish(attributes, setup);
+  begin_collision_rule();
   ctx_.system = &system_;
   ctx_.quantities = &board_;
   ctx_.body_acceleration = acceleration_;
@@ -44,6 +45,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   const std::size_t cells = system_.cells;
   collisions_.reset(cells);
   collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
+  collisions_.set_tally_count(tallies_total_.size());
   cells_.assign(cells, CellMoments{});
   if (setup == Setup::full) {
     if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
@@ -58,6 +60,8 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   ctx_.boundary_count = system_.geometry == Geometry::slab ? 2 : 0;
   ctx_.energy_ledger = ledger_.data();
   ctx_.energy_ledger_size = ledger_.size();
+  ctx_.collision_tallies = tallies_total_.empty() ? nullptr : tallies_total_.data();
+  ctx_.collision_tally_count = tallies_total_.size();
   begin_diagnostics();
   report_layout(attributes, outputs_);  // what the memory estimate counts (validate)
   if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
@@ -90,6 +94,22 @@ void Engine::build_objects() {
   for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s)
     boundaries_[s] = static_cast<Boundary*>(make(p.boundaries[s]));
   for (const auto& u : p.diagnostics) slots_.push_back(DiagnosticSlot{static_cast<Diagnostic*>(make(u)), &u});
+}
+
+// The collision rule reads what it needs from the system and the published quantities (after
+// every publish) and names its tallies.
+void Engine::begin_collision_rule() {
+  const PluginUse& u = pipeline_.collision;
+  try {
+    collision_->begin(system_, board_);
+    tally_names_ = collision_->tallies();
+  } catch (const ParameterError& e) {
+    throw std::runtime_error(where_text(u) + ": parameter '" + e.parameter() + "': " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where_text(u) + ": " + e.what());
+  }
+  tallies_total_.resize(tally_names_.size());
+  for (std::size_t k = 0; k < tally_names_.size(); ++k) tallies_total_[k].name = tally_names_[k].c_str();
 }
 
 // Both y planes of a slab: transferring boundaries (periodic, Lees-Edwards) come in identical
@@ -273,6 +293,7 @@ void Engine::collide(double dt) {
   ctx_.majorant_exceeded += t.majorant_exceeded;
   ctx_.collision_energy_change += t.energy_change;
   ledger_[0].energy = ctx_.collision_energy_change;
+  for (std::size_t k = 0; k < tallies_total_.size(); ++k) tallies_total_[k].value += t.tallies[k];
 }
 
 void Engine::sample_and_record(bool force_record) {

@@ -87,6 +87,7 @@ class Engine {
   void generate_initial_state();
   void begin_diagnostics();
 
+  void begin_collision_rule();
   void setup_slab();
   void check_boundaries();
   void open_ledger();
@@ -118,6 +119,8 @@ class Engine {
   std::array<Boundary*, 2> boundaries_{nullptr, nullptr};
   std::optional<Mover> mover_;
   std::array<BoundaryTally, 2> tallies_{};
+  std::vector<std::string> tally_names_;      // the collision rule's tallies
+  std::vector<CollisionTally> tallies_total_;  // their running totals (ctx.collision_tallies)
   std::vector<std::string> ledger_names_;
   std::vector<EnergyLedgerEntry> ledger_;  // [0] collisions, [1 + k] forcing k, then y_min, y_max
   double initial_energy_ = 0;

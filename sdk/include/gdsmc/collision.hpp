@@ -18,6 +18,10 @@
 //   std::vector<gdsmc::AttributeSpec> attributes() const;  // extra per-particle attributes
 //   void bind(const gdsmc::ParticleSpan&);  // called once before the first step: look attributes
 //                                           // up here, not per pair (storage never moves)
+//   void begin(const gdsmc::SystemInfo&, gdsmc::QuantityBoard&);  // see CollisionRule::begin
+//   std::vector<std::string> tallies() const;  // names of the sums collide() adds to pair.tally[k]
+//   double rate_bound(double speed) const;  // general kernels: max over s of rate(g, s) for
+//                                           // |g| <= speed (default: speed, i.e. rate <= |g|)
 // collide() is called concurrently for different cells: it must not modify the rule.
 #pragma once
 #include <algorithm>
@@ -29,12 +33,14 @@
 namespace gdsmc {
 
 // What a rule's collide() may use besides the two velocities: the pair's indices (to read or
-// update extra attributes), the diameter and the cell's random stream.
+// update extra attributes), the diameter, the cell's random stream and the rule's tallies (one
+// entry per name of tallies(), to which the collision adds its contribution; nullptr if none).
 struct PairContext {
   const ParticleSpan& particles;
   std::uint32_t i, j;
   double sigma;
   Rng& rng;
+  double* tally = nullptr;
 };
 
 namespace detail {
@@ -50,6 +56,16 @@ template <class R>
 concept HasPublish = requires(const R& r, QuantityBoard& b) { r.publish(b); };
 template <class R>
 concept HasBind = requires(R& r, const ParticleSpan& p) { r.bind(p); };
+template <class R>
+concept HasBegin = requires(R& r, const SystemInfo& s, QuantityBoard& b) { r.begin(s, b); };
+template <class R>
+concept HasTallies = requires(const R& r) {
+  { r.tallies() } -> std::convertible_to<std::vector<std::string>>;
+};
+template <class R>
+concept HasRateBound = requires(const R& r, double speed) {
+  { r.rate_bound(speed) } -> std::convertible_to<double>;
+};
 template <class R>
 concept HasAttributes = requires(const R& r) {
   { r.attributes() } -> std::convertible_to<std::vector<AttributeSpec>>;
@@ -80,6 +96,19 @@ class CollisionRuleAdapter final : public CollisionRule {
   void publish(QuantityBoard& board) const override {
     if constexpr (detail::HasPublish<Rule>) rule_.publish(board);
   }
+  void begin(const SystemInfo& system, QuantityBoard& board) override {
+    if constexpr (detail::HasBegin<Rule>) rule_.begin(system, board);
+    else (void)system, (void)board;
+  }
+  std::vector<std::string> tallies() const override {
+    if constexpr (detail::HasTallies<Rule>) return rule_.tallies();
+    else return {};
+  }
+  double rate_bound(double speed) const override {
+    if constexpr (detail::HasRateBound<Rule>) return rule_.rate_bound(speed);
+    else if constexpr (detail::HasGeneralKernel<Rule>) return speed;
+    else return scale() * speed;
+  }
 
   double pair_rate(const Vec3& g, const Vec3& s) const override {
     if constexpr (detail::HasGeneralKernel<Rule>) {
@@ -98,7 +127,8 @@ class CollisionRuleAdapter final : public CollisionRule {
   double collide_pair(const ParticleSpan& p, std::uint32_t i, std::uint32_t j, const Vec3& s, double sigma,
                       Rng& rng) const override {
     Vec3 v1 = p.velocity(i), v2 = p.velocity(j);
-    PairContext pair{p, i, j, sigma, rng};
+    std::vector<double> scratch(tallies().size());  // conformance only: the sums are discarded
+    PairContext pair{p, i, j, sigma, rng, scratch.empty() ? nullptr : scratch.data()};
     const double de = rule_.collide(v1, v2, s, pair);
     p.set_velocity(i, v1);
     p.set_velocity(j, v2);
@@ -108,7 +138,8 @@ class CollisionRuleAdapter final : public CollisionRule {
   // Majorant-frequency scheme (000 Eqs. 4.13, 4.23): 2 P_c sigma^2 Omega_B w dt / (2 V_c)
   // candidate pairs, with P_c = c.pairs the host's pair count (N_c (N_c - 1)/2 or N_c^2/2), each accepted with probability rate / w. For the hard-sphere kernel the
   // sigma_hat-integrated rate pi |g| is used for acceptance (Omega_B = pi) and sigma_hat is then
-  // drawn from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly (Omega_B = 4 pi).
+  // drawn from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly (Omega_B = 4 pi) and
+  // is accepted against W = rate_bound(w), its own bound for |g| <= w.
   void collide_cell(CellCollision& c) const override {
     if (c.count < 2 || c.majorant <= 0) {
       c.remainder = 0;
@@ -117,8 +148,11 @@ class CollisionRuleAdapter final : public CollisionRule {
     constexpr bool general = detail::HasGeneralKernel<Rule>;
     const double solid_angle = general ? 4.0 * M_PI : M_PI;
     const double w = c.majorant;
+    // The bound the candidates are drawn and accepted against: |g| <= w (hard-sphere kernel, the
+    // scale multiplies the candidate count), or the rule's own bound of rate(g, s).
+    const double bound = general ? rate_bound(w) : w;
     const double expected =
-        c.pairs * c.sigma * c.sigma * solid_angle * (general ? 1.0 : scale()) * w * c.dt / c.volume + c.remainder;
+        c.pairs * c.sigma * c.sigma * solid_angle * (general ? 1.0 : scale()) * bound * c.dt / c.volume + c.remainder;
     const auto candidates = static_cast<std::uint64_t>(expected);
     c.remainder = expected - static_cast<double>(candidates);
 
@@ -150,14 +184,15 @@ class CollisionRuleAdapter final : public CollisionRule {
         rate = norm(g);
       }
       const double u = rng.uniform32();
-      if (rate > w) {
+      if (rate > bound) {
         ++exceeded;
-        max_rate = std::max(max_rate, rate);
-      } else if (u * w >= rate) {
+        // In units of w (what the host raises): the same factor over the bound.
+        max_rate = std::max(max_rate, general ? w * rate / bound : rate);
+      } else if (u * bound >= rate) {
         continue;
       }
       if constexpr (!general) s = hard_sphere_impact_direction(g, rate, rng);
-      PairContext pair{p, i, j, c.sigma, rng};
+      PairContext pair{p, i, j, c.sigma, rng, c.tally};
       energy += rule_.collide(v1, v2, s, pair);
       vx[i] = v1.x; vy[i] = v1.y; vz[i] = v1.z;
       vx[j] = v2.x; vy[j] = v2.y; vz[j] = v2.z;

@@ -99,6 +99,13 @@ struct EnergyLedgerEntry {
   double energy = 0;
 };
 
+// The running total of one of the collision rule's tallies (CollisionRule::tallies): the sum over
+// every accepted collision since the start of the run.
+struct CollisionTally {
+  const char* name = "";
+  double value = 0;
+};
+
 // Named scalars that plugins publish for each other (e.g. the collision rule publishes
 // "restitution"), so that a diagnostic or a forcing can use a model parameter without the user
 // repeating it and without the host knowing what it means. Written only before the run starts.
@@ -143,6 +150,9 @@ struct StepContext {
   // Energy added by each stage so far.
   const EnergyLedgerEntry* energy_ledger = nullptr;
   std::size_t energy_ledger_size = 0;
+  // The collision rule's tallies, summed over cells and steps (none for most rules).
+  const CollisionTally* collision_tallies = nullptr;
+  std::size_t collision_tally_count = 0;
   // True when this step lies in the run's steady averaging window (run.average_after): diagnostics
   // that keep their own steady-state statistics accumulate only then.
   bool in_average_window = false;
@@ -158,6 +168,12 @@ struct StepContext {
     return system->particles ? static_cast<double>(collisions) / static_cast<double>(system->particles) : 0.0;
   }
   double time_in_tau0() const { return time / system->time_unit0; }
+  // The running total of the collision tally `name`, or nullptr if the rule keeps none by that name.
+  const double* collision_tally(const std::string& name) const {
+    for (std::size_t k = 0; k < collision_tally_count; ++k)
+      if (name == collision_tallies[k].name) return &collision_tallies[k].value;
+    return nullptr;
+  }
 };
 
 }  // namespace gdsmc

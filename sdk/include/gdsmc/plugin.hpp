@@ -67,6 +67,9 @@ struct CellCollision {
   double majorant = 0;                     // w: upper estimate of the acceptance rate in this cell
   double remainder = 0;                    // fractional candidate carried between steps (in/out)
   Rng* rng = nullptr;                      // this cell's stream at this step
+  // The rule's tallies (CollisionRule::tallies(), in that order): zeroed by the host before the
+  // call; the rule adds each accepted collision's contribution. nullptr when it declares none.
+  double* tally = nullptr;
   // Results, written by the rule:
   std::uint64_t candidates = 0;
   std::uint64_t accepted = 0;
@@ -78,6 +81,16 @@ struct CellCollision {
 
 class GDSMC_API CollisionRule : public PluginObject {
  public:
+  // [setup] Called once, after every plugin has published its quantities and before boundaries,
+  // the initial state and diagnostics begin: read what the rule needs from the system and the
+  // other plugins (e.g. the shear rate of a uniform_shear forcing), refuse a system it cannot
+  // serve (throw ParameterError naming the parameter), and publish what it derives (e.g. the
+  // contact value chi of an Enskog gas) for the plugins that begin after it.
+  virtual void begin(const SystemInfo& system, QuantityBoard& quantities) { (void)system; (void)quantities; }
+  // [setup] Names of the per-collision sums the rule accumulates in CellCollision::tally (e.g. the
+  // collisional transfer of momentum). The host sums them over cells and steps and hands the
+  // running totals to every plugin as StepContext::collision_tallies.
+  virtual std::vector<std::string> tallies() const { return {}; }
   // [setup] Look up per-particle attributes once. The host never moves particle storage during a
   // run, so pointers taken here stay valid.
   virtual void bind(const ParticleSpan& particles) = 0;
@@ -87,6 +100,11 @@ class GDSMC_API CollisionRule : public PluginObject {
   // The collision kernel for one pair, B(g, sigma_hat) >= 0 (the rate per unit solid angle,
   // in units of sigma^2 * speed). For conformance checks and diagnostics, not for the hot loop.
   virtual double pair_rate(const Vec3& g, const Vec3& sigma_hat) const = 0;
+  // An upper bound of pair_rate(g, s) over every direction s and every |g| <= speed: the host's
+  // majorant w bounds |g|, and the rule turns it into a bound of its own kernel (hard-sphere
+  // kernel of scale c: c * speed; a kernel shifted by a shear, a * sigma, adds that). Checked by
+  // conformance (collision.rate).
+  virtual double rate_bound(double speed) const = 0;
   // One collision of particles i and j with impact direction sigma_hat; returns the kinetic
   // energy change the rule declares. For conformance checks, not for the hot loop (bind first).
   virtual double collide_pair(const ParticleSpan& particles, std::uint32_t i, std::uint32_t j,
@@ -200,8 +218,8 @@ struct PluginDescriptor {
 // must be written here too, so that the fingerprint changes with it.
 inline constexpr const char abi_interfaces[] =
     "PluginObject{attributes,publish};"
-    "CollisionRule{bind(ParticleSpan),collide_cell(CellCollision&)const,pair_rate(Vec3,Vec3),"
-    "collide_pair(ParticleSpan,u32,u32,Vec3,double,Rng&)const};"
+    "CollisionRule{begin(SystemInfo,QuantityBoard&),tallies,bind(ParticleSpan),collide_cell(CellCollision&)const,"
+    "pair_rate(Vec3,Vec3),rate_bound(double)const,collide_pair(ParticleSpan,u32,u32,Vec3,double,Rng&)const};"
     "Forcing{stage,acceleration(Vec3&),apply(StepContext,ParticleSpan)->double,conserves,order,"
     "expected_energy_rate(StepContext,ParticleSpan,double&)const->bool};"
     "Boundary{begin(SystemInfo,QuantityBoard,Vec3),transfers,interact(StepContext,WallHit&,Rng&)const};"
@@ -223,6 +241,7 @@ constexpr std::uint64_t abi_fingerprint() {
   mix(sizeof(SampledMoments));
   mix(sizeof(BoundaryTally));
   mix(sizeof(WallHit));
+  mix(sizeof(CollisionTally));
   mix(sizeof(Rng));
   mix(sizeof(Streams));
   mix(sizeof(AttributeSpec));

@@ -1,0 +1,268 @@
+// The Navier-Stokes shear viscosity of the modified uniform shear flow (paper 002): kinetic and
+// collisional pressure tensors, eta(t) = -P_xy/a, Kn(t), the cumulant c(t), the first-Sonine
+// theory of Eqs. 16-18 and the long-time plateau.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+// c0(alpha): the HCS fourth cumulant estimate of 002 Eq. (18).
+double hcs_cumulant(double alpha) {
+  return 32.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha * alpha) / (81.0 - 17.0 * alpha + 30.0 * alpha * alpha * (1.0 - alpha));
+}
+// eta^k / eta0 in the first Sonine approximation (Eq. 16).
+double sonine_kinetic_viscosity(double alpha, double phi, double chi) {
+  const double c0 = hcs_cumulant(alpha);
+  return (1.0 - 0.4 * phi * chi * (1.0 + alpha) * (1.0 - 3.0 * alpha)) /
+         (chi * (1.0 + alpha) * (16.0 * (13.0 - alpha) - 3.0 * (4.0 - 3.0 * alpha) * c0) / 384.0);
+}
+// eta / eta0 in the first Sonine approximation (Eq. 17).
+double sonine_viscosity(double alpha, double phi, double chi) {
+  const double c0 = hcs_cumulant(alpha);
+  return sonine_kinetic_viscosity(alpha, phi, chi) * (1.0 + 0.8 * phi * chi * (1.0 + alpha)) +
+         384.0 / (25.0 * M_PI) * phi * phi * chi * (1.0 + alpha) * (1.0 - c0 / 32.0);
+}
+
+// y = b0 + b1 x by least squares from streamed sums (no storage): the intercept is the
+// Navier-Stokes value at Kn^2 -> 0, its error from the residual scatter.
+class PlateauFit {
+ public:
+  void add(double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
+    const Eigen::Vector2d row(1.0, x);
+    normal_ += row * row.transpose();
+    rhs_ += row * y;
+    yy_ += y * y;
+    ++count_;
+  }
+  std::size_t count() const { return count_; }
+  // {intercept, its standard error, slope, its standard error}; NaN with fewer than 3 points.
+  Eigen::Vector4d result() const {
+    const double nan = std::nan("");
+    if (count_ < 3 || std::fabs(normal_.determinant()) < 1e-300) return {nan, nan, nan, nan};
+    const Eigen::Matrix2d inverse = normal_.inverse();
+    const Eigen::Vector2d beta = normal_.ldlt().solve(rhs_);
+    const double rss = std::max(0.0, yy_ - 2.0 * beta.dot(rhs_) + beta.dot(normal_ * beta));
+    const double s2 = rss / static_cast<double>(count_ - 2);
+    return {beta(0), std::sqrt(s2 * inverse(0, 0)), beta(1), std::sqrt(s2 * inverse(1, 1))};
+  }
+
+ private:
+  Eigen::Matrix2d normal_ = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d rhs_ = Eigen::Vector2d::Zero();
+  double yy_ = 0;
+  std::size_t count_ = 0;
+};
+
+class EnskogShearViscosity final : public gdsmc::Diagnostic {
+ public:
+  static constexpr const char* name = "enskog_shear_viscosity";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary =
+      "Modified USF (002): kinetic + collisional P_ij, eta(t) = -P_xy/a, Kn(t), c(t)/c0, first-Sonine eta and the NS plateau";
+  static constexpr const char* documentation =
+      "The measurements of paper 002 (Enskog gas in the modified simple shear flow). Needs the\n"
+      "published 'shear_rate' a (uniform_shear); 'packing_fraction' phi and 'contact_value' chi come\n"
+      "from enskog_hard_spheres (without them: phi = (pi/6) n sigma^3 and chi = 1, the Boltzmann gas,\n"
+      "e.g. inelastic_hard_spheres). Per record (every record_every steps):\n"
+      "  kinetic P^k_ij = n m <V_i V_j> (Eq. 5), the mean over the samples since the last record;\n"
+      "  collisional P^c_ij = (increase of the rule's tally collisional_transfer_ij) / (volume x time\n"
+      "    since the last record) (Eq. 5; 0 without the tally), divided by n T with T the mean of the\n"
+      "    samples; both xy and yx are written (the tensor is symmetric);\n"
+      "  eta^k = -P^k_xy / a, eta^c = -P^c_xy / a, eta = eta^k + eta^c, in units of\n"
+      "    eta0(T) = (5 / 16 sigma^2) sqrt(m T / pi) (002, after Eq. 17), and relative to the elastic\n"
+      "    first-Sonine values eta^k(1, phi), eta(1, phi) of Eqs. (16)-(17) at the same T (Figs. 2-4);\n"
+      "  Kn = a sigma / (12 phi chi sqrt(T/m)) as 002 writes it (lambda / l with lambda =\n"
+      "    1/(sqrt 2 pi n sigma^2 chi), l = sqrt(2T/m)/a), and Kn^2;\n"
+      "  c = 2 a2, a2 = <V^4>/(15 (T/m)^2) - 1: the fourth cumulant in the convention of 002 and its\n"
+      "    Ref. 2 (f = f_M [1 + (c/4)(V*^4 - 5 V*^2 + 15/4)], V* = V/sqrt(2T/m), i.e. c = 2 a2; Eq. 18\n"
+      "    is van Noije and Ernst's a2 times 2), and c/c0 with c0(alpha) of Eq. (18);\n"
+      "  zeta: the cooling rate of Eq. (6), (increase of the tally dissipated_energy) / ((3/2) N T dt)\n"
+      "    (or minus the collisional energy change without the tally), in 1/tau0.\n"
+      "Scalars: the first-Sonine eta^k/eta0 and eta/eta0 at (alpha, phi) and at (1, phi), their ratios\n"
+      "(the theory lines of Figs. 3-4), c0 of Eq. (18). The Navier-Stokes plateau: over the records in\n"
+      "the run's averaging window (run.average_after, chosen after the transient), each of\n"
+      "eta_k_over_elastic_sonine and eta_over_elastic_sonine (and eta_k, eta in eta0 units) is fitted\n"
+      "as y = y_NS + b Kn^2 (the hydrodynamic stage is linear in Kn^2, Burnett order; least squares\n"
+      "with Eigen) and averaged: <name>_ns (the intercept), <name>_ns_error (from the residual\n"
+      "scatter, treating records as independent: space them by more than the correlation time),\n"
+      "<name>_slope, and <name>_mean / _standard_error (batch means) over the same records. With\n"
+      "several realizations the host's realization scatter of these scalars is the honest error.";
+  static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
+  explicit EnskogShearViscosity(const gdsmc::Params&) {}
+
+  enum Column {
+    kTemperature, kKn, kKn2, kPkXX, kPkYY, kPkZZ, kPkXY, kPcXX, kPcYY, kPcZZ, kPcXY, kPcYX, kPXY,
+    kEtaK, kEtaC, kEta, kEtaKRatio, kEtaRatio, kC, kCRatio, kZeta, kColumns
+  };
+
+  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
+    const double* a = board.find("shear_rate");
+    if (!a || *a == 0)
+      throw gdsmc::ParameterError("plugin", "enskog_shear_viscosity needs a non-zero 'shear_rate' (the uniform_shear forcing)");
+    a_ = *a;
+    const double* alpha = board.find("restitution");
+    alpha_ = alpha ? *alpha : 1.0;
+    const double* phi = board.find("packing_fraction");
+    const double* chi = board.find("contact_value");
+    phi_ = phi ? *phi : M_PI / 6.0 * sys.number_density * sys.sigma * sys.sigma * sys.sigma;
+    chi_ = chi ? *chi : 1.0;
+    sigma_ = sys.sigma;
+    n_ = sys.number_density;
+    volume_ = sys.volume;
+    particles_ = static_cast<double>(sys.particles);
+    t0_ = sys.initial_temperature;
+    tau0_ = sys.time_unit0;
+    c0_ = hcs_cumulant(alpha_);
+    elastic_k_ = sonine_kinetic_viscosity(1.0, phi_, chi_);
+    elastic_ = sonine_viscosity(1.0, phi_, chi_);
+    const std::vector<std::array<const char*, 3>> cols = {
+        {"temperature", "T0", "T/T0"},
+        {"Kn", "1", "Kn = a sigma / (12 phi chi sqrt(T/m)) (002, Sec. 3)"},
+        {"Kn_squared", "1", "Kn^2"},
+        {"Pk_xx_over_nT", "1", "kinetic P^k_xx / nT (Eq. 5)"},
+        {"Pk_yy_over_nT", "1", "kinetic P^k_yy / nT"},
+        {"Pk_zz_over_nT", "1", "kinetic P^k_zz / nT"},
+        {"Pk_xy_over_nT", "1", "kinetic P^k_xy / nT"},
+        {"Pc_xx_over_nT", "1", "collisional transfer P^c_xx / nT (Eq. 5)"},
+        {"Pc_yy_over_nT", "1", "collisional transfer P^c_yy / nT"},
+        {"Pc_zz_over_nT", "1", "collisional transfer P^c_zz / nT"},
+        {"Pc_xy_over_nT", "1", "collisional transfer P^c_xy / nT"},
+        {"Pc_yx_over_nT", "1", "collisional transfer P^c_yx / nT (= P^c_xy: symmetric)"},
+        {"P_xy_over_nT", "1", "total shear stress (P^k_xy + P^c_xy) / nT"},
+        {"eta_k", "eta0(T)", "kinetic shear viscosity -P^k_xy / a over eta0(T) = (5/16 sigma^2) sqrt(mT/pi)"},
+        {"eta_c", "eta0(T)", "collisional shear viscosity -P^c_xy / a over eta0(T)"},
+        {"eta", "eta0(T)", "shear viscosity eta^k + eta^c over eta0(T)"},
+        {"eta_k_over_elastic_sonine", "1", "eta^k / eta^k(1, phi) of Eq. 16 (Fig. 2)"},
+        {"eta_over_elastic_sonine", "1", "eta / eta(1, phi) of Eq. 17"},
+        {"c", "1", "fourth cumulant c = 2 a2 (002 / Garzo-Dufty convention)"},
+        {"c_over_c0", "1", "c / c0(alpha), c0 of Eq. 18 (NaN where c0 = 0)"},
+        {"zeta", "1/tau0", "cooling rate zeta of Eq. 6, measured from the dissipated energy"}};
+    for (const auto& c : cols) {
+      names_.push_back(c[0]);
+      ids_.push_back(out.series(c[0], c[1], c[2]));
+    }
+    auto put = [&](const char* n, double v, const char* doc) { out.scalar(n, v, "1", doc); };
+    put("packing_fraction", phi_, "phi = (pi/6) n sigma^3");
+    put("contact_value", chi_, "chi(phi)");
+    put("c0", c0_, "HCS fourth cumulant c0(alpha), Eq. 18");
+    put("eta_k_sonine", sonine_kinetic_viscosity(alpha_, phi_, chi_), "first-Sonine eta^k(alpha, phi)/eta0, Eq. 16");
+    put("eta_sonine", sonine_viscosity(alpha_, phi_, chi_), "first-Sonine eta(alpha, phi)/eta0, Eq. 17");
+    put("eta_k_sonine_elastic", elastic_k_, "first-Sonine eta^k(1, phi)/eta0");
+    put("eta_sonine_elastic", elastic_, "first-Sonine eta(1, phi)/eta0");
+    put("eta_k_sonine_ratio", sonine_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_,
+        "first-Sonine eta^k(alpha, phi)/eta^k(1, phi): the theory line of Figs. 3-4 (left)");
+    put("eta_sonine_ratio", sonine_viscosity(alpha_, phi_, chi_) / elastic_,
+        "first-Sonine eta(alpha, phi)/eta(1, phi): the theory line of Figs. 3-4 (right)");
+  }
+
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::VelocityMoments& m = ctx.moments->local;
+    const double T = m.temperature;
+    sums_[kTemperature] += T;
+    for (int a = 0; a < 3; ++a) sums_[kPkXX + a] += m.second[a][a] / T;
+    sums_[kPkXY] += m.second[0][1] / T;
+    sums_[kEtaK] += -n_ * m.second[0][1] / (a_ * eta0(T));
+    sums_[kKn] += kn(T);
+    sums_[kKn2] += kn(T) * kn(T);
+    sums_[kC] += 2.0 * m.a2();  // c = 2 a2 (002's convention, see the documentation)
+    ++samples_;
+  }
+
+  void record(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
+    double v[kColumns];
+    const double ns = samples_ ? static_cast<double>(samples_) : std::nan("");
+    for (int k = 0; k < kColumns; ++k) v[k] = sums_[k] / ns;
+    const double T = v[kTemperature];
+    // Collisional transfer and dissipation over the interval since the last record.
+    const double dt = ctx.time - last_time_;
+    double transfer[9];
+    for (int k = 0; k < 9; ++k) {
+      static const char* const tally_names[9] = {"collisional_transfer_xx", "collisional_transfer_xy", "collisional_transfer_xz",
+                                                 "collisional_transfer_yx", "collisional_transfer_yy", "collisional_transfer_yz",
+                                                 "collisional_transfer_zx", "collisional_transfer_zy", "collisional_transfer_zz"};
+      const double* t = ctx.collision_tally(tally_names[k]);
+      const double now = t ? *t : 0.0;
+      transfer[k] = dt > 0 ? (now - last_transfer_[k]) / (volume_ * dt) : std::nan("");  // P^c_ij
+      last_transfer_[k] = now;
+    }
+    const double* d = ctx.collision_tally("dissipated_energy");
+    const double dissipated = d ? *d : -ctx.collision_energy_change;
+    const double zeta = dt > 0 ? (dissipated - last_dissipated_) / (1.5 * particles_ * T * dt) : std::nan("");
+    last_dissipated_ = dissipated;
+    last_time_ = ctx.time;
+    const double nT = n_ * T;
+    v[kTemperature] = T / t0_;
+    v[kPcXX] = transfer[0] / nT;
+    v[kPcYY] = transfer[4] / nT;
+    v[kPcZZ] = transfer[8] / nT;
+    v[kPcXY] = transfer[1] / nT;
+    v[kPcYX] = transfer[3] / nT;
+    v[kPXY] = v[kPkXY] + v[kPcXY];
+    v[kEtaC] = -transfer[1] / (a_ * eta0(T));
+    v[kEta] = v[kEtaK] + v[kEtaC];
+    v[kEtaKRatio] = v[kEtaK] / elastic_k_;
+    v[kEtaRatio] = v[kEta] / elastic_;
+    v[kCRatio] = c0_ != 0 ? v[kC] / c0_ : std::nan("");
+    v[kZeta] = zeta * tau0_;
+    for (int k = 0; k < kColumns; ++k) out.append(ids_[k], v[k]);
+    if (ctx.in_average_window && std::isfinite(v[kEta]))
+      for (int k = 0; k < kFitted; ++k) {
+        fits_[k].add(v[kKn2], v[kFittedColumns[k]]);
+        means_[k].add(v[kFittedColumns[k]]);
+      }
+    for (double& s : sums_) s = 0;
+    samples_ = 0;
+  }
+
+  void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
+    std::string line = "enskog_shear_viscosity: phi = " + number(phi_) + ", chi = " + number(chi_) + ", alpha = " + number(alpha_);
+    for (int k = 0; k < kFitted; ++k) {
+      const std::string n = names_[kFittedColumns[k]];
+      const Eigen::Vector4d r = fits_[k].result();
+      const char* unit = k < 2 ? "1" : "eta0(T)";
+      out.scalar(n + "_ns", r(0), unit, "Navier-Stokes value: intercept at Kn^2 = 0 of the fit over the averaging window");
+      out.scalar(n + "_ns_error", r(1), unit, "standard error of the intercept (residual scatter)");
+      out.scalar(n + "_slope", r(2), unit, "slope d/d(Kn^2) of the fit");
+      out.scalar(n + "_slope_error", r(3), unit, "standard error of the slope");
+      out.scalar(n + "_mean", means_[k].mean(), unit, "mean over the records in the averaging window");
+      out.scalar(n + "_standard_error", means_[k].standard_error(), unit, "batch-means standard error of the mean");
+      if (k < 2) line += ", " + n + "(Kn->0) = " + number(r(0)) + " +- " + number(r(1));
+    }
+    line += " (first Sonine: " + number(sonine_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_) + ", " +
+            number(sonine_viscosity(alpha_, phi_, chi_) / elastic_) + "; " + std::to_string(fits_[0].count()) + " records)";
+    out.summary(line);
+  }
+
+ private:
+  static constexpr int kFitted = 4;
+  static constexpr int kFittedColumns[kFitted] = {kEtaKRatio, kEtaRatio, kEtaK, kEta};
+  static std::string number(double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4g", x);
+    return b;
+  }
+  double eta0(double T) const { return 5.0 / (16.0 * sigma_ * sigma_) * std::sqrt(T / M_PI); }  // m = 1
+  double kn(double T) const { return a_ * sigma_ / (12.0 * phi_ * chi_ * std::sqrt(T)); }
+
+  double a_ = 0, alpha_ = 1, phi_ = 0, chi_ = 1, sigma_ = 1, n_ = 0, volume_ = 1, particles_ = 1, t0_ = 1, tau0_ = 1;
+  double c0_ = 0, elastic_k_ = 1, elastic_ = 1;
+  std::vector<std::string> names_;
+  std::vector<std::size_t> ids_;
+  double sums_[kColumns] = {};
+  std::size_t samples_ = 0;
+  double last_time_ = 0, last_dissipated_ = 0;
+  double last_transfer_[9] = {};
+  PlateauFit fits_[kFitted];
+  gdsmc::BatchMeans means_[kFitted];
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(EnskogShearViscosity)

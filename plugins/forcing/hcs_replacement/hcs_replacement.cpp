@@ -1,0 +1,171 @@
+// The stochastic term (1/2) zeta (f - f^(0)) of paper 002, Eq. (15): velocities replaced by draws
+// from a homogeneous cooling state kept alongside (002 Sec. 3).
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+class HcsReplacement final : public gdsmc::Forcing {
+ public:
+  static constexpr const char* name = "hcs_replacement";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary =
+      "Replaces a fraction zeta dt/2 of the velocities by sqrt(T) C, C from an HCS reservoir at unit temperature (002 Eq. 15)";
+  static constexpr const char* documentation =
+      "The stochastic part of paper 002's Eq. (15), (1/2) zeta (f - f^(0)): each particle has the\n"
+      "probability (1/2) zeta per unit time of getting a new velocity V_new = u + sqrt(T/m) C, with u and\n"
+      "T the mean velocity and temperature of the gas at that moment and C the velocity of a particle\n"
+      "of a reservoir kept in the homogeneous cooling state (HCS) at unit temperature (Sec. 3). zeta is\n"
+      "measured in the run as anti_drag does (the increase of the tally 'dissipated_energy' over this\n"
+      "step, or minus the declared collisional energy change: zeta dt = dE / ((3/2) N T)); per step\n"
+      "round(N zeta dt / 2) particles (stochastically rounded) are picked uniformly, with replacement.\n"
+      "The reservoir is a real HCS, not a Maxwellian stand-in: `reservoir_particles` particles, started\n"
+      "Maxwellian and relaxed by `reservoir_relaxation` collisions per particle of inelastic hard spheres\n"
+      "with the restitution alpha the collision rule publishes, then advanced every step by as many\n"
+      "collisions per particle as the gas had in that step, and rescaled to zero mean and unit\n"
+      "temperature after each advance (the HCS is self-similar: its scaled form is stationary). The\n"
+      "packing fraction does not matter: in a homogeneous state the Enskog operator is chi times the\n"
+      "Boltzmann one, which changes the collision rate but not the scaled HCS, so the Boltzmann IHS\n"
+      "reservoir has the Enskog HCS shape (the cumulant a2 of 002 Eq. 18 does not depend on phi).\n"
+      "The reservoir collisions pick pairs uniformly and accept with probability |g|/w (w a majorant\n"
+      "raised when exceeded), sigma_hat from Theta(g.s)(g.s), so accepted collisions follow the\n"
+      "hard-sphere rate. Streams: for_unit(0) the reservoir, for_unit(1) the replacements. Runs after\n"
+      "the collisions and after anti_drag. Conserves momentum and energy only on average; returns the\n"
+      "energy it added to the ledger.";
+  static std::vector<gdsmc::ParamSpec> parameters() {
+    return {gdsmc::ParamSpec::integer("reservoir_particles", "particles of the HCS reservoir").range(1000.0, 2e5).default_value(20000),
+            gdsmc::ParamSpec::real("reservoir_relaxation", "collisions per reservoir particle before the first draw")
+                .range(1.0, 100.0)
+                .default_value(50.0)};
+  }
+  explicit HcsReplacement(const gdsmc::Params& p)
+      : size_(static_cast<std::size_t>(p.integer("reservoir_particles"))), relaxation_(p.real("reservoir_relaxation")),
+        cx_(size_), cy_(size_), cz_(size_) {}
+
+  Stage stage() const override { return Stage::after_collisions; }
+
+  double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
+    if (!ready_) start_reservoir(ctx);
+    const double* tally = ctx.collision_tally("dissipated_energy");
+    const double dissipated_total = tally ? *tally : -ctx.collision_energy_change;
+    const double dissipated = dissipated_total - last_dissipated_;
+    last_dissipated_ = dissipated_total;
+    // Advance the reservoir by the collisions per particle the gas had in this step.
+    const double s_step = static_cast<double>(ctx.collisions - last_collisions_) / static_cast<double>(p.count);
+    last_collisions_ = ctx.collisions;
+    gdsmc::Rng reservoir_rng = ctx.streams->for_unit(0);
+    advance_reservoir(s_step, reservoir_rng);
+    if (!(dissipated > 0) || p.count < 2) return 0.0;
+
+    double u[3] = {0, 0, 0}, sum2 = 0;
+    for (std::size_t i = 0; i < p.count; ++i) {
+      u[0] += p.vx[i];
+      u[1] += p.vy[i];
+      u[2] += p.vz[i];
+      sum2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+    }
+    const double n = static_cast<double>(p.count);
+    for (double& c : u) c /= n;
+    const double temperature = (sum2 / n - (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])) / 3.0;  // m = 1
+    if (!(temperature > 0)) return 0.0;
+    // (1/2) zeta dt N = dE / (3 T), with zeta dt = dE / ((3/2) N T).
+    gdsmc::Rng rng = ctx.streams->for_unit(1);
+    const double expected = dissipated / (3.0 * temperature);
+    auto count = static_cast<std::uint64_t>(expected);
+    if (rng.uniform() < expected - static_cast<double>(count)) ++count;
+    const double scale = std::sqrt(temperature);
+    double energy = 0;
+    for (std::uint64_t k = 0; k < count; ++k) {
+      const std::uint32_t i = rng.below(static_cast<std::uint32_t>(p.count));
+      const std::uint32_t r = rng.below(static_cast<std::uint32_t>(size_));
+      const double nx = u[0] + scale * cx_[r], ny = u[1] + scale * cy_[r], nz = u[2] + scale * cz_[r];
+      energy += 0.5 * (nx * nx + ny * ny + nz * nz - p.vx[i] * p.vx[i] - p.vy[i] * p.vy[i] - p.vz[i] * p.vz[i]);
+      p.vx[i] = nx;
+      p.vy[i] = ny;
+      p.vz[i] = nz;
+    }
+    return energy;
+  }
+
+ private:
+  void start_reservoir(const gdsmc::StepContext& ctx) {
+    const double* alpha = ctx.quantities ? ctx.quantities->find("restitution") : nullptr;
+    if (!alpha)
+      throw std::runtime_error("hcs_replacement needs the restitution of the HCS reservoir: the collision rule must "
+                               "publish 'restitution' (inelastic_hard_spheres and enskog_hard_spheres do)");
+    half_one_plus_alpha_ = 0.5 * (1.0 + *alpha);
+    gdsmc::Rng rng = ctx.streams->for_unit(2);
+    for (std::size_t k = 0; k < size_; ++k) {
+      cx_[k] = rng.normal();
+      cy_[k] = rng.normal();
+      cz_[k] = rng.normal();
+    }
+    rescale();
+    // Relax in chunks of one collision per particle, rescaling in between (the HCS cools).
+    for (double done = 0; done < relaxation_; done += 1.0) advance_reservoir(std::min(1.0, relaxation_ - done), rng);
+    ready_ = true;
+  }
+
+  // ds collisions per particle of IHS (accepted pairs: ds * size / 1, s counting collisions per
+  // particle as the host does), then rescale to zero mean and unit temperature.
+  void advance_reservoir(double ds, gdsmc::Rng& rng) {
+    target_ += ds * static_cast<double>(size_);
+    const auto n = static_cast<std::uint32_t>(size_);
+    while (target_ >= 1.0) {
+      const std::uint32_t i = rng.below(n);
+      std::uint32_t j = rng.below(n - 1);
+      j += (j >= i);
+      const gdsmc::Vec3 g{cx_[i] - cx_[j], cy_[i] - cy_[j], cz_[i] - cz_[j]};
+      const double gn = norm(g);
+      if (gn > majorant_) majorant_ = 1.05 * gn;
+      if (rng.uniform() * majorant_ >= gn) continue;
+      const gdsmc::Vec3 s = gdsmc::hard_sphere_impact_direction(g, gn, rng);
+      const double gs = dot(g, s);
+      const gdsmc::Vec3 dv = (half_one_plus_alpha_ * gs) * s;
+      cx_[i] -= dv.x; cy_[i] -= dv.y; cz_[i] -= dv.z;
+      cx_[j] += dv.x; cy_[j] += dv.y; cz_[j] += dv.z;
+      target_ -= 1.0;
+    }
+    rescale();
+  }
+
+  void rescale() {
+    double u[3] = {0, 0, 0}, sum2 = 0;
+    const double n = static_cast<double>(size_);
+    for (std::size_t k = 0; k < size_; ++k) {
+      u[0] += cx_[k];
+      u[1] += cy_[k];
+      u[2] += cz_[k];
+    }
+    for (double& c : u) c /= n;
+    for (std::size_t k = 0; k < size_; ++k) {
+      cx_[k] -= u[0];
+      cy_[k] -= u[1];
+      cz_[k] -= u[2];
+      sum2 += cx_[k] * cx_[k] + cy_[k] * cy_[k] + cz_[k] * cz_[k];
+    }
+    const double f = 1.0 / std::sqrt(sum2 / (3.0 * n));
+    for (std::size_t k = 0; k < size_; ++k) {
+      cx_[k] *= f;
+      cy_[k] *= f;
+      cz_[k] *= f;
+    }
+  }
+
+  std::size_t size_;
+  double relaxation_;
+  std::vector<double> cx_, cy_, cz_;  // the reservoir's velocities, unit temperature
+  bool ready_ = false;
+  double half_one_plus_alpha_ = 1.0;
+  double majorant_ = 6.0 * M_SQRT2;  // of |g| at unit temperature (raised when exceeded)
+  double target_ = 0;                // accepted collisions still owed to the reservoir
+  double last_dissipated_ = 0;
+  std::uint64_t last_collisions_ = 0;
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(HcsReplacement)
