@@ -1,0 +1,653 @@
+// Fuzzing of the shipped pipelines (issue 9, item 9). A fixed-seed generator mutates every
+// configs/*.yaml found at test time (so a new config is fuzzed without touching this file) and
+// runs each mutation through `gdsmc validate` and a very short `gdsmc run`, as a child process in
+// a fresh directory holding only the pipeline, with the output directed there (-o out.h5).
+//
+// Mutations (the kind cycles with the index, so every config gets every kind; the rest is drawn
+// from a splitmix64 stream seeded by the base seed, the config's file name and the index, so a
+// mutation does not change when configs are added): a deleted line, a duplicated line, two values
+// swapped, a value replaced by another type (list, map, string, huge/tiny/negative number, 0,
+// nan, inf, empty, ...), truncation at a random byte, an indentation change.
+//
+// Short runs without hiding bugs: `--set run.particles=200` and `--set run.stop={...: 0.2}` are
+// given (to validate and run alike) only when the mutation left the pipeline's particles and
+// stop entries (and the line after each) untouched; otherwise the mutated values are run as they
+// are. A run then goes on for at most GDSMC_FUZZ_RUN_SECONDS (default 1) after it has installed
+// its SIGINT handler, is sent SIGINT, and must exit 130 within 2 s more: every run doubles as a
+// test that it can be interrupted. The SIGINT is sent only once the handler is installed (before
+// that, a user's Ctrl-C ends the process by the signal, which is correct), so setup must finish
+// within the hang limit (20 s). Children get RLIMIT_AS (GDSMC_FUZZ_MEMORY_MB, default 4096) so that
+// a mutation asking for 1e12 particles cannot take the shared machine's memory, and no core files.
+//
+// Asserted for every mutation and command: exit 0, 1, or (only after our SIGINT) 130; never a
+// signal or a timeout. On exit 1: a line starting "error: ", no line exposing a bare C++
+// exception (std::..., yaml-cpp internals), and a last line "gdsmc: ...nothing was run or written".
+// After any exit other than 0, and after validate, the directory holds only the pipeline; after a
+// successful run exactly pipeline.yaml and out.h5, which HDF5 opens. A run that succeeds on a
+// pipeline that validate refused is a failure too. Failures are grouped by class, each with its
+// mutations (config#index, what changed, how to rerun it) and the first one in full.
+//
+// Environment (tests/fuzz/README.md):
+//   GDSMC_FUZZ_CASES=5000        mutations in total (default 300), spread evenly over the configs
+//   GDSMC_FUZZ_SEED=12345        base seed (default 20260409)
+//   GDSMC_FUZZ_ONLY=hcs.yaml:17  run one mutation (and print its text)
+//   GDSMC_FUZZ_JOBS=2            mutations run at once (default 2)
+//   GDSMC_FUZZ_RUN_SECONDS=1     run time allowed before the SIGINT
+//   GDSMC_FUZZ_MEMORY_MB=4096    the children's address-space limit
+//   GDSMC_FUZZ_SAVE=DIR          write every failing mutation to DIR/<config>.<index>.yaml
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <atomic>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "test_support.hpp"
+#include "util/text.hpp"
+
+namespace gdsmc::test {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Settings.
+
+std::string env(const char* name, const std::string& fallback = "") {
+  const char* v = std::getenv(name);
+  return v && *v ? v : fallback;
+}
+double env_number(const char* name, double fallback) {
+  const std::string v = env(name);
+  return v.empty() ? fallback : std::stod(v);
+}
+
+constexpr std::uint64_t kDefaultSeed = 20260409;
+constexpr int kDefaultCases = 300;
+constexpr double kHangSeconds = 20;       // validate, or a run's setup, taking longer is a hang
+constexpr double kInterruptSeconds = 2;   // from our SIGINT to the exit
+const std::vector<std::string> kShortRun = {"--set", "run.particles=200", "--set", "run.stop={collisions_per_particle: 0.2}"};
+
+// ---------------------------------------------------------------------------------------------
+// The generator.
+
+// splitmix64: the same stream on every platform (std distributions are not specified that way).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : s_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  std::size_t below(std::size_t n) { return n ? static_cast<std::size_t>(next() % n) : 0; }
+
+ private:
+  std::uint64_t s_;
+};
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+std::uint64_t mutation_seed(std::uint64_t base, const std::string& config, int index) {
+  Rng r(base ^ fnv1a(config) ^ (0x632be59bd9b4e019ull * static_cast<std::uint64_t>(index + 1)));
+  return r.next();
+}
+
+struct Line {
+  std::size_t begin, end;  // byte offsets of the line, without its '\n'
+};
+std::vector<Line> lines_of(const std::string& text) {
+  std::vector<Line> lines;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t nl = text.find('\n', start);
+    const std::size_t end = nl == std::string::npos ? text.size() : nl;
+    lines.push_back({start, end});
+    start = end + 1;
+  }
+  return lines;
+}
+
+// Where a line's content ends: at a comment ('#' at the start or after a blank, outside quotes).
+std::size_t content_end(const std::string& text, const Line& l) {
+  char quote = 0;
+  for (std::size_t i = l.begin; i < l.end; ++i) {
+    const char c = text[i];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '#' && (i == l.begin || text[i - 1] == ' ' || text[i - 1] == '\t')) {
+      return i;
+    }
+  }
+  return l.end;
+}
+
+bool has_content(const std::string& text, const Line& l) {
+  for (std::size_t i = l.begin; i < content_end(text, l); ++i)
+    if (text[i] != ' ' && text[i] != '\t') return true;
+  return false;
+}
+
+struct Token {
+  std::size_t begin, end;  // byte offsets in the whole text
+  std::size_t line;        // 0-based
+  bool key;
+};
+
+// The scalars of the YAML text line by line (keys and values, block and flow), enough for the
+// shipped configs: a token runs to a flow delimiter, ": " or the comment.
+std::vector<Token> tokens_of(const std::string& text) {
+  std::vector<Token> out;
+  const auto lines = lines_of(text);
+  for (std::size_t n = 0; n < lines.size(); ++n) {
+    const std::size_t end = content_end(text, lines[n]);
+    std::size_t i = lines[n].begin;
+    auto colon_at = [&](std::size_t k) { return k < end && text[k] == ':' && (k + 1 == end || text[k + 1] == ' '); };
+    while (i < end) {
+      const char c = text[i];
+      if (c == ' ' || c == '\t' || c == '{' || c == '}' || c == '[' || c == ']' || c == ',' || colon_at(i) ||
+          (c == '-' && (i + 1 == end || text[i + 1] == ' '))) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      if (c == '"' || c == '\'') {
+        j = text.find(c, i + 1);
+        j = (j == std::string::npos || j >= end) ? end : j + 1;
+      } else {
+        while (j < end && !colon_at(j) && std::string_view(",{}[]").find(text[j]) == std::string_view::npos) ++j;
+        while (j > i && text[j - 1] == ' ') --j;
+      }
+      std::size_t k = j;
+      while (k < end && text[k] == ' ') ++k;
+      out.push_back({i, j, n, colon_at(k)});
+      i = j;
+    }
+  }
+  return out;
+}
+
+struct Mutation {
+  std::string config;  // file name in configs/
+  int index = -1;      // -1: the config itself, unmutated
+  std::uint64_t seed = 0;
+  std::string kind = "none", what = "unmutated";
+  std::string text;
+  std::string id() const { return config + ":" + std::to_string(index); }
+};
+
+// `text` with line `n` (0-based) shown for a message.
+std::string show_line(const std::string& text, const std::vector<Line>& lines, std::size_t n) {
+  return "line " + std::to_string(n + 1) + " `" + text.substr(lines[n].begin, lines[n].end - lines[n].begin) + "`";
+}
+
+// The kind cycles with the index. A retyped value reaches the run more often than a deleted line
+// or a truncation (which validate mostly refuses), hence three of eight.
+const std::vector<std::string> kKinds = {"delete-line", "retype-value", "duplicate-line", "swap-values",
+                                         "retype-value", "truncate", "indent", "retype-value"};
+const std::vector<std::string> kReplacements = {
+    "[1, 2]", "{a: 1}", "text", "\"a string\"", "1.0e308", "1.0e400", "1.0e-308", "1.0e-30", "1.0e12", "-1", "-1.0e6",
+    "0", "-0", ".nan", ".inf", "-.inf", "", "~", "true", "2.5", "4294967296", "99999999999999999999", "0x10"};
+
+Mutation mutate(const std::string& config, const std::string& original, int index, std::uint64_t base_seed) {
+  Mutation m;
+  m.config = config;
+  m.index = index;
+  m.seed = mutation_seed(base_seed, config, index);
+  Rng rng(m.seed);
+  const auto lines = lines_of(original);
+  std::vector<std::size_t> content;
+  for (std::size_t n = 0; n < lines.size(); ++n)
+    if (has_content(original, lines[n])) content.push_back(n);
+  std::vector<Token> values;
+  for (const auto& t : tokens_of(original))
+    if (!t.key) values.push_back(t);
+  m.kind = kKinds[static_cast<std::size_t>(index) % kKinds.size()];
+  if ((m.kind == "swap-values" && values.size() < 2) || (m.kind == "retype-value" && values.empty())) m.kind = "delete-line";
+  if (content.empty() && m.kind != "truncate") m.kind = "truncate";
+  std::string t = original;
+  const auto line_text = [&](std::size_t n) { return original.substr(lines[n].begin, lines[n].end - lines[n].begin); };
+  if (m.kind == "delete-line") {
+    const std::size_t n = content[rng.below(content.size())];
+    m.what = show_line(original, lines, n) + " deleted";
+    t.erase(lines[n].begin, std::min(lines[n].end + 1, t.size()) - lines[n].begin);
+  } else if (m.kind == "duplicate-line") {
+    const std::size_t n = content[rng.below(content.size())];
+    m.what = show_line(original, lines, n) + " duplicated";
+    t.insert(lines[n].begin, line_text(n) + "\n");
+  } else if (m.kind == "swap-values") {
+    std::size_t a = rng.below(values.size()), b = rng.below(values.size());
+    for (int tries = 0; tries < 20; ++tries) {  // two different values if there are any
+      const auto va = original.substr(values[a].begin, values[a].end - values[a].begin);
+      const auto vb = original.substr(values[b].begin, values[b].end - values[b].begin);
+      if (a != b && va != vb) break;
+      b = rng.below(values.size());
+    }
+    if (values[a].begin > values[b].begin) std::swap(a, b);
+    const Token &ta = values[a], &tb = values[b];
+    const std::string va = original.substr(ta.begin, ta.end - ta.begin), vb = original.substr(tb.begin, tb.end - tb.begin);
+    m.what = "values `" + va + "` (line " + std::to_string(ta.line + 1) + ") and `" + vb + "` (line " +
+             std::to_string(tb.line + 1) + ") swapped";
+    t.replace(tb.begin, tb.end - tb.begin, va);
+    t.replace(ta.begin, ta.end - ta.begin, vb);
+  } else if (m.kind == "retype-value") {
+    const Token& v = values[rng.below(values.size())];
+    const std::string& r = kReplacements[rng.below(kReplacements.size())];
+    m.what = "value `" + original.substr(v.begin, v.end - v.begin) + "` (line " + std::to_string(v.line + 1) +
+             ") replaced by `" + r + "`";
+    t.replace(v.begin, v.end - v.begin, r);
+  } else if (m.kind == "truncate") {
+    const std::size_t cut = rng.below(original.size());
+    m.what = "truncated to " + std::to_string(cut) + " of " + std::to_string(original.size()) + " bytes";
+    t.resize(cut);
+  } else {  // indent
+    const std::size_t n = content[rng.below(content.size())];
+    std::size_t spaces = 0;
+    while (lines[n].begin + spaces < lines[n].end && original[lines[n].begin + spaces] == ' ') ++spaces;
+    const std::size_t choice = rng.below(5);
+    std::string prefix;
+    std::size_t remove = 0;
+    if (choice == 0) prefix = " ";
+    else if (choice == 1) prefix = "  ";
+    else if (choice == 2) prefix = "\t";
+    else remove = std::min(spaces, choice == 3 ? std::size_t{1} : std::size_t{2});
+    if (prefix.empty() && remove == 0) prefix = " ";  // nothing to remove: indent instead
+    m.what = show_line(original, lines, n) +
+             (remove ? " dedented by " + std::to_string(remove) : prefix == "\t" ? " indented by a tab" : " indented by " + std::to_string(prefix.size()));
+    t.erase(lines[n].begin, remove);
+    t.insert(lines[n].begin, prefix);
+  }
+  m.text = std::move(t);
+  return m;
+}
+
+// Whether the mutation left the entry `key` alone: its line, the more-indented lines under it and
+// the line after them are still there, once, exactly as in the original.
+bool untouched(const std::string& original, const std::string& mutated, const std::string& key) {
+  const auto lines = lines_of(original);
+  auto indent = [&](const Line& l) {
+    std::size_t k = l.begin;
+    while (k < l.end && original[k] == ' ') ++k;
+    return k - l.begin;
+  };
+  for (std::size_t n = 0; n < lines.size(); ++n) {
+    const std::size_t ind = indent(lines[n]);
+    if (original.compare(lines[n].begin + ind, key.size() + 1, key + ":") != 0) continue;
+    std::size_t last = n + 1;
+    while (last < lines.size() && (!has_content(original, lines[last]) || indent(lines[last]) > ind)) ++last;
+    const std::size_t stop = std::min(last + 1, lines.size());  // the line after the block, too
+    const std::string block = original.substr(lines[n].begin, lines[stop - 1].end - lines[n].begin);
+    auto count = [&block](const std::string& s) {
+      std::size_t c = 0;
+      for (std::size_t p = s.find(block); p != std::string::npos; p = s.find(block, p + 1)) ++c;
+      return c;
+    };
+    return count(original) == 1 && count(mutated) == 1;
+  }
+  return false;  // no such entry: leave the pipeline as it is
+}
+
+// ---------------------------------------------------------------------------------------------
+// The child process.
+
+struct Outcome {
+  int exit_code = -1;
+  int signal = 0;
+  bool hung = false;         // validate, or a run's setup, did not end within kHangSeconds
+  bool interrupted = false;  // we sent SIGINT
+  bool ignored_interrupt = false;  // ... and it did not exit within kInterruptSeconds
+  double seconds = 0;
+  std::string out, err;
+};
+
+// Runs gdsmc with `args` in `cwd`. With `run_seconds` >= 0 the child is a run: once it catches
+// SIGINT it may go on for `run_seconds`, then gets SIGINT.
+Outcome run_child(const std::vector<std::string>& args, const fs::path& cwd, double run_seconds, rlim_t memory_bytes) {
+  TempDir capture;  // stdout and stderr outside `cwd`, which must stay clean
+  const std::string out_s = (capture.path() / "stdout").string(), err_s = (capture.path() / "stderr").string();
+  std::vector<std::string> argv_s = {executable().string()};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<std::string> env_s;
+  for (char** e = environ; *e; ++e)
+    if (std::strncmp(*e, "GDSMC_PLUGIN_PATH=", 18) != 0) env_s.emplace_back(*e);
+  std::vector<char*> argv, envp;
+  for (auto& s : argv_s) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  for (auto& s : env_s) envp.push_back(s.data());
+  envp.push_back(nullptr);
+  const std::string cwd_s = cwd.string();
+  const rlimit mem{memory_bytes, memory_bytes}, no_core{0, 0};
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = ::fork();  // only async-signal-safe calls in the child: other threads fork too
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    const int o = ::open(out_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(err_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in = ::open("/dev/null", O_RDONLY);
+    if (o < 0 || e < 0 || in < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::dup2(in, 0) < 0 ||
+        ::chdir(cwd_s.c_str()) != 0 || ::setrlimit(RLIMIT_AS, &mem) != 0 || ::setrlimit(RLIMIT_CORE, &no_core) != 0)
+      ::_exit(127);
+    ::execve(argv[0], argv.data(), envp.data());
+    ::_exit(127);
+  }
+  Outcome r;
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  int status = 0;
+  auto ended = [&] { return ::waitpid(pid, &status, WNOHANG) == pid; };
+  auto catches_sigint = [&] {
+    std::ifstream st("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(st, line);)
+      if (line.rfind("SigCgt:", 0) == 0) return ((std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1ull) != 0;
+    return false;
+  };
+  auto pause = [] { std::this_thread::sleep_for(std::chrono::milliseconds(5)); };
+  bool done = false;
+  double running_since = -1;  // when the SIGINT handler was seen
+  while (!(done = ended())) {
+    const double t = elapsed();
+    if (run_seconds >= 0 && running_since < 0 && catches_sigint()) running_since = t;
+    if (running_since >= 0 && t - running_since >= run_seconds) break;
+    if (running_since < 0 && t >= kHangSeconds) break;
+    pause();
+  }
+  if (!done && running_since >= 0) {
+    r.interrupted = true;
+    ::kill(pid, SIGINT);
+    const double sent = elapsed();
+    while (!(done = ended()) && elapsed() - sent < kInterruptSeconds) pause();
+    r.ignored_interrupt = !done;
+  } else if (!done) {
+    r.hung = true;
+  }
+  if (!done) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  r.seconds = elapsed();
+  if (done && WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+  if (done && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.out = read_text(out_s);
+  r.err = read_text(err_s);
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks.
+
+std::string fmt_seconds(double s) { return host::fmt("%.1f s", s); }
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> v;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty()) v.push_back(l);
+  return v;
+}
+
+// Telltales of a C++ exception's what() shown to the user as it is.
+const std::vector<std::string> kUnclear = {"std::", "bad_alloc", "basic_string", "_M_", "vector::", "stoi", "stod",
+                                           "yaml-cpp:", "operator[]", "bad conversion", "terminate called"};
+
+// The class of a problem with `o` for command `cmd` ("" if none); `files` is what `cwd` held after.
+std::string problem(const std::string& cmd, const Outcome& o, const fs::path& cwd, const std::vector<std::string>& files,
+                    std::string& detail) {
+  const std::vector<std::string> only_pipeline = {"pipeline.yaml"};
+  if (o.hung) return cmd + ": no exit within " + fmt_seconds(kHangSeconds) + (cmd == "run" ? " (setup never reached the step loop)" : "");
+  if (o.ignored_interrupt) return cmd + ": still running " + fmt_seconds(kInterruptSeconds) + " after SIGINT";
+  if (o.signal) return cmd + ": killed by signal " + std::to_string(o.signal) + " (" + strsignal(o.signal) + ")" + (o.interrupted ? " after SIGINT" : "");
+  const auto lines = split(o.err);
+  if (o.exit_code == 0) {
+    if (cmd == "validate") {
+      if (files != only_pipeline) return detail = join(files), "validate: exit 0 but left files";
+      return "";
+    }
+    if (files != std::vector<std::string>{"out.h5", "pipeline.yaml"}) return detail = join(files), "run: exit 0 but the directory is not {out.h5, pipeline.yaml}";
+    static std::mutex hdf5;  // the serial HDF5 library is not thread-safe
+    const std::lock_guard<std::mutex> lock(hdf5);
+    try {
+      h5::File f(cwd / "out.h5");
+    } catch (const std::exception& e) {
+      return detail = e.what(), "run: exit 0 but out.h5 is not a readable HDF5 file";
+    }
+    return "";
+  }
+  if (o.exit_code == 130 && o.interrupted) {
+    if (files != only_pipeline) return detail = join(files), "run: exit 130 after SIGINT but left files";
+    return "";
+  }
+  if (o.exit_code != 1) return cmd + ": exit status " + std::to_string(o.exit_code) + (o.interrupted ? " after SIGINT" : "");
+  if (std::none_of(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("error: ", 0) == 0; }))
+    return cmd + ": exit 1 without an 'error: ' line";
+  for (const auto& l : lines)
+    for (const auto& u : kUnclear)
+      if (l.rfind("error: ", 0) == 0 && l.find(u) != std::string::npos)
+        return detail = l, cmd + ": exit 1 with an unclear message (a C++ exception's text: '" + u + "')";
+  const std::string& last = lines.back();
+  if (last.rfind("gdsmc: ", 0) != 0 || last.find("nothing was run or written") == std::string::npos)
+    return detail = last, cmd + ": exit 1 but the last line does not say nothing was run or written";
+  if (files != only_pipeline) return detail = join(files), cmd + ": exit 1 but left files";
+  return "";
+}
+
+// ---------------------------------------------------------------------------------------------
+// One mutation through validate and run.
+
+struct Failure {
+  std::string klass;
+  const Mutation* m;
+  std::string command, detail;
+  Outcome outcome;
+};
+
+struct Result {
+  std::vector<Failure> failures;
+  std::string outcome;  // "validate <status>, run <status>", for the tally
+  std::string note;     // validate accepted, run refused (allowed: run also allocates; listed)
+};
+
+std::vector<std::string> files_in(const TempDir& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(dir.path())) names.push_back(fs::relative(e.path(), dir.path()).string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string shell_words(const std::vector<std::string>& args) {
+  std::string s = "gdsmc";
+  for (const auto& a : args) s += " " + (a.find_first_of(" {}") != std::string::npos ? "'" + a + "'" : a);
+  return s;
+}
+
+Result check(const Mutation& m, const std::string& original, double run_seconds, rlim_t memory) {
+  Result res;
+  TempDir dir;
+  dir.write("pipeline.yaml", m.text);
+  std::vector<std::string> extra;
+  if (untouched(original, m.text, "particles") && untouched(original, m.text, "stop")) extra = kShortRun;
+  extra.insert(extra.end(), {"-o", "out.h5"});
+  int validate_status = -1;
+  for (const std::string cmd : {"validate", "run"}) {
+    std::vector<std::string> args = {cmd, "pipeline.yaml"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Outcome o = run_child(args, dir.path(), cmd == "run" ? run_seconds : -1, memory);
+    res.outcome += (res.outcome.empty() ? "" : ", ") + cmd + " " +
+                   (o.hung || o.ignored_interrupt ? "timeout"
+                    : o.signal                    ? "signal " + std::to_string(o.signal)
+                    : o.interrupted               ? std::to_string(o.exit_code) + " after SIGINT"
+                                                  : std::to_string(o.exit_code));
+    std::string detail;
+    const std::string klass = problem(cmd, o, dir.path(), files_in(dir), detail);
+    if (!klass.empty()) res.failures.push_back({klass, &m, shell_words(args), detail, o});
+    if (cmd == "validate") {
+      validate_status = o.exit_code;
+    } else if (validate_status == 1 && o.exit_code == 0) {
+      res.failures.push_back({"run: exit 0 on a pipeline validate refused", &m, shell_words(args), "", o});
+    } else if (validate_status == 0 && o.exit_code == 1) {
+      const auto lines = split(o.err);
+      res.note = m.id() + " (" + m.what + "): " + (lines.empty() ? "" : lines.front());
+    }
+    // Leave the directory as validate found it for the run.
+    for (const auto& f : files_in(dir))
+      if (f != "pipeline.yaml") fs::remove_all(dir / f);
+  }
+  return res;
+}
+
+std::string tail(const std::string& text, std::size_t n) {
+  const auto lines = split(text);
+  std::string s;
+  for (std::size_t k = lines.size() > n ? lines.size() - n : 0; k < lines.size(); ++k) s += "      | " + lines[k] + "\n";
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The generator itself: deterministic, every kind, and mutations that do change the text.
+
+const std::string kSample = R"(# a comment
+run:
+  seed: 7
+  particles: 500
+  time_step: {value: 0.01, unit: tau0}
+  stop:
+    collisions_per_particle: 2
+system: {density: 1.0e-3, temperature: 1.0}
+diagnostics:
+  - temperature
+  - {plugin: cumulants, record_every: 4}   # the fourth cumulant
+output: {file: "out.h5"}
+)";
+
+TEST(FuzzGenerator, IsDeterministicAndCoversEveryKind) {
+  std::set<std::string> kinds;
+  for (int i = 0; i < 60; ++i) {
+    const Mutation a = mutate("sample.yaml", kSample, i, kDefaultSeed), b = mutate("sample.yaml", kSample, i, kDefaultSeed);
+    EXPECT_EQ(a.text, b.text) << i;
+    EXPECT_EQ(a.what, b.what) << i;
+    EXPECT_NE(a.text, kSample) << i << ": " << a.what;
+    kinds.insert(a.kind);
+  }
+  EXPECT_EQ(kinds, std::set<std::string>(kKinds.begin(), kKinds.end()));
+  EXPECT_NE(mutate("sample.yaml", kSample, 3, kDefaultSeed).text, mutate("sample.yaml", kSample, 3, kDefaultSeed + 1).text);
+}
+
+TEST(FuzzGenerator, FindsKeysAndValuesInBlockAndFlowStyle) {
+  std::vector<std::string> keys, values;
+  for (const auto& t : tokens_of(kSample)) (t.key ? keys : values).push_back(kSample.substr(t.begin, t.end - t.begin));
+  EXPECT_EQ(join(keys), "run, seed, particles, time_step, value, unit, stop, collisions_per_particle, system, density, "
+                        "temperature, diagnostics, plugin, record_every, output, file");
+  EXPECT_EQ(join(values), "7, 500, 0.01, tau0, 2, 1.0e-3, 1.0, temperature, cumulants, 4, \"out.h5\"");
+}
+
+TEST(FuzzGenerator, ShortRunOverridesOnlyWhenParticlesAndStopAreUntouched) {
+  EXPECT_TRUE(untouched(kSample, kSample, "particles"));
+  EXPECT_TRUE(untouched(kSample, kSample, "stop"));
+  std::string t = kSample;
+  t.replace(t.find("collisions_per_particle: 2"), 26, "collisions_per_particle: .inf");
+  EXPECT_FALSE(untouched(kSample, t, "stop"));   // a line under stop:
+  EXPECT_TRUE(untouched(kSample, t, "particles"));
+  t = kSample;
+  t.insert(t.find("system:"), "    collisions_per_particle: 2\n");
+  EXPECT_FALSE(untouched(kSample, t, "stop"));   // a line added at the end of the block
+  t = kSample;
+  t.resize(t.find("particles"));
+  EXPECT_FALSE(untouched(kSample, t, "particles"));  // truncated before it
+}
+
+// ---------------------------------------------------------------------------------------------
+// The fuzzing.
+
+TEST(Fuzz, MutatedShippedPipelinesExitCleanly) {
+  const auto base_seed = static_cast<std::uint64_t>(std::stoull(env("GDSMC_FUZZ_SEED", std::to_string(kDefaultSeed))));
+  const int total = static_cast<int>(env_number("GDSMC_FUZZ_CASES", kDefaultCases));
+  const int jobs = std::max(1, static_cast<int>(env_number("GDSMC_FUZZ_JOBS", 2)));
+  const double run_seconds = env_number("GDSMC_FUZZ_RUN_SECONDS", 1);
+  const auto memory = static_cast<rlim_t>(env_number("GDSMC_FUZZ_MEMORY_MB", 4096) * 1024 * 1024);
+  const std::string only = env("GDSMC_FUZZ_ONLY"), save = env("GDSMC_FUZZ_SAVE");
+
+  std::map<std::string, std::string> configs;  // file name -> text
+  for (const auto& e : fs::directory_iterator(source_dir() / "configs"))
+    if (e.path().extension() == ".yaml") configs[e.path().filename().string()] = read_text(e.path());
+  ASSERT_FALSE(configs.empty());
+  const int per_config = std::max(1, (total + static_cast<int>(configs.size()) - 1) / static_cast<int>(configs.size()));
+
+  // Every config unmutated first (its failures are the fixture's, not the mutation's), then its mutations.
+  std::vector<Mutation> mutations;
+  for (const auto& [name, text] : configs)
+    for (int i = -1; i < per_config; ++i) {
+      Mutation m = i < 0 ? Mutation{name, -1, 0, "none", "unmutated", text} : mutate(name, text, i, base_seed);
+      if (only.empty() || only == m.id()) mutations.push_back(std::move(m));
+    }
+  ASSERT_FALSE(mutations.empty()) << "GDSMC_FUZZ_ONLY=" << only << " names no mutation (expected <config>.yaml:<index>)";
+  if (!only.empty()) std::cout << "mutation " << only << ": " << mutations[0].what << "\n" << mutations[0].text << "\n";
+
+  std::vector<Result> results(mutations.size());
+  std::atomic<std::size_t> next{0};
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::thread> workers;
+  for (int j = 0; j < jobs; ++j)
+    workers.emplace_back([&] {
+      for (std::size_t k; (k = next++) < mutations.size();)
+        results[k] = check(mutations[k], configs.at(mutations[k].config), run_seconds, memory);
+    });
+  for (auto& w : workers) w.join();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // Group the failures by class, in the order the classes first occur.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const Failure*>> classes;
+  std::vector<std::string> notes;
+  std::set<const Mutation*> failing;
+  std::map<std::string, int> tally;
+  for (const auto& r : results) {
+    ++tally[r.outcome];
+    for (const auto& f : r.failures) {
+      if (!classes.count(f.klass)) order.push_back(f.klass);
+      classes[f.klass].push_back(&f);
+      failing.insert(f.m);
+    }
+    if (!r.note.empty()) notes.push_back(r.note);
+  }
+  std::printf("fuzz: %zu pipelines (%d mutations each + unmutated), seed %" PRIu64 ", %d jobs: %zu runs in %.1f s; "
+              "%zu of them failing in %zu class(es)\n",
+              configs.size(), per_config, base_seed, jobs, mutations.size(), wall, failing.size(), order.size());
+  for (const auto& [outcome, count] : tally) std::printf("  %4d x %s\n", count, outcome.c_str());
+  if (!notes.empty()) {
+    std::printf("fuzz: %zu mutations passed validate and were refused by run (allowed; first ones):\n", notes.size());
+    for (std::size_t k = 0; k < std::min<std::size_t>(notes.size(), 10); ++k) std::printf("  %s\n", notes[k].c_str());
+  }
+  if (!save.empty()) {
+    fs::create_directories(save);
+    for (const Mutation* m : failing)
+      std::ofstream(fs::path(save) / (m->config + "." + std::to_string(m->index) + ".yaml"), std::ios::binary) << m->text;
+  }
+  for (const auto& klass : order) {
+    const auto& list = classes[klass];
+    std::ostringstream s;
+    s << "[" << list.size() << " mutation" << (list.size() == 1 ? "" : "s") << "] " << klass << "\n";
+    for (std::size_t k = 0; k < list.size() && k < 25; ++k) {
+      const Failure& f = *list[k];
+      s << "  " << f.m->id() << "  " << f.m->kind << ": " << f.m->what << (f.detail.empty() ? "" : "  -> " + f.detail) << "\n";
+    }
+    if (list.size() > 25) s << "  ... and " << list.size() - 25 << " more\n";
+    const Failure& f = *list.front();
+    s << "  first one in full (rerun: GDSMC_FUZZ_ONLY=" << f.m->id() << " GDSMC_FUZZ_SEED=" << base_seed
+      << " tests/fuzz/fuzz_test; seed of the mutation " << f.m->seed << "):\n    $ " << f.command << "\n    exit "
+      << f.outcome.exit_code << (f.outcome.signal ? ", signal " + std::to_string(f.outcome.signal) : "")
+      << (f.outcome.interrupted ? ", SIGINT sent" : "") << ", " << fmt_seconds(f.outcome.seconds) << "; stderr (end):\n"
+      << tail(f.outcome.err, 6) << "    pipeline.yaml:\n";
+    for (const auto& l : split(f.m->text)) s << "      " << l << "\n";
+    ADD_FAILURE() << s.str();
+  }
+}
+
+}  // namespace
+}  // namespace gdsmc::test
