@@ -1,5 +1,7 @@
 #include "app/progress.hpp"
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +12,17 @@ namespace gdsmc::host {
 std::atomic<bool> g_interrupted{false};
 
 namespace {
-extern "C" void on_signal(int) { g_interrupted.store(true); }
+// The first signal sets the flag, which the run polls between steps and inside the collision
+// stage. A second one while the first is pending means the run is inside a long plugin call that
+// cannot poll it: leave at once (exchange and write are async-signal-safe; the output file is
+// renamed to its final name only once complete, so nothing is left under it).
+extern "C" void on_signal(int) {
+  if (g_interrupted.exchange(true)) {
+    static const char message[] = "\ngdsmc: interrupted again; stopped at once, no output written\n";
+    (void)!::write(STDERR_FILENO, message, sizeof message - 1);
+    ::_exit(130);
+  }
+}
 }  // namespace
 
 void install_interrupt_handlers() {
@@ -20,10 +32,13 @@ void install_interrupt_handlers() {
 
 std::string format_seconds(double s) {
   char buf[64];
-  if (s < 0) return "?";
+  if (!(s >= 0)) return "?";
+  const double whole = std::round(s);  // so that 5399.7 s is 90m00s, not 89m60s
   if (s < 90) std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 5400) std::snprintf(buf, sizeof buf, "%.0fm%02.0fs", std::floor(s / 60), std::fmod(s, 60.0));
-  else std::snprintf(buf, sizeof buf, "%.1fh", s / 3600);
+  else if (s < 5400) std::snprintf(buf, sizeof buf, "%.0fm%02.0fs", std::floor(whole / 60), std::fmod(whole, 60.0));
+  else if (s < 48 * 3600.0) std::snprintf(buf, sizeof buf, "%.1fh", s / 3600);
+  else if (s < 1000 * 86400.0) std::snprintf(buf, sizeof buf, "%.0fd", s / 86400);
+  else return ">1000d";  // an estimate from a tiny fraction done, or a stop that is out of reach
   return buf;
 }
 

@@ -45,9 +45,20 @@ void apply_override(YAML::Node& root, const std::string& assignment, std::vector
     errors.push_back(from + ": the value is not valid YAML: " + e.msg);
     return;
   }
-  // A single value has no keys (yaml-cpp would throw a message that names no key path).
-  auto single_value = [&](const YAML::Node& node, std::size_t k) {
+  // A plugin entry given by its name alone ("- temperature") becomes {plugin: temperature} when a
+  // key is set inside it; any other single value has no keys (yaml-cpp would throw a message that
+  // names no key path).
+  const bool plugin_slot = !parts.empty() && (parts[0] == "initial_state" || parts[0] == "collision" ||
+                                              parts[0] == "forcings" || parts[0] == "diagnostics" ||
+                                              parts[0] == "boundaries");
+  auto single_value = [&](YAML::Node& node, std::size_t k) {
     if (!node.IsScalar()) return false;
+    if (plugin_slot && k >= 1) {
+      YAML::Node entry(YAML::NodeType::Map);
+      entry["plugin"] = node.Scalar();
+      node = entry;  // assigns through the handle: the tree now holds the mapping
+      return false;
+    }
     std::vector<std::string> above(parts.begin(), parts.begin() + static_cast<std::ptrdiff_t>(k));
     errors.push_back(from + ": " + canonical_key(join(above, ".")) + " is a single value ('" + node.Scalar() +
                      "'), not a mapping, so it has no key '" + parts[k] + "'");

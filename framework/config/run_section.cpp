@@ -1,9 +1,13 @@
 // The `run:` section: seed, particles, time step, stop conditions, sampling, realizations.
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
 
 #include "config/sections.hpp"
+#include "engine/majorant.hpp"
+#include "engine/stop.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -117,6 +121,101 @@ void parse_stop(Checker& c, const YAML::Node& st, Pipeline& p) {
   }
 }
 
+// The hard-sphere mean free time at T0 in tau0: lambda0 / <|v|> with <|v|> = sqrt(8 T0 / (pi m)).
+// The time-step checks below estimate with it (and the candidate count with the initial
+// majorant): for other kernels they are approximate, which is all a warning or a bound needs.
+const double kMeanFreeTimeTau0 = 0.5 * std::sqrt(M_PI);
+
+// What one step of c tau0 means at T0, checked before anything runs: a step beyond the mean free
+// time is refused (free flight and forcings are split from collisions, which needs dt well below
+// it; larger steps made shipped pipelines collapse and never end), one beyond half of it warned
+// about (a particle then collides with probability 1 - exp(-1/2) ~ 40 % per step); so are a stop
+// that would take more than kMaxSteps steps, more than kMaxCandidatesPerStep candidates per step,
+// a last step that overshoots the stop by more than 10 %, and an average window after the stop.
+void check_step(Checker& c, const YAML::Node& run, Pipeline& p) {
+  const double dt = p.time_step_tau0;
+  if (!(dt > 0)) return;
+  const YAML::Node ts = run["time_step"];
+  const bool map = ts.IsMap() && ts["value"];
+  const YAML::Node at = map ? ts["value"] : ts;
+  const std::string path = map ? "run.time_step.value" : "run.time_step";
+  auto warn = [&](const std::string& where, const YAML::Node& node, const std::string& message) {
+    p.warnings.push_back(c.where(where, node).str() + ": " + where + ": " + message);
+  };
+  const double free_times = dt / kMeanFreeTimeTau0;
+  if (free_times > 1) {
+    c.error(path, at,
+            fmt("a step of %.3g tau0 is %.3g mean free times (of hard spheres at T0: sqrt(pi)/2 tau0 = %.3f tau0), so "
+                "each particle would collide about %.3g times per step; DSMC separates free flight and forcings from "
+                "collisions only when the step is well below the mean free time: use at most %.3f (0.001 to 0.01 is usual)",
+                dt, free_times, kMeanFreeTimeTau0, free_times, kMeanFreeTimeTau0));
+    p.time_step_tau0 = 0;  // refused: nothing derived from it is checked further
+    return;
+  }
+  if (free_times > 0.5)
+    warn(path, at,
+         fmt("a step of %.3g tau0 is %.2f mean free times (of hard spheres at T0: %.3f tau0): about %.0f %% of the "
+             "particles collide in each step, so free flight and collisions are poorly separated; 0.001 to 0.01 is usual",
+             dt, free_times, kMeanFreeTimeTau0, 100 * (1 - std::exp(-free_times))));
+  // s grows by half a collision per particle per mean free time (each collision involves two).
+  const double s_per_step = 0.5 * free_times;
+  double steps = HUGE_VAL;
+  std::string stop;
+  if (p.stop_time_tau0 && *p.stop_time_tau0 / dt < steps) {
+    steps = *p.stop_time_tau0 / dt;
+    stop = fmt("run.stop.time %.6g tau0", *p.stop_time_tau0);
+  }
+  if (p.stop_collisions_per_particle && *p.stop_collisions_per_particle / s_per_step < steps) {
+    steps = *p.stop_collisions_per_particle / s_per_step;
+    stop = fmt("run.stop.collisions_per_particle %.6g, at about %.3g per step at T0", *p.stop_collisions_per_particle,
+               s_per_step);
+  }
+  if (steps > kMaxSteps) {
+    c.error(path, at, fmt("a step of %.3g tau0 reaches the stop (%s) only after about %.3g steps, more than %.0e: the "
+                          "run would never end; use a larger time step or an earlier stop",
+                          dt, stop.c_str(), steps, kMaxSteps));
+    p.time_step_tau0 = 0;
+    return;
+  }
+  const double candidates = kInitialMajorantRatio * dt / 4 * static_cast<double>(p.particles);
+  if (candidates > kMaxCandidatesPerStep)
+    c.error(path, at, fmt("one step of %.3g tau0 with %zu particles would test about %.3g candidate pairs (about "
+                          "%.2f per particle at T0), more than %.0e per step: use a smaller time step or fewer particles",
+                          dt, p.particles, candidates, kInitialMajorantRatio * dt / 4, kMaxCandidatesPerStep));
+  // The run stops after the first step at or past the stop.
+  if (p.stop_time_tau0) {
+    const double end = std::ceil(*p.stop_time_tau0 * (1.0 - 1e-12) / dt) * dt;
+    if (end > 1.1 * *p.stop_time_tau0)
+      warn(path, at, fmt("with steps of %.3g tau0 the run stops at t = %.3g tau0, %.3g times run.stop.time %.6g tau0%s; "
+                         "use a step of at most a tenth of the stop time",
+                         dt, end, end / *p.stop_time_tau0, *p.stop_time_tau0,
+                         p.time_step_follows_temperature ? " (at T0; the step follows the temperature)" : ""));
+  }
+  if (p.stop_collisions_per_particle && s_per_step > 0.1 * *p.stop_collisions_per_particle)
+    warn(path, at, fmt("each step of %.3g tau0 adds about %.3g collisions per particle (hard spheres at T0), more than "
+                       "a tenth of run.stop.collisions_per_particle %.6g: the run may end well past it; use a smaller step",
+                       dt, s_per_step, *p.stop_collisions_per_particle));
+}
+
+// An average window that starts at or after a stop of the same clock holds at most the last
+// record, so the steady averages would be NaN.
+void check_average_window(Checker& c, const YAML::Node& run, Pipeline& p) {
+  const YAML::Node aa = run["average_after"];
+  auto warn = [&](const char* key, double after, double stop) {
+    const std::string path = std::string("run.average_after.") + key;
+    p.warnings.push_back(c.where(path, aa[key]).str() + ": " + path +
+                         fmt(": the steady window starts at %.6g, not before run.stop.%s %.6g where the run ends: it "
+                             "holds at most the last record, so every steady_stderr (and steady_mean, if the run "
+                             "stops short of it) would be NaN; start the average earlier",
+                             after, key, stop));
+  };
+  if (p.average_after_collisions_per_particle && p.stop_collisions_per_particle &&
+      *p.average_after_collisions_per_particle >= *p.stop_collisions_per_particle)
+    warn("collisions_per_particle", *p.average_after_collisions_per_particle, *p.stop_collisions_per_particle);
+  if (p.average_after_time_tau0 && p.stop_time_tau0 && *p.average_after_time_tau0 >= *p.stop_time_tau0)
+    warn("time", *p.average_after_time_tau0, *p.stop_time_tau0);
+}
+
 }  // namespace
 
 void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
@@ -172,6 +271,8 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
         else *field = static_cast<std::uint64_t>(*v);
       }
     }
+    check_step(c, run, p);
+    if (run["average_after"]) check_average_window(c, run, p);
   }
 }
 

@@ -1,9 +1,13 @@
 // The `system:` and `output:` sections.
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "config/sections.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -76,6 +80,64 @@ void parse_domain(Checker& c, const YAML::Node& sys, Pipeline& p) {
     }
 }
 
+// Every scale the host derives from n, sigma, T0, N and the time step must be a normal finite
+// number: 0, a subnormal, infinity or NaN would make a step test no pair or infinitely many, or
+// never move the clock. The products the moments need (V^6 for a3) are checked too. The first
+// scale that fails is reported, at the system value furthest from 1 (the likely culprit); the
+// scales are then unusable, so the density is cleared and the plugins (whose units need lambda0
+// and tau0) are not checked.
+void check_derived_scales(Checker& c, const YAML::Node& sys, Pipeline& p) {
+  const double n = p.number_density, T0 = p.temperature, sigma2 = p.sigma * p.sigma;
+  const double N = static_cast<double>(p.particles);
+  std::vector<std::pair<std::string, double>> scales = {
+      {"the number density n", n},
+      {"sigma^2", sigma2},
+      {"n sigma^2", n * sigma2},
+      {"the mean free path lambda0 = 1/(sqrt(2) pi n sigma^2)", p.mean_free_path0()},
+      {"the thermal speed sqrt(2 T0/m)", std::sqrt(2.0 * T0)},
+      {"the time unit tau0 = lambda0/sqrt(2 T0/m)", p.time_unit0()},
+  };
+  if (N > 0 && (p.geometry != Geometry::slab || p.box_y > 0)) {
+    const SystemInfo info = p.system_info(p.particles, 0);
+    scales.insert(scales.end(), {{"the volume N/n", info.volume},
+                                 {"the box edge Lx", info.box[0]},
+                                 {"the box edge Ly", info.box[1]},
+                                 {"the box edge Lz", info.box[2]},
+                                 {"the cell volume", info.volume / static_cast<double>(info.cells)},
+                                 {"the sum of V^6 over the particles, 105 N T0^3 (for a3)", 105.0 * N * T0 * T0 * T0}});
+  }
+  if (p.time_step_tau0 > 0) scales.push_back({"the time step dt = run.time_step tau0", p.time_step_tau0 * p.time_unit0()});
+  if (p.stop_time_tau0) scales.push_back({"the stop time run.stop.time tau0", *p.stop_time_tau0 * p.time_unit0()});
+  for (const auto& [name, value] : scales) {
+    if (std::isnormal(value)) continue;
+    const std::string what = value == 0 ? "0"
+                             : std::isnan(value) ? "NaN"
+                             : std::isinf(value) ? "infinite"
+                                                 : fmt("%.3g, a subnormal number (it has lost precision)", value);
+    // The given value furthest from 1 in magnitude.
+    std::string key = "system";
+    YAML::Node node;
+    node.reset(sys);
+    double worst = -1;
+    for (const char* k : {"density", "mean_free_path", "sigma", "temperature"})
+      if (sys[k] && sys[k].IsScalar()) {
+        const double v = std::fabs(std::log10(std::fabs(std::strtod(sys[k].Scalar().c_str(), nullptr))));
+        if (std::isfinite(v) && v > worst) {
+          worst = v;
+          key = std::string("system.") + k;
+          node.reset(sys[k]);  // rebinds (node = ... would overwrite the system mapping itself)
+        }
+      }
+    c.error(key, node,
+            name + " is " + what + fmt(" (from n = %.3g, sigma = %.3g, T0 = %.3g, N = %.0f): every scale derived from the "
+                                       "system must be a normal finite number; choose values nearer 1 in reduced units "
+                                       "(e.g. sigma = 1, T0 = 1, n = 1e-3)",
+                                       n, p.sigma, T0, N));
+    p.number_density = 0;
+    return;
+  }
+}
+
 }  // namespace
 
 void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
@@ -83,6 +145,7 @@ void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
     c.error("system", sys, "expected a mapping");
   } else {
     c.check_keys(sys, "system", {"density", "mean_free_path", "sigma", "temperature", "domain", "box", "layers", "bins"});
+    bool have_density = false;
     if (sys["sigma"])
       if (auto v = c.real(sys["sigma"], "system.sigma")) {
         if (*v <= 0) c.error("system.sigma", sys["sigma"], "sigma must be > 0");
@@ -97,18 +160,27 @@ void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
       c.error("system", sys, "give either density or mean_free_path, not both");
     } else if (sys["density"]) {
       if (auto v = c.real(sys["density"], "system.density")) {
-        if (*v <= 0) c.error("system.density", sys["density"], "number density must be > 0 (particles per sigma^3)");
-        else p.number_density = *v;
+        if (*v <= 0) {
+          c.error("system.density", sys["density"], "number density must be > 0 (particles per sigma^3)");
+        } else {
+          p.number_density = *v;
+          have_density = true;
+        }
       }
     } else if (sys["mean_free_path"]) {
       if (auto v = c.real(sys["mean_free_path"], "system.mean_free_path")) {
-        if (*v <= 0) c.error("system.mean_free_path", sys["mean_free_path"], "mean free path must be > 0 (sigma units)");
-        else p.number_density = 1.0 / (std::sqrt(2.0) * M_PI * p.sigma * p.sigma * *v);
+        if (*v <= 0) {
+          c.error("system.mean_free_path", sys["mean_free_path"], "mean free path must be > 0 (sigma units)");
+        } else {
+          p.number_density = 1.0 / (std::sqrt(2.0) * M_PI * p.sigma * p.sigma * *v);  // may be 0 or inf: checked below
+          have_density = true;
+        }
       }
     } else {
       c.error("system", sys, "missing 'density' (n, per sigma^3) or 'mean_free_path' (lambda0, in sigma)");
     }
     parse_domain(c, sys, p);
+    if (have_density) check_derived_scales(c, sys, p);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -84,8 +85,45 @@ void Checker::check_keys(const YAML::Node& map, const std::string& path, const s
   }
 }
 
+namespace {
+// A decimal integer literal: optional sign, then digits only (what strtoll reads in base 10).
+bool is_decimal_integer(const std::string& t) {
+  std::size_t i = (!t.empty() && (t[0] == '+' || t[0] == '-')) ? 1 : 0;
+  if (i == t.size()) return false;
+  for (; i < t.size(); ++i)
+    if (t[i] < '0' || t[i] > '9') return false;
+  return true;
+}
+// Why a scalar YAML reads as a number but not as a usable one, or "" if it is usable: beyond the
+// range of a double (yaml-cpp then refuses it), NaN or infinity, or so small that it reads as 0 or
+// a subnormal number (which has lost precision).
+std::string range_problem(const std::string& text, double& v) {
+  errno = 0;
+  char* end = nullptr;
+  v = std::strtod(text.c_str(), &end);
+  const bool parsed = end != text.c_str() && *end == '\0';
+  if (!parsed) return "";
+  if (std::isnan(v) || (std::isinf(v) && errno != ERANGE)) return "'" + text + "' is not a finite number";
+  if (std::isinf(v)) return "'" + text + "' is out of range: numbers must be at most about 1.8e308 in magnitude";
+  if (v != 0 && !std::isnormal(v))
+    return "'" + text + "' is too small to represent exactly: nonzero numbers must be at least about 2.2e-308 in magnitude";
+  if (v == 0 && errno == ERANGE)
+    return "'" + text + "' is too small to represent (it would read as 0): nonzero numbers must be at least about 2.2e-308 "
+           "in magnitude";
+  return "";
+}
+}  // namespace
+
 std::optional<double> Checker::real(const YAML::Node& n, const std::string& path) {
   double v;
+  if (n.IsScalar()) {
+    double parsed;
+    const std::string problem = range_problem(n.Scalar(), parsed);
+    if (!problem.empty()) {
+      error(path, n, problem);
+      return std::nullopt;
+    }
+  }
   if (!n.IsScalar() || !YAML::convert<double>::decode(n, v) || !std::isfinite(v)) {
     error(path, n, "expected a number, got " + describe(n));
     return std::nullopt;
@@ -94,10 +132,26 @@ std::optional<double> Checker::real(const YAML::Node& n, const std::string& path
 }
 
 std::optional<std::int64_t> Checker::integer(const YAML::Node& n, const std::string& path) {
+  // A decimal literal is read exactly (a double would round above 2^53), so that the caller's
+  // range check can say what the valid range is.
+  if (n.IsScalar() && is_decimal_integer(n.Scalar())) {
+    errno = 0;
+    const long long v = std::strtoll(n.Scalar().c_str(), nullptr, 10);
+    if (errno == ERANGE) {
+      error(path, n, "'" + n.Scalar() + "' is out of range: whole numbers must be between -9223372036854775808 and "
+                     "9223372036854775807 (2^63 - 1)");
+      return std::nullopt;
+    }
+    return static_cast<std::int64_t>(v);
+  }
   double v;
-  if (!n.IsScalar() || !YAML::convert<double>::decode(n, v) || !std::isfinite(v) || v != std::floor(v) ||
-      std::fabs(v) > 9.0e15) {
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, v) || !std::isfinite(v) || v != std::floor(v)) {
     error(path, n, "expected a whole number, got " + describe(n));
+    return std::nullopt;
+  }
+  // 2^63: the first double that does not fit a 64-bit whole number.
+  if (std::fabs(v) >= 9223372036854775808.0) {
+    error(path, n, "'" + n.Scalar() + "' is out of range: whole numbers must be between -9.2e18 and 9.2e18 (2^63)");
     return std::nullopt;
   }
   return static_cast<std::int64_t>(v);

@@ -3,7 +3,9 @@
 // change any result. The engine, the conformance harness and the benchmark all drive collisions
 // through this one class.
 #pragma once
+#include <atomic>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include <gdsmc/plugin.hpp>
@@ -34,14 +36,26 @@ class CollisionStage {
     double max_rate = 0;
     bool finite_remainders = true;
   };
+  // A step whose candidate estimate is not finite or beyond kMaxCandidatesPerStep or
+  // kMaxCandidatesPerParticle (engine/majorant.hpp): thrown before any pair is tested.
+  struct Overload : std::runtime_error {
+    Overload(const std::string& what, double candidates) : std::runtime_error(what), candidates(candidates) {}
+    double candidates;
+  };
   // Majorant ratios back to their initial value and remainders to 0, for `cells` cells.
   void reset(std::size_t cells);
   // The number of tallies the rule keeps (CollisionRule::tallies().size()); allocates their buffers.
   void set_tally_count(std::size_t count);
+  // The flag run() polls (every 64 cells and between the slices of a large cell); Interrupted
+  // (engine/interrupt.hpp) is thrown once it is set. Null: never interrupted.
+  void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
   // One step of collisions in every cell of `grid`. w_I = ratio_I sqrt(T_ref / m) with T_ref the
   // larger of the cell's temperature and the mean one (`cells` null: the mean one), so a cold or
   // sparse layer keeps a safe bound; a candidate above w_I raises ratio_I (kMajorantHeadroom).
   // The stream of cell c is streams.rng(collisions, 0, c) at the factory's current step.
+  // Throws Overload if the step's work is unbounded or absurd; a cell with more candidates than
+  // kCandidatesPerSlice is handed to the rule in slices of dt (its remainder and stream carried
+  // from slice to slice), so that an interrupt is seen within milliseconds.
   Totals run(const CollisionRule& rule, const ParticleSpan& particles, const CellGrid& grid, const CellMoments* cells,
              double temperature, double mass, double sigma, double dt, const StreamFactory& streams,
              bool reversed = false);
@@ -51,6 +65,8 @@ class CollisionStage {
   std::vector<double> ratio_, remainder_, energy_;
   std::size_t tally_count_ = 0;
   std::vector<double> cell_tallies_, step_tallies_;  // [cell * tally_count_ + k], [k]
+  std::vector<double> speed_, estimate_;  // this step's sqrt(T_ref/m) and candidate estimate per cell
+  const std::atomic<bool>* interrupt_ = nullptr;
 };
 
 }  // namespace gdsmc::host

@@ -185,7 +185,7 @@ void Engine::generate_initial_state() {
   initial_energy_ = sampled_.kinetic_energy;
   if (!(global_.temperature > 0) || !std::isfinite(global_.temperature))
     throw std::runtime_error(where_text(pipeline_.initial_state) + " produced a state with temperature " +
-                             std::to_string(global_.temperature) + "; a positive finite temperature is needed");
+                             fmt("%.6g", global_.temperature) + "; a positive finite temperature is needed");
 }
 
 void Engine::begin_diagnostics() {
@@ -216,8 +216,29 @@ double Engine::time_step() const {
   return dt;
 }
 
+std::string Engine::now_text() const {
+  return fmt("at step %llu (t = %.6g tau0, T/T0 = %.3g)", static_cast<unsigned long long>(ctx_.step),
+             ctx_.time_in_tau0(), global_.temperature / system_.initial_temperature);
+}
+
 void Engine::step() {
   const double dt = time_step();
+  // A step that does not move the clock (or moves it by more than can be represented) would repeat
+  // forever; one that leaves the stop time out of reach as good as so.
+  const char* follows =
+      pipeline_.time_step_follows_temperature ? " (dt follows the temperature: run.time_step sqrt(T0/T))" : "";
+  if (!(ctx_.time + dt > ctx_.time) || !std::isfinite(dt))
+    throw std::runtime_error(now_text() + fmt(": the time step dt = %.3g tau0 no longer advances the clock%s",
+                                              dt / system_.time_unit0, follows));
+  if (pipeline_.stop_time_tau0 && !pipeline_.stop_collisions_per_particle) {
+    const double left = (*pipeline_.stop_time_tau0 - ctx_.time_in_tau0()) * system_.time_unit0 / dt;
+    if (left > kMaxSteps)
+      throw std::runtime_error(now_text() + fmt(": the stop time %.6g tau0 is %.3g steps of dt = %.3g tau0 away (more "
+                                                "than %.0e), so the run would not end%s; use a larger run.time_step or "
+                                                "an earlier run.stop.time",
+                                                *pipeline_.stop_time_tau0, left, dt / system_.time_unit0, kMaxSteps,
+                                                follows));
+  }
   ctx_.dt = dt;
   streams_.set_step(ctx_.step);
   const auto& s = ctx_;
@@ -285,9 +306,15 @@ void Engine::reorder_by_layer() {
 // Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows the larger of its
 // temperature and T-bar; the cells draw from their own streams, so their order does not matter.
 void Engine::collide(double dt) {
-  const CollisionStage::Totals t =
-      collisions_.run(*collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
-                      global_.temperature, system_.mass, system_.sigma, dt, streams_, cells_reversed_);
+  CollisionStage::Totals t;
+  try {
+    t = collisions_.run(*collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
+                        global_.temperature, system_.mass, system_.sigma, dt, streams_, cells_reversed_);
+  } catch (const CollisionStage::Overload& e) {
+    throw std::runtime_error(now_text() + fmt(", with dt = %.3g tau0: ", dt / system_.time_unit0) + e.what() +
+                             ": the time step no longer resolves the collisions; use a smaller run.time_step" +
+                             (pipeline_.time_step_follows_temperature ? "" : " or run.time_step.follow_temperature: true"));
+  }
   ctx_.collisions += t.accepted;
   ctx_.candidates += t.candidates;
   ctx_.majorant_exceeded += t.majorant_exceeded;
@@ -349,12 +376,13 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto last_report = start;
+  collisions_.set_interrupt(interrupt);
   while (!finished(pipeline_, ctx_, steady_)) {
-    if (interrupt && interrupt->load(std::memory_order_relaxed)) throw Interrupted();
+    poll_interrupt(interrupt);
     step();
     if (!std::isfinite(global_.temperature) || global_.temperature <= 0)
-      throw std::runtime_error("the temperature became " + std::to_string(global_.temperature) + " at step " +
-                               std::to_string(ctx_.step) + " (t = " + std::to_string(ctx_.time_in_tau0()) +
+      throw std::runtime_error("the temperature became " + fmt("%.6g", global_.temperature) + " at step " +
+                               std::to_string(ctx_.step) + " (t = " + fmt("%.6g", ctx_.time_in_tau0()) +
                                " tau0): a plugin produced invalid velocities");
     if (report) {
       const auto now = clock::now();
@@ -373,8 +401,13 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
     }
   }
   finish_energy_balance();
+  collisions_.set_interrupt(nullptr);
   wall_seconds_ = std::chrono::duration<double>(clock::now() - start).count();
-  if (report) report(progress(wall_seconds_));
+  if (report) {
+    Progress last = progress(wall_seconds_);
+    last.final = true;
+    report(last);
+  }
 }
 
 // The run's energy balance per particle in units of T0: E - E0 against the sum of what every

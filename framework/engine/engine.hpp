@@ -15,6 +15,7 @@
 #include "config/pipeline.hpp"
 #include "engine/cells.hpp"
 #include "engine/collision_stage.hpp"
+#include "engine/interrupt.hpp"
 #include "engine/particle_store.hpp"
 #include "engine/streaming.hpp"
 #include "engine/streams.hpp"
@@ -32,6 +33,7 @@ struct Progress {
   double elapsed_seconds = 0;
   double remaining_seconds = -1;  // estimate; < 0 when unknown
   std::uint64_t steps = 0;
+  bool final = false;             // the report after the last step of the run
 };
 
 class Engine {
@@ -45,7 +47,8 @@ class Engine {
   // is allocated and no initial state is generated. Throws like the constructor.
   static void check_setup(const Pipeline& pipeline);
 
-  // Steps until the stop condition (or until *interrupt becomes true, then throws Interrupted).
+  // Steps until the stop condition (or until *interrupt becomes true, then throws Interrupted: the
+  // flag is also polled inside the collision stage, so a step of any size stops promptly).
   void run(const std::function<void(const Progress&)>& report = {}, double report_interval_seconds = 1.0,
            const std::atomic<bool>* interrupt = nullptr);
   // One step (exposed for tests and benchmarks).
@@ -67,9 +70,7 @@ class Engine {
   const SystemInfo& system() const { return system_; }
   double wall_seconds() const { return wall_seconds_; }
 
-  struct Interrupted : std::runtime_error {
-    Interrupted() : std::runtime_error("interrupted") {}
-  };
+  using Interrupted = host::Interrupted;
 
  private:
   struct DiagnosticSlot {
@@ -99,6 +100,7 @@ class Engine {
   void sample_and_record(bool force_record);
   void finish_energy_balance();
   Progress progress(double elapsed_seconds) const;
+  std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
 
   const Pipeline& pipeline_;
   SystemInfo system_;

@@ -8,6 +8,8 @@
 
 #include <gdsmc/series.hpp>
 
+#include "util/text.hpp"
+
 namespace gdsmc::host {
 
 namespace {
@@ -143,6 +145,9 @@ struct SteadyWindow {
   std::string text() const { return after_s ? "s >= " + std::to_string(*after_s) : "t/tau0 >= " + std::to_string(*after_t); }
 };
 
+// Said in the description of a steady average whose window holds no record.
+const char* const kNoRecord = "; NaN: no record reached the window";
+
 bool is_stderr(const std::string& name) { return name.size() > 7 && name.compare(name.size() - 7, 7, "_stderr") == 0; }
 
 std::string number(double x) {
@@ -259,7 +264,7 @@ void add_steady_series(DiagnosticOutput& d, const std::vector<const DiagnosticOu
     const SteadyEstimate e = estimate(d, own, records, of, n);
     d.scalars.push_back({name + ".steady_mean", unit,
                          "time average of " + name + " over the records with " + w.text() + " (" + std::to_string(n) +
-                             " records)",
+                             " records)" + (records.empty() ? kNoRecord : ""),
                          e.mean});
     d.scalars.push_back({name + ".steady_stderr", unit, error_text(name + ".steady_mean", own.size(), e, n), e.stderr_});
   }
@@ -307,7 +312,8 @@ void add_steady_profiles(DiagnosticOutput& d, const std::vector<const Diagnostic
     }
     d.arrays.push_back({name + ".steady_mean", unit,
                         "time average per bin of " + name + " over the records with " + w.text() + " (" +
-                            std::to_string(records.size()) + " records; non-finite values skipped)",
+                            std::to_string(records.size()) + " records; non-finite values skipped)" +
+                            (records.empty() ? kNoRecord : ""),
                         std::move(mean), {bins}});
     d.arrays.push_back({name + ".steady_stderr", unit, "standard error of " + name + ".steady_mean " + how,
                         std::move(se), {bins}});
@@ -329,6 +335,24 @@ void add_steady_averages(std::vector<DiagnosticOutput>& diagnostics, std::option
     add_steady_series(d, own, window, limit);
     add_steady_profiles(d, own, window, limit);
   }
+}
+
+std::string steady_window_missed(const std::vector<DiagnosticOutput>& diagnostics, std::optional<double> after_s,
+                                 std::optional<double> after_t) {
+  if (!after_s && !after_t) return "";
+  for (const auto& d : diagnostics) {
+    if (d.time.empty()) continue;
+    // Every diagnostic records the final state, so the last record of any one (of the realization
+    // average: the shortest run's) tells whether the window was reached.
+    const double end = after_s ? d.collisions_per_particle.back() : d.time.back();
+    const double start = after_s ? *after_s : *after_t;
+    if (end >= start) return "";
+    const char* clock = after_s ? "s" : "t/tau0";
+    return fmt("run.average_after: the steady window %s >= %.6g holds no record (the last is at %s = %.6g), so every "
+               "steady_mean and steady_stderr is NaN; start the average earlier or run longer",
+               clock, start, clock, end);
+  }
+  return "";
 }
 
 double integrated_autocorrelation_time(const std::vector<double>& v) {

@@ -25,6 +25,11 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
 void add_steady_averages(std::vector<DiagnosticOutput>& diagnostics, std::optional<double> after_s,
                          std::optional<double> after_t, const std::vector<std::vector<DiagnosticOutput>>& runs = {});
 
+// A warning when no record of `diagnostics` lies in the steady window (every steady average is
+// then NaN): the window and the last record; "" otherwise.
+std::string steady_window_missed(const std::vector<DiagnosticOutput>& diagnostics, std::optional<double> after_s,
+                                 std::optional<double> after_t);
+
 inline constexpr double kBatchTaus = 5.0;
 inline constexpr std::size_t kMinBatches = 4, kMaxBatches = 64;
 

@@ -15,6 +15,7 @@ using Clock = std::chrono::steady_clock;
 // Where the study is, for progress reports of the runs.
 struct StudyClock {
   Clock::time_point start = Clock::now();
+  Clock::time_point last_report = start;  // of the study: runs shorter than the interval share it
   std::size_t run_index = 0, total_runs = 0;
 };
 
@@ -32,6 +33,12 @@ CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result,
     std::function<void(const Progress&)> inner;
     if (report) {
       inner = [&, label](const Progress& pr) {
+        // At most one report per interval over the whole study (thousands of short realizations
+        // each end with a report), and the very last one.
+        const auto now = Clock::now();
+        const bool last = pr.final && clock.run_index + 1 == clock.total_runs;
+        if (!last && std::chrono::duration<double>(now - clock.last_report).count() < report_interval) return;
+        clock.last_report = now;
         StudyProgress sp;
         sp.run = clock.run_index;
         sp.runs = clock.total_runs;
@@ -39,7 +46,7 @@ CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result,
         sp.progress = pr;
         sp.fraction = (static_cast<double>(clock.run_index) + std::clamp(pr.fraction, 0.0, 1.0)) /
                       static_cast<double>(clock.total_runs);
-        const double elapsed = std::chrono::duration<double>(Clock::now() - clock.start).count();
+        const double elapsed = std::chrono::duration<double>(now - clock.start).count();
         sp.elapsed_seconds = elapsed;
         sp.remaining_seconds = sp.fraction > 0 ? elapsed * (1 - sp.fraction) / sp.fraction : -1;
         report(sp);
@@ -62,6 +69,9 @@ CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result,
   case_out.run["realizations"] = p.realizations;
   case_out.diagnostics = average_realizations(runs, nullptr);
   add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0, runs);
+  const std::string missed =
+      steady_window_missed(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0);
+  if (!missed.empty()) case_summary.push_back("warning: " + missed);
   if (p.output_realizations) {
     for (auto& run : runs) add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
     for (std::size_t d = 0; d < case_out.diagnostics.size(); ++d)
