@@ -1,5 +1,4 @@
 // `gdsmc plugins`: list the plugins found, or document the ones named.
-#include <cstdio>
 #include <iostream>
 
 #include "app/commands.hpp"
@@ -13,7 +12,8 @@ namespace gdsmc::host {
 const char* const kPluginsHelp = R"(gdsmc plugins [NAME | FILE.so]... [--plugin-path P]...
 
 Without arguments: every plugin found on the search path, by kind, with its version and a
-one-line summary, and any file on the path that could not be loaded (and why).
+one-line summary, and a warning for each file on the path that could not be used (and why: a
+broken library, not a plugin, or shadowed by an earlier plugin of the same name).
 With names or .so files: the full documentation of each, and every parameter with its type,
 default, range and unit. A .so file is loaded and checked (ABI version, descriptor) first.
 
@@ -67,13 +67,10 @@ int cmd_plugins(const Options& o) {
                       PluginKind::diagnostic}) {
       std::cout << to_string(kind) << ":\n";
       bool any = false;
-      for (const auto& lp : reg.plugins())
-        if (lp.descriptor->kind == kind) {
+      for (const auto& info : reg.available())  // as examined: listing loads nothing into this process
+        if (info.kind == kind) {
           any = true;
-          char buf[512];
-          std::snprintf(buf, sizeof buf, "  %-32s %-8s %s", lp.descriptor->name.c_str(), lp.descriptor->version.c_str(),
-                        lp.descriptor->summary.c_str());
-          std::cout << buf << "\n";
+          std::cout << fmt("  %-32s %-8s %s", info.name.c_str(), info.version.c_str(), info.summary.c_str()) << "\n";
         }
       if (!any) std::cout << "  (none)\n";
     }

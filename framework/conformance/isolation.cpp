@@ -1,5 +1,6 @@
-// Results of checks and their isolation in a child process (fork, pipe, alarm).
+// Results of checks and their isolation in a child process (plugins/child_process.hpp).
 #include "conformance/internal.hpp"
+#include "plugins/child_process.hpp"
 
 namespace gdsmc::host::conformance {
 
@@ -35,53 +36,21 @@ Result guarded(const std::function<Result()>& fn) {
 // Runs fn in a child process; a signal or an exit without a result is a crash.
 Result isolated(const std::function<Result()>& fn, bool use_fork, int timeout_seconds) {
   if (!use_fork) return guarded(fn);
-  int fds[2];
-  if (::pipe(fds) != 0) return fail(std::string("cannot create a pipe: ") + std::strerror(errno));
-  std::cout.flush();
-  std::cerr.flush();
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) return fail(std::string("cannot fork: ") + std::strerror(errno));
-  if (pid == 0) {
-    ::close(fds[0]);
-    ::alarm(static_cast<unsigned>(timeout_seconds));
-    const Result r = guarded(fn);
-    std::string out(1, static_cast<char>('0' + static_cast<int>(r.status)));
-    out += r.message;
-    std::size_t off = 0;
-    while (off < out.size()) {
-      const ssize_t w = ::write(fds[1], out.data() + off, out.size() - off);
-      if (w <= 0) break;
-      off += static_cast<std::size_t>(w);
-    }
-    ::close(fds[1]);
-    std::cout.flush();
-    std::fflush(nullptr);
-    ::_exit(0);
-  }
-  ::close(fds[1]);
-  std::string data;
-  char buf[4096];
-  for (;;) {
-    const ssize_t r = ::read(fds[0], buf, sizeof buf);
-    if (r > 0) data.append(buf, static_cast<std::size_t>(r));
-    else if (r < 0 && errno == EINTR) continue;
-    else break;
-  }
-  ::close(fds[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFSIGNALED(status)) {
-    const int sig = WTERMSIG(status);
-    if (sig == SIGALRM) return fail(fmt("did not finish within %d s (--timeout)", timeout_seconds));
-    return {Status::crash, fmt("crashed: the check's process died of signal %d (%s)", sig, strsignal(sig))};
-  }
-  if (data.empty())
-    return {Status::crash, fmt("crashed: the check's process exited (status %d) without reporting", WEXITSTATUS(status))};
+  const ChildOutcome c = run_in_child(
+      [&](ChildReport& report) {
+        const Result r = guarded(fn);
+        report.send(std::string(1, static_cast<char>('0' + static_cast<int>(r.status))) + r.message);
+      },
+      timeout_seconds, false);
+  if (!c.failure.empty()) return fail(c.failure);
+  if (c.timed_out) return fail(fmt("did not finish within %d s (--timeout)", timeout_seconds));
+  if (c.signal)
+    return {Status::crash, fmt("crashed: the check's process died of signal %d (%s)", c.signal, strsignal(c.signal))};
+  if (!c.finished || c.messages.empty())
+    return {Status::crash, fmt("crashed: the check's process exited (status %d) without reporting", c.exit_status)};
   Result r;
-  r.status = static_cast<Status>(data[0] - '0');
-  r.message = data.substr(1);
+  r.status = static_cast<Status>(c.messages[0][0] - '0');
+  r.message = c.messages[0].substr(1);
   return r;
 }
 

@@ -28,8 +28,35 @@ struct LoadedPlugin {
   std::uint32_t abi_major = 0, abi_minor = 0;
 };
 
-// Load one shared library and check it is a gdsmc plugin of a compatible ABI.
+// Load one shared library and check it is a gdsmc plugin of a compatible ABI. Nothing in the file
+// is trusted: it is examined first (examine_libraries), and only loaded here if that went well.
+// Throws PluginLoadError.
 LoadedPlugin load_plugin(const std::filesystem::path& file);
+
+// What a plugin says of itself, learnt without loading it in this process.
+struct PluginInfo {
+  std::filesystem::path file;
+  std::string name;
+  PluginKind kind = PluginKind::diagnostic;
+  std::string version, summary;
+  std::uint32_t abi_major = 0, abi_minor = 0;
+};
+struct Examined {
+  PluginInfo info;    // file only, when error is set
+  std::string error;  // the PluginLoadError message (names the file); empty if it may be loaded
+};
+// Examines each file without trusting it: the file itself (library_file_problem), then loading it
+// in a forked child with a time limit (one child for all files, a new one after a crash), so a
+// library that crashes, aborts or hangs when loaded (a static initialiser, a broken entry point)
+// costs a warning, not the process.
+std::vector<Examined> examine_libraries(const std::vector<std::filesystem::path>& files);
+// Loads, in this process, a library examine_libraries accepted. Throws PluginLoadError.
+LoadedPlugin load_examined(const PluginInfo& info);
+
+// Why `file` cannot be a loadable shared library for this host, from the file alone ("" if it
+// may be): a symbolic link loop, a directory, an empty or truncated file, no ELF header, another
+// machine. dlopen of a truncated library crashes the process (SIGBUS) rather than failing.
+std::string library_file_problem(const std::filesystem::path& file);
 
 // The steps of load_plugin, each throwing PluginLoadError with a message that starts with the file.
 // Open the library with every symbol resolved (rtld_now) and no symbol leaking to other plugins.

@@ -13,37 +13,47 @@ namespace fs = std::filesystem;
 void PluginRegistry::add(const fs::path& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
+    // Every *.so entry, whatever it is (a directory, a broken link): each one that cannot be a
+    // plugin gets a warning saying why, rather than crashing or being skipped without a word.
     std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(path, ec))
-      if (e.is_regular_file() && e.path().extension() == ".so") files.push_back(e.path());
+    fs::directory_iterator it(path, ec), end;
+    for (; !ec && it != end; it.increment(ec))
+      if (it->path().extension() == ".so") files.push_back(it->path());
+    if (ec) warnings_.push_back(path.string() + ": cannot list this plugin directory (" + ec.message() + ")");
     std::sort(files.begin(), files.end());
-    for (const auto& f : files) add_file(f, false);
-  } else if (fs::is_regular_file(path, ec)) {
-    add_file(path, true);
+    add_files(files, false);
+  } else if (fs::status(path, ec).type() != fs::file_type::not_found) {
+    add_files({path}, true);  // a file, or a link loop: its problem is an error
   } else {
     warnings_.push_back(path.string() + ": plugin search path entry does not exist");
   }
 }
 
-void PluginRegistry::add_file(const fs::path& file, bool explicit_file) {
-  const fs::path canon = fs::weakly_canonical(file);
-  if (std::find(seen_.begin(), seen_.end(), canon) != seen_.end()) return;
-  seen_.push_back(canon);
-  LoadedPlugin p;
-  try {
-    p = load_plugin(file);
-  } catch (const PluginLoadError& e) {
-    if (explicit_file) throw;
-    warnings_.push_back(e.what());
-    return;
+void PluginRegistry::add_files(const std::vector<fs::path>& candidates, bool explicit_file) {
+  std::vector<fs::path> files;
+  for (const auto& f : candidates) {
+    std::error_code ec;
+    fs::path canon = fs::weakly_canonical(f, ec);
+    if (ec) canon = fs::absolute(f, ec);  // a link loop has no canonical path
+    if (std::find(seen_.begin(), seen_.end(), canon) != seen_.end()) continue;
+    seen_.push_back(canon);
+    files.push_back(f);
   }
-  const std::string& name = p.descriptor->name;
-  if (auto it = by_name_.find(name); it != by_name_.end()) {
-    warnings_.push_back(file.string() + ": plugin '" + name + "' is shadowed by " + plugins_[it->second].file.string());
-    return;
+  for (Examined& e : examine_libraries(files)) {
+    if (!e.error.empty()) {
+      if (explicit_file) throw PluginLoadError(e.error);
+      warnings_.push_back(e.error);
+      continue;
+    }
+    if (auto it = by_name_.find(e.info.name); it != by_name_.end()) {
+      warnings_.push_back(e.info.file.string() + ": plugin '" + e.info.name + "' is shadowed by " +
+                          found_[it->second].file.string());
+      continue;
+    }
+    by_name_[e.info.name] = found_.size();
+    found_.push_back(std::move(e.info));
+    plugins_.emplace_back();
   }
-  by_name_[name] = plugins_.size();
-  plugins_.push_back(std::move(p));
 }
 
 std::vector<fs::path> PluginRegistry::default_search_path() {
@@ -68,21 +78,31 @@ std::vector<fs::path> PluginRegistry::default_search_path() {
   return path;
 }
 
+const LoadedPlugin& PluginRegistry::loaded(std::size_t k) const {
+  if (!plugins_[k].descriptor) plugins_[k] = load_examined(found_[k]);
+  return plugins_[k];
+}
+
 const LoadedPlugin* PluginRegistry::find(const std::string& name) const {
   auto it = by_name_.find(name);
-  return it == by_name_.end() ? nullptr : &plugins_[it->second];
+  return it == by_name_.end() ? nullptr : &loaded(it->second);
+}
+
+const std::vector<LoadedPlugin>& PluginRegistry::plugins() const {
+  for (std::size_t k = 0; k < found_.size(); ++k) (void)loaded(k);
+  return plugins_;
 }
 
 std::vector<std::string> PluginRegistry::names() const {
   std::vector<std::string> n;
-  for (const auto& p : plugins_) n.push_back(p.descriptor->name);
+  for (const auto& p : found_) n.push_back(p.name);
   return n;
 }
 
 std::vector<std::string> PluginRegistry::names_of_kind(PluginKind kind) const {
   std::vector<std::string> n;
-  for (const auto& p : plugins_)
-    if (p.descriptor->kind == kind) n.push_back(p.descriptor->name);
+  for (const auto& p : found_)
+    if (p.kind == kind) n.push_back(p.name);
   return n;
 }
 

@@ -10,7 +10,10 @@
 
 namespace gdsmc::host {
 
-// Every plugin found on a search path; the first of a name wins.
+// Every plugin found on a search path; the first of a name wins. Every library is examined
+// without being loaded here (examine_libraries); a plugin is loaded here when it is first used
+// (find, plugins), so a library the pipeline does not use never runs in this process. Not for
+// concurrent use (const lookups may load).
 class PluginRegistry {
  public:
   // Directories (scanned for *.so) or single .so files, in order of precedence.
@@ -21,15 +24,23 @@ class PluginRegistry {
   // directory beside the executable (build tree) or ../lib/gdsmc/plugins (installed).
   static std::vector<std::filesystem::path> default_search_path();
 
+  // The plugin of that name, loaded (nullptr if there is none). Throws PluginLoadError if it
+  // cannot be loaded after all (its file changed since it was examined).
   const LoadedPlugin* find(const std::string& name) const;
   std::vector<std::string> names() const;
   std::vector<std::string> names_of_kind(PluginKind kind) const;
-  const std::vector<LoadedPlugin>& plugins() const { return plugins_; }
+  // Every plugin found, as examined (nothing is loaded).
+  const std::vector<PluginInfo>& available() const { return found_; }
+  // Every plugin found, all of them loaded.
+  const std::vector<LoadedPlugin>& plugins() const;
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
-  void add_file(const std::filesystem::path& file, bool explicit_file);
-  std::vector<LoadedPlugin> plugins_;
+  // Examine the files not seen before (one probe process for all of them) and keep the plugins.
+  void add_files(const std::vector<std::filesystem::path>& files, bool explicit_file);
+  const LoadedPlugin& loaded(std::size_t k) const;
+  std::vector<PluginInfo> found_;
+  mutable std::vector<LoadedPlugin> plugins_;  // beside found_; empty (no descriptor) until loaded
   std::map<std::string, std::size_t> by_name_;
   std::vector<std::string> warnings_;
   std::vector<std::filesystem::path> seen_;
