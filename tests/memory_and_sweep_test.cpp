@@ -230,18 +230,31 @@ TEST(SweepErrors, AProblemOfASweepValueIsReportedOnceAtItsEntryWithItsCases) {
   EXPECT_TRUE(contains(errors[0], "; in the 3 sweep cases with collision.alpha=1.5 (of 6)")) << errors[0];
   EXPECT_FALSE(contains(r.err, "--set")) << r.describe();
 
-  // A sweep value that cannot be applied is located at its entry too (here, each value its own).
-  const std::string scalar = kPipeline + "sweep:\n  diagnostics.0.record_every: [2, 4]\n";
+  // A sweep value that cannot be applied is located at its entry too (here, each value its own):
+  // run.seed is a single value, so it has no key 'x'.
+  const std::string scalar = kPipeline + "sweep:\n  run.seed.x: [2, 4]\n";
   const fs::path second = dir.write("scalar.yaml", scalar);
   const ProcessResult s = run_gdsmc({"validate", second.string()}, dir.path());
   EXPECT_EQ(s.exit_code, 1) << s.describe();
   const auto lines = lines_starting(s.err, "error: ");
   ASSERT_EQ(lines.size(), 2u) << s.describe();
   EXPECT_EQ(lines[0], "error: " + location(second, scalar, "2, 4]") +
-                          ": sweep value diagnostics.0.record_every=2: diagnostics[0] is a single value ('temperature'), "
-                          "not a mapping, so it has no key 'record_every'; in sweep case 0 (diagnostics.0.record_every=2)");
-  EXPECT_EQ(lines[1].rfind("error: " + location(second, scalar, "4]") + ": sweep value diagnostics.0.record_every=4", 0), 0u)
+                          ": sweep value run.seed.x=2: run.seed is a single value ('3'), "
+                          "not a mapping, so it has no key 'x'; in sweep case 0 (run.seed.x=2)");
+  EXPECT_EQ(lines[1].rfind("error: " + location(second, scalar, "4]") + ": sweep value run.seed.x=4", 0), 0u)
       << lines[1];
+
+  // A plugin entry given by its name alone takes keys: "- temperature" becomes
+  // {plugin: temperature} when a sweep value (or a --set) sets one inside it.
+  const std::string named = kPipeline + "sweep:\n  diagnostics.0.record_every: [2, 4]\n";
+  const fs::path third = dir.write("named.yaml", named);
+  const ProcessResult n = run_gdsmc({"validate", third.string()}, dir.path());
+  EXPECT_EQ(n.exit_code, 0) << n.describe();
+  EXPECT_TRUE(contains(n.out, "valid (2 cases")) << n.describe();
+  const ProcessResult set = run_gdsmc({"validate", file.string(), "--set", "collision.alpha=0.5", "--set",
+                                       "diagnostics[0].record_every=5", "--set", "sweep={run.seed: [1]}"},
+                                      dir.path());
+  EXPECT_EQ(set.exit_code, 0) << set.describe();
 }
 
 // 2000 cases (50 x 40) are validated. Expansion is linear by construction: the pipeline file is
