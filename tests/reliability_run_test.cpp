@@ -280,6 +280,7 @@ class RecordingRule final : public gdsmc::CollisionRule {
     if (set_on_first_call) set_on_first_call->store(true);
   }
   double pair_rate(const gdsmc::Vec3&, const gdsmc::Vec3&) const override { return 0; }
+  double rate_bound(double speed) const override { return speed; }
   double collide_pair(const gdsmc::ParticleSpan&, std::uint32_t, std::uint32_t, const gdsmc::Vec3&, double,
                       gdsmc::Rng&) const override {
     return 0;
