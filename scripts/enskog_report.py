@@ -225,7 +225,7 @@ def main():
                 w(f"| {sp[i]:.0f} | {t[i]:.4g} | {kn2[i]:.3e} | " + " | ".join(cells) + " |")
 
         w("\n## Fig. 1 (left): P^k_ii/nT against Kn², α = 0.8, φ = 0.5\n")
-        w("Records (means over 200 steps, averaged over realizations ± their standard error), on a "
+        w("Records (means over 50 steps, averaged over realizations ± their standard error), on a "
           "logarithmic selection of times. The paper shows the normal stresses approaching 1 linearly "
           "in Kn² (isotropy in the Navier–Stokes limit).\n")
         k = case(0.8, 0.5)
