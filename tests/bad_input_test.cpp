@@ -10,6 +10,7 @@
 namespace {
 
 using gdsmc::test::ProcessResult;
+using gdsmc::test::contains;
 using gdsmc::test::TempDir;
 using gdsmc::test::line_of;
 using gdsmc::test::run_gdsmc;
@@ -36,8 +37,6 @@ std::string replace(std::string text, const std::string& from, const std::string
   text.replace(pos, from.size(), to);
   return text;
 }
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // Runs `gdsmc run pipeline.yaml [extra]` in a fresh directory holding only the pipeline, and
 // checks the refusal: exit status 1, no crash, and nothing but the pipeline left in the directory.

@@ -12,20 +12,6 @@
 namespace gdsmc::test {
 namespace {
 
-const std::string kPipeline = R"(run:
-  seed: 3
-  particles: 400
-  time_step: {value: 0.02, unit: tau0}
-  stop: {collisions_per_particle: 1}
-system: {density: 1.0e-3}
-initial_state: maxwellian
-collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
-diagnostics: [temperature]
-output: {file: out.h5}
-)";
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // The first line of `text` that contains `part` ("" if none).
 std::string line_with(const std::string& text, const std::string& part) {
   std::size_t start = 0;
@@ -52,7 +38,7 @@ fs::path broken_copy(const TempDir& dir) {
 TEST(HostFixes, ValidateWarnsAboutAShadowedPluginThatFailsItsAbiCheck) {
   TempDir dir;
   const fs::path copy = broken_copy(dir);
-  const fs::path file = dir.write("pipeline.yaml", kPipeline);
+  const fs::path file = dir.write("pipeline.yaml", kSmallHcsPipeline);
   const ProcessResult r = run_gdsmc({"validate", file.string(), "--plugin-path", copy.parent_path().string()}, dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.describe();  // the installed plugin is used, as before
   EXPECT_TRUE(contains(r.err, "warning: ")) << r.describe();
@@ -63,7 +49,7 @@ TEST(HostFixes, ValidateWarnsAboutAShadowedPluginThatFailsItsAbiCheck) {
 TEST(HostFixes, RunWarnsAboutAShadowedPluginThatFailsItsAbiCheck) {
   TempDir dir;
   const fs::path copy = broken_copy(dir);
-  const fs::path file = dir.write("pipeline.yaml", kPipeline);
+  const fs::path file = dir.write("pipeline.yaml", kSmallHcsPipeline);
   const ProcessResult r =
       run_gdsmc({"run", file.string(), "--quiet", "--plugin-path", copy.parent_path().string()}, dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.describe();
@@ -73,7 +59,7 @@ TEST(HostFixes, RunWarnsAboutAShadowedPluginThatFailsItsAbiCheck) {
 
 TEST(HostFixes, MissingPluginsDirectoryIsWarnedAbout) {
   TempDir dir;
-  const fs::path file = dir.write("pipeline.yaml", kPipeline + "plugins: [no-such-plugin-dir]\n");
+  const fs::path file = dir.write("pipeline.yaml", kSmallHcsPipeline + "plugins: [no-such-plugin-dir]\n");
   const ProcessResult r = run_gdsmc({"validate", file.string()}, dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.describe();
   EXPECT_TRUE(contains(r.err, "warning: ")) << r.describe();
@@ -86,7 +72,7 @@ TEST(HostFixes, MissingPluginsDirectoryIsWarnedAbout) {
 // memory_and_sweep_test.cpp, which also checks that validate never holds the particles.)
 TEST(HostFixes, ValidateDoesNotAllocateParticles) {
   TempDir dir;
-  std::string yaml = kPipeline;
+  std::string yaml = kSmallHcsPipeline;
   yaml.replace(yaml.find("particles: 400"), 14, "particles: 10000000");
   const fs::path file = dir.write("pipeline.yaml", yaml);
   const ShellResult r = shell("bash -c 'ulimit -v 1000000 && exec \"" + executable().string() + "\" validate \"" +
@@ -97,7 +83,7 @@ TEST(HostFixes, ValidateDoesNotAllocateParticles) {
 
 TEST(HostFixes, SweepCasesShareTheBasePipelinesRegistry) {
   TempDir dir;
-  const host::Pipeline base = load_yaml(dir, kPipeline + "sweep:\n  collision.alpha: [0.5, 0.7, 0.9]\n");
+  const host::Pipeline base = load_yaml(dir, kSmallHcsPipeline + "sweep:\n  collision.alpha: [0.5, 0.7, 0.9]\n");
   const auto cases = host::expand_cases(base);
   ASSERT_EQ(cases.size(), 3u);
   for (const auto& c : cases) {

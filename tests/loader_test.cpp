@@ -17,8 +17,6 @@ using gdsmc::host::LoadedPlugin;
 using gdsmc::host::PluginLoadError;
 using gdsmc::host::PluginRegistry;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // The message of the PluginLoadError that loading `file` throws ("" if it loads).
 std::string load_error(const fs::path& file) {
   try {

@@ -16,20 +16,6 @@
 namespace gdsmc::test {
 namespace {
 
-const std::string kPipeline = R"(run:
-  seed: 3
-  particles: 400
-  time_step: {value: 0.02, unit: tau0}
-  stop: {collisions_per_particle: 1}
-system: {density: 1.0e-3}
-initial_state: maxwellian
-collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
-diagnostics: [temperature]
-output: {file: out.h5}
-)";
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 std::string with(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   if (at == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the pipeline");
@@ -70,7 +56,7 @@ ShellResult under_limit(const fs::path& cwd, const std::string& kib, const std::
 // nothing written), under an address-space limit and without one.
 TEST(MemoryCheck, AStudyThatCannotFitIsRefusedWithTheEstimateAndTheMemoryAvailable) {
   TempDir dir;
-  const std::string yaml = with(kPipeline, "particles: 400", "particles: 4000000000");
+  const std::string yaml = with(kSmallHcsPipeline, "particles: 400", "particles: 4000000000");
   const fs::path file = dir.write("pipeline.yaml", yaml);
   const std::string at = location(file, yaml, "4000000000") + ": run.particles: this run needs about 224 GiB of memory";
   for (const char* command : {"validate", "run"}) {
@@ -91,10 +77,10 @@ TEST(MemoryCheck, AStudyThatCannotFitIsRefusedWithTheEstimateAndTheMemoryAvailab
 
 TEST(MemoryCheck, TheVerdictOfValidateGivesTheEstimate) {
   TempDir dir;
-  const fs::path file = dir.write("pipeline.yaml", kPipeline);
+  const fs::path file = dir.write("pipeline.yaml", kSmallHcsPipeline);
   const ProcessResult r = run_gdsmc({"validate", file.string()}, dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  const host::Pipeline p = load_yaml(dir, kPipeline);
+  const host::Pipeline p = load_yaml(dir, kSmallHcsPipeline);
   const auto estimate = host::study_memory({host::case_memory(p, host::setup_layout(p))});
   EXPECT_GT(estimate.bytes, 400.0 * 60);
   EXPECT_TRUE(contains(r.out, "; about " + host::bytes_text(estimate.bytes) + " of memory)")) << r.out;
@@ -105,7 +91,7 @@ TEST(MemoryCheck, TheVerdictOfValidateGivesTheEstimate) {
 // each sweep case keeps until the file is written.
 TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKeptCases) {
   TempDir dir;
-  const host::Pipeline p = load_yaml(dir, kPipeline);
+  const host::Pipeline p = load_yaml(dir, kSmallHcsPipeline);
   const host::RunLayout layout = host::setup_layout(p);
   ASSERT_EQ(layout.values_per_record.size(), 1u);
   EXPECT_GE(layout.values_per_record[0], 3u);  // time, s and at least the temperature
@@ -122,13 +108,13 @@ TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKept
   EXPECT_EQ(a.bytes_per_particle, 60 + 3 * 8);
   EXPECT_EQ(a.records_bytes, 52.0 * 10 * 8);
 
-  const host::Pipeline k = load_yaml(dir, kPipeline, {"run.realizations=3", "output.realizations=true", "run.record_every=5"});
+  const host::Pipeline k = load_yaml(dir, kSmallHcsPipeline, {"run.realizations=3", "output.realizations=true", "run.record_every=5"});
   const host::CaseMemory r = host::case_memory(k, declared);
   EXPECT_EQ(r.records_bytes, (50 / 5 + 2) * 10.0 * 8);
   EXPECT_EQ(r.peak, 400 * 84 + 5 * r.records_bytes);  // three realizations, the running one, the first output
   EXPECT_EQ(r.kept, (2 + 3) * r.records_bytes);       // mean and error, and each realization's own
 
-  const host::Pipeline slab = load_yaml(dir, kPipeline + "boundaries: {y: periodic}\n",
+  const host::Pipeline slab = load_yaml(dir, kSmallHcsPipeline + "boundaries: {y: periodic}\n",
                                         {"system={density: 1.0e-3, domain: slab, box: {y: 2}, layers: 4}"});
   EXPECT_EQ(host::case_memory(slab, host::setup_layout(slab)).bytes_per_particle, 84);
 
@@ -146,7 +132,7 @@ TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKept
 // checked with a peak resident size of a few tens of MiB.
 TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
   TempDir dir;
-  const fs::path file = dir.write("pipeline.yaml", with(kPipeline, "particles: 400", "particles: 10000000"));
+  const fs::path file = dir.write("pipeline.yaml", with(kSmallHcsPipeline, "particles: 400", "particles: 10000000"));
   const std::string out = (dir / "verdict").string();
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
@@ -169,7 +155,7 @@ TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
 // that memory ran out and gives the estimate, in validate (begin) and during a run (record).
 TEST(MemoryCheck, RunningOutOfMemoryAnywaySaysSoWithTheEstimate) {
   TempDir dir;
-  const fs::path file = dir.write("pipeline.yaml", with(kPipeline, "[temperature]", "[temperature, memory_hog]"));
+  const fs::path file = dir.write("pipeline.yaml", with(kSmallHcsPipeline, "[temperature]", "[temperature, memory_hog]"));
   const std::string hog = test_plugin("memory_hog").string();
   const ProcessResult run = run_gdsmc({"run", file.string(), "--quiet", "--plugin-path", hog}, dir.path());
   EXPECT_EQ(run.exit_code, 1) << run.describe();
@@ -219,7 +205,7 @@ TEST(PipelineFile, ADevicePipeOrHugeFileIsRefusedBeforeItIsRead) {
 // 1.5, naming those cases; not three errors phrased as a --set the user never gave.
 TEST(SweepErrors, AProblemOfASweepValueIsReportedOnceAtItsEntryWithItsCases) {
   TempDir dir;
-  const std::string yaml = kPipeline + "sweep:\n  collision.alpha: [0.5, 1.5]\n  run.seed: [1, 2, 3]\n";
+  const std::string yaml = kSmallHcsPipeline + "sweep:\n  collision.alpha: [0.5, 1.5]\n  run.seed: [1, 2, 3]\n";
   const fs::path file = dir.write("pipeline.yaml", yaml);
   const ProcessResult r = run_gdsmc({"validate", file.string()}, dir.path());
   EXPECT_EQ(r.exit_code, 1) << r.describe();
@@ -232,7 +218,7 @@ TEST(SweepErrors, AProblemOfASweepValueIsReportedOnceAtItsEntryWithItsCases) {
 
   // A sweep value that cannot be applied is located at its entry too (here, each value its own):
   // run.seed is a single value, so it has no key 'x'.
-  const std::string scalar = kPipeline + "sweep:\n  run.seed.x: [2, 4]\n";
+  const std::string scalar = kSmallHcsPipeline + "sweep:\n  run.seed.x: [2, 4]\n";
   const fs::path second = dir.write("scalar.yaml", scalar);
   const ProcessResult s = run_gdsmc({"validate", second.string()}, dir.path());
   EXPECT_EQ(s.exit_code, 1) << s.describe();
@@ -246,7 +232,7 @@ TEST(SweepErrors, AProblemOfASweepValueIsReportedOnceAtItsEntryWithItsCases) {
 
   // A plugin entry given by its name alone takes keys: "- temperature" becomes
   // {plugin: temperature} when a sweep value (or a --set) sets one inside it.
-  const std::string named = kPipeline + "sweep:\n  diagnostics.0.record_every: [2, 4]\n";
+  const std::string named = kSmallHcsPipeline + "sweep:\n  diagnostics.0.record_every: [2, 4]\n";
   const fs::path third = dir.write("named.yaml", named);
   const ProcessResult n = run_gdsmc({"validate", third.string()}, dir.path());
   EXPECT_EQ(n.exit_code, 0) << n.describe();
@@ -265,7 +251,7 @@ TEST(SweepExpansion, TwoThousandCasesAreLoadedFromOneReadingOfTheFile) {
   std::string alphas, seeds;
   for (int k = 0; k < 50; ++k) alphas += (k ? ", " : "") + std::to_string(0.5 + 0.01 * k).substr(0, 4);
   for (int k = 0; k < 40; ++k) seeds += (k ? ", " : "") + std::to_string(k + 1);
-  const std::string yaml = kPipeline + "sweep:\n  collision.alpha: [" + alphas + "]\n  run.seed: [" + seeds + "]\n";
+  const std::string yaml = kSmallHcsPipeline + "sweep:\n  collision.alpha: [" + alphas + "]\n  run.seed: [" + seeds + "]\n";
   const fs::path file = dir.write("pipeline.yaml", yaml);
   const ProcessResult r = run_gdsmc({"validate", file.string()}, dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.describe();

@@ -33,8 +33,6 @@ namespace {
 using namespace gdsmc::test;
 namespace host = gdsmc::host;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // A short homogeneous run (N = 500, s = 2), or with kLongStop one that takes far longer than any
 // test waits (elastic, N = 20000 to s = 1e5): a check made "before the run" must answer at once.
 const std::string kLongStop = "{collisions_per_particle: 100000}";

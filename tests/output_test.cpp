@@ -15,8 +15,6 @@ namespace {
 
 using namespace gdsmc::test;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 std::string pipeline_yaml(const std::string& diagnostics, const std::string& stop = "{collisions_per_particle: 3}",
                           const std::string& output = "out.h5", int particles = 500, double alpha = 0.8) {
   return "run:\n"

@@ -20,8 +20,6 @@ using gdsmc::host::ChildOutcome;
 using gdsmc::host::ChildReport;
 using gdsmc::host::PluginRegistry;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // The lines of `text` that start with `prefix`.
 std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
   std::vector<std::string> out;
@@ -91,7 +89,7 @@ TEST(PluginPath, BrokenLibrariesOnThePathAreWarningsForEveryCommand) {
   broken.expect_one_warning_each(validate.err, "validate");
 
   const ProcessResult run = run_gdsmc({"run", hcs, "--set", "run.particles=1000", "--set",
-                                       "run.stop.collisions_per_particle=1", "-q", "-o", "out.h5", "--plugin-path", path},
+                                       "run.stop.collisions_per_particle=1", "--set", "run.average_after.collisions_per_particle=0", "-q", "-o", "out.h5", "--plugin-path", path},
                                       work.path(), 60);
   ASSERT_EQ(run.exit_code, 0) << run.describe();
   EXPECT_TRUE(fs::is_regular_file(work / "out.h5"));
@@ -234,7 +232,7 @@ TEST(PluginPath, MissingDirectoriesAndShadowedPluginsAreWarnedAbout) {
                             dir.path(), 60),
                   "validate");
   expect_warnings(run_gdsmc({"run", file.string(), "--set", "run.particles=1000", "--set",
-                             "run.stop.collisions_per_particle=1", "-q", "-o", "out.h5", "--plugin-path", elsewhere},
+                             "run.stop.collisions_per_particle=1", "--set", "run.average_after.collisions_per_particle=0", "-q", "-o", "out.h5", "--plugin-path", elsewhere},
                             dir.path(), 60),
                   "run");
   // The provenance names the library that was used: the shadowing copy.

@@ -22,12 +22,11 @@ namespace {
 namespace host = gdsmc::host;
 namespace h5 = gdsmc::test::h5;
 using gdsmc::test::Process;
+using gdsmc::test::contains;
 using gdsmc::test::ProcessResult;
 using gdsmc::test::TempDir;
 using gdsmc::test::run_gdsmc;
 using Clock = std::chrono::steady_clock;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 

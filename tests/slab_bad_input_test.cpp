@@ -11,6 +11,7 @@
 namespace {
 
 using gdsmc::test::ProcessResult;
+using gdsmc::test::contains;
 using gdsmc::test::TempDir;
 using gdsmc::test::line_of;
 using gdsmc::test::run_gdsmc;
@@ -42,7 +43,6 @@ std::string replace(std::string text, const std::string& from, const std::string
   text.replace(pos, from.size(), to);
   return text;
 }
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // `gdsmc run` and `gdsmc validate` both refuse: exit 1, no signal, nothing left but the pipeline.
 std::string refuse(const std::string& yaml, const std::string& must_say) {

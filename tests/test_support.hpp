@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -106,6 +107,21 @@ inline std::string join(const std::vector<std::string>& v, const std::string& se
   return s;
 }
 
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// A homogeneous cooling state small enough for a test to run in a fraction of a second.
+inline const std::string kSmallHcsPipeline = R"(run:
+  seed: 3
+  particles: 400
+  time_step: {value: 0.02, unit: tau0}
+  stop: {collisions_per_particle: 1}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+diagnostics: [temperature]
+output: {file: out.h5}
+)";
+
 // 1-based number of the first line of `text` that contains `needle` (0 if none).
 inline int line_of(const std::string& text, const std::string& needle) {
   std::istringstream in(text);
@@ -134,9 +150,14 @@ struct ProcessResult {
 // A running gdsmc process: started in `cwd` with GDSMC_PLUGIN_PATH removed from the environment
 // (the host then finds the build's plugins beside the executable); stdout and stderr go to files
 // in a private directory (not `cwd`, so that tests can check what the run left in `cwd`).
+// Limits set in the child before exec.
+struct ProcessLimits {
+  rlim_t address_space = RLIM_INFINITY;  // RLIMIT_AS, bytes
+  bool core_dumps = true;                // false: RLIMIT_CORE 0
+};
 class Process {
  public:
-  Process(const std::vector<std::string>& args, const fs::path& cwd) {
+  Process(const std::vector<std::string>& args, const fs::path& cwd, const ProcessLimits& limits = {}) {
     out_ = capture_.path() / "stdout";
     err_ = capture_.path() / "stderr";
     std::vector<std::string> argv_s;
@@ -152,14 +173,17 @@ class Process {
     for (auto& s : env_s) envp.push_back(s.data());
     envp.push_back(nullptr);
     const std::string cwd_s = cwd.string(), out_s = out_.string(), err_s = err_.string();
-    pid_ = ::fork();
+    const rlimit memory{limits.address_space, limits.address_space}, no_core{0, 0};
+    pid_ = ::fork();  // only async-signal-safe calls in the child: other threads may fork too
     if (pid_ < 0) throw std::runtime_error("fork failed");
     if (pid_ == 0) {
       const int o = ::open(out_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       const int e = ::open(err_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       const int in = ::open("/dev/null", O_RDONLY);
       if (o < 0 || e < 0 || in < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::dup2(in, 0) < 0 ||
-          ::chdir(cwd_s.c_str()) != 0)
+          ::chdir(cwd_s.c_str()) != 0 ||
+          (limits.address_space != RLIM_INFINITY && ::setrlimit(RLIMIT_AS, &memory) != 0) ||
+          (!limits.core_dumps && ::setrlimit(RLIMIT_CORE, &no_core) != 0))
         ::_exit(127);
       ::execve(argv[0], argv.data(), envp.data());
       ::_exit(127);
@@ -167,7 +191,7 @@ class Process {
   }
   Process(const Process&) = delete;
   ~Process() {
-    if (pid_ > 0 && !done_) {
+    if (pid_ > 0 && !reaped_) {
       ::kill(pid_, SIGKILL);
       int status;
       ::waitpid(pid_, &status, 0);
@@ -197,25 +221,27 @@ class Process {
     }
     return false;
   }
+  // Whether the process has ended (never blocks; wait() then returns at once).
+  bool ended() {
+    if (!reaped_ && ::waitpid(pid_, &status_, WNOHANG) == pid_) reaped_ = true;
+    return reaped_;
+  }
   // Wait up to `timeout_s` seconds (then SIGKILL it and report a timeout).
   ProcessResult wait(double timeout_s = 120) {
     ProcessResult r;
-    int status = 0;
     const auto start = std::chrono::steady_clock::now();
-    while (true) {
-      const pid_t w = ::waitpid(pid_, &status, WNOHANG);
-      if (w == pid_) break;
+    while (!ended()) {
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s) {
         ::kill(pid_, SIGKILL);
-        ::waitpid(pid_, &status, 0);
+        ::waitpid(pid_, &status_, 0);
+        reaped_ = true;
         r.timed_out = true;
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    done_ = true;
-    if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+    if (WIFEXITED(status_)) r.exit_code = WEXITSTATUS(status_);
+    if (WIFSIGNALED(status_)) r.signal = WTERMSIG(status_);
     r.out = read_text(out_);
     r.err = read_text(err_);
     return r;
@@ -227,7 +253,8 @@ class Process {
   TempDir capture_;
   fs::path out_, err_;
   pid_t pid_ = -1;
-  bool done_ = false;
+  int status_ = 0;
+  bool reaped_ = false;
 };
 
 // A shell command line (sh -c), with GDSMC_PLUGIN_PATH cleared; stdout and stderr together.

@@ -1,5 +1,7 @@
 #include "app/progress.hpp"
 
+#include "output/output_path.hpp"
+
 #include <unistd.h>
 
 #include <csignal>
@@ -14,12 +16,13 @@ std::atomic<bool> g_interrupted{false};
 namespace {
 // The first signal sets the flag, which the run polls between steps and inside the collision
 // stage. A second one while the first is pending means the run is inside a long plugin call that
-// cannot poll it: leave at once (exchange and write are async-signal-safe; the output file is
-// renamed to its final name only once complete, so nothing is left under it).
+// cannot poll it: leave at once (exchange, write, lstat and unlink are async-signal-safe; the
+// output is renamed to its final name only once complete, and its temporary file is removed).
 extern "C" void on_signal(int) {
   if (g_interrupted.exchange(true)) {
     static const char message[] = "\ngdsmc: interrupted again; stopped at once, no output written\n";
     (void)!::write(STDERR_FILENO, message, sizeof message - 1);
+    remove_live_temporaries_from_signal_handler();
     ::_exit(130);
   }
 }

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 
@@ -137,6 +138,47 @@ OutputTarget check_output_path(const fs::path& file, const std::vector<RunInput>
   return t;
 }
 
+namespace {
+// The live temporaries, for a handler that must _exit without unwinding: a path is written
+// while its slot is not yet published, and the handler reads only published slots.
+struct LiveTemporary {
+  std::atomic<bool> published{false};
+  char path[PATH_MAX + 1] = {};
+  dev_t dev = 0;
+  ino_t ino = 0;
+};
+constexpr int kLiveSlots = 8;
+LiveTemporary g_live[kLiveSlots];
+std::atomic<bool> g_live_claimed[kLiveSlots];
+
+int publish_live(const std::string& path, dev_t dev, ino_t ino) {
+  if (path.size() > PATH_MAX) return -1;
+  for (int i = 0; i < kLiveSlots; ++i) {
+    if (g_live_claimed[i].exchange(true)) continue;
+    std::memcpy(g_live[i].path, path.c_str(), path.size() + 1);
+    g_live[i].dev = dev;
+    g_live[i].ino = ino;
+    g_live[i].published.store(true);
+    return i;
+  }
+  return -1;  // more than kLiveSlots at once: the destructor still removes it on a normal exit
+}
+
+void withdraw_live(int slot) {
+  if (slot < 0) return;
+  g_live[slot].published.store(false);
+  g_live_claimed[slot].store(false);
+}
+}  // namespace
+
+void remove_live_temporaries_from_signal_handler() noexcept {
+  for (auto& t : g_live) {
+    if (!t.published.load()) continue;
+    struct stat st;
+    if (::lstat(t.path, &st) == 0 && st.st_dev == t.dev && st.st_ino == t.ino) ::unlink(t.path);
+  }
+}
+
 TemporaryFile::TemporaryFile(const OutputTarget& target) {
   const Creator w = this_creator();
   const std::string tmpl =
@@ -151,6 +193,7 @@ TemporaryFile::TemporaryFile(const OutputTarget& target) {
   ::fstat(fd_, &st);
   dev_ = st.st_dev;
   ino_ = st.st_ino;
+  live_slot_ = publish_live(path_.string(), dev_, ino_);
   // mkstemp creates 0600; the output gets the permissions any new file would.
   const mode_t mask = ::umask(0);
   ::umask(mask);
@@ -166,6 +209,8 @@ bool TemporaryFile::is(int other_fd) const {
 
 void TemporaryFile::remove() {
   if (fd_ < 0) return;
+  withdraw_live(live_slot_);
+  live_slot_ = -1;
   struct stat st;
   if (::lstat(path_.c_str(), &st) == 0 && st.st_dev == dev_ && st.st_ino == ino_) ::unlink(path_.c_str());
   ::close(fd_);
@@ -182,6 +227,8 @@ void TemporaryFile::rename_over(const OutputTarget& target) {
   if (::rename(path_.c_str(), target.file.c_str()) != 0)
     throw OutputPathError("cannot rename " + quote_path(path_) + " to " + quote_path(target.file) + ": " +
                           std::strerror(errno));
+  withdraw_live(live_slot_);  // the name is the output's now: a later signal must not remove it
+  live_slot_ = -1;
   ::close(fd_);
   fd_ = -1;
   // The rename itself on disk (best effort: not every filesystem syncs directories).

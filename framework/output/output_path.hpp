@@ -71,7 +71,12 @@ class TemporaryFile {
   int fd_ = -1;
   dev_t dev_ = 0;
   ino_t ino_ = 0;
+  int live_slot_ = -1;  // where a signal handler finds this file (see remove_live_temporaries_from_signal_handler)
 };
+
+// Remove every TemporaryFile still alive, from a signal handler: only async-signal-safe calls
+// (lstat, unlink) on paths kept in static storage. For a run ended by _exit.
+void remove_live_temporaries_from_signal_handler() noexcept;
 
 // Create a temporary file beside the target and remove it at once: that the directory is
 // writable and the name fits, for `validate`. Throws OutputPathError.

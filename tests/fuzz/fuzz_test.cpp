@@ -312,71 +312,35 @@ struct Outcome {
 // Runs gdsmc with `args` in `cwd`. With `run_seconds` >= 0 the child is a run: once it catches
 // SIGINT it may go on for `run_seconds`, then gets SIGINT.
 Outcome run_child(const std::vector<std::string>& args, const fs::path& cwd, double run_seconds, rlim_t memory_bytes) {
-  TempDir capture;  // stdout and stderr outside `cwd`, which must stay clean
-  const std::string out_s = (capture.path() / "stdout").string(), err_s = (capture.path() / "stderr").string();
-  std::vector<std::string> argv_s = {executable().string()};
-  argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<std::string> env_s;
-  for (char** e = environ; *e; ++e)
-    if (std::strncmp(*e, "GDSMC_PLUGIN_PATH=", 18) != 0) env_s.emplace_back(*e);
-  std::vector<char*> argv, envp;
-  for (auto& s : argv_s) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  for (auto& s : env_s) envp.push_back(s.data());
-  envp.push_back(nullptr);
-  const std::string cwd_s = cwd.string();
-  const rlimit mem{memory_bytes, memory_bytes}, no_core{0, 0};
   const auto start = std::chrono::steady_clock::now();
-  const pid_t pid = ::fork();  // only async-signal-safe calls in the child: other threads fork too
-  if (pid < 0) throw std::runtime_error("fork failed");
-  if (pid == 0) {
-    const int o = ::open(out_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = ::open(err_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int in = ::open("/dev/null", O_RDONLY);
-    if (o < 0 || e < 0 || in < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::dup2(in, 0) < 0 ||
-        ::chdir(cwd_s.c_str()) != 0 || ::setrlimit(RLIMIT_AS, &mem) != 0 || ::setrlimit(RLIMIT_CORE, &no_core) != 0)
-      ::_exit(127);
-    ::execve(argv[0], argv.data(), envp.data());
-    ::_exit(127);
-  }
-  Outcome r;
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  int status = 0;
-  auto ended = [&] { return ::waitpid(pid, &status, WNOHANG) == pid; };
-  auto catches_sigint = [&] {
-    std::ifstream st("/proc/" + std::to_string(pid) + "/status");
-    for (std::string line; std::getline(st, line);)
-      if (line.rfind("SigCgt:", 0) == 0) return ((std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1ull) != 0;
-    return false;
-  };
   auto pause = [] { std::this_thread::sleep_for(std::chrono::milliseconds(5)); };
+  Process child(args, cwd, ProcessLimits{memory_bytes, false});  // stdout, stderr outside `cwd`
+  Outcome r;
   bool done = false;
   double running_since = -1;  // when the SIGINT handler was seen
-  while (!(done = ended())) {
+  while (!(done = child.ended())) {
     const double t = elapsed();
-    if (run_seconds >= 0 && running_since < 0 && catches_sigint()) running_since = t;
+    if (run_seconds >= 0 && running_since < 0 && child.catches(SIGINT)) running_since = t;
     if (running_since >= 0 && t - running_since >= run_seconds) break;
     if (running_since < 0 && t >= kHangSeconds) break;
     pause();
   }
   if (!done && running_since >= 0) {
     r.interrupted = true;
-    ::kill(pid, SIGINT);
+    child.send(SIGINT);
     const double sent = elapsed();
-    while (!(done = ended()) && elapsed() - sent < kInterruptSeconds) pause();
+    while (!(done = child.ended()) && elapsed() - sent < kInterruptSeconds) pause();
     r.ignored_interrupt = !done;
   } else if (!done) {
     r.hung = true;
   }
-  if (!done) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const ProcessResult result = child.wait(0);  // SIGKILL if it has not ended
   r.seconds = elapsed();
-  if (done && WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-  if (done && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
-  r.out = read_text(out_s);
-  r.err = read_text(err_s);
+  r.exit_code = result.exit_code;
+  r.signal = result.timed_out ? 0 : result.signal;
+  r.out = result.out;
+  r.err = result.err;
   return r;
 }
 
