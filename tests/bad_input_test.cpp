@@ -11,6 +11,7 @@ namespace {
 
 using gdsmc::test::ProcessResult;
 using gdsmc::test::contains;
+using gdsmc::test::replace_once;
 using gdsmc::test::TempDir;
 using gdsmc::test::line_of;
 using gdsmc::test::run_gdsmc;
@@ -30,13 +31,6 @@ diagnostics:
   - {plugin: temperature}
 output: {file: out.h5}
 )";
-
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  if (pos == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the pipeline");
-  text.replace(pos, from.size(), to);
-  return text;
-}
 
 // Runs `gdsmc run pipeline.yaml [extra]` in a fresh directory holding only the pipeline, and
 // checks the refusal: exit status 1, no crash, and nothing but the pipeline left in the directory.
@@ -72,7 +66,7 @@ TEST(BadInput, GoodPipelineRunsAndWrites) {
 
 TEST(BadInput, MalformedYamlGivesFileLineColumn) {
   // An over-indented key inside a block mapping: yaml-cpp stops on that very line.
-  const std::string broken = replace(kGood, "  temperature: 1.0\n", "   temperature: 1.0\n");
+  const std::string broken = replace_once(kGood, "  temperature: 1.0\n", "   temperature: 1.0\n");
   const Refusal r = refuse(broken);
   const int line = line_of(broken, "   temperature: 1.0");
   ASSERT_GT(line, 0);
@@ -80,14 +74,14 @@ TEST(BadInput, MalformedYamlGivesFileLineColumn) {
   EXPECT_TRUE(contains(r.result.err, "YAML")) << r.result.describe();
 
   // A second shape of broken line: a scalar followed by another ': '.
-  const std::string broken2 = replace(kGood, "  density: 1.0e-3\n", "  density: 1.0e-3: 5\n");
+  const std::string broken2 = replace_once(kGood, "  density: 1.0e-3\n", "  density: 1.0e-3: 5\n");
   const Refusal r2 = refuse(broken2);
   const int line2 = line_of(broken2, "density: 1.0e-3: 5");
   EXPECT_TRUE(contains(r2.result.err, r2.file + ":" + std::to_string(line2) + ":")) << r2.result.describe();
 }
 
 TEST(BadInput, UnknownPluginSuggestsClosestName) {
-  const std::string yaml = replace(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: inelastic_hard_sphere, alpha: 0.9}");
+  const std::string yaml = replace_once(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: inelastic_hard_sphere, alpha: 0.9}");
   const Refusal r = refuse(yaml);
   const std::string& err = r.result.err;
   EXPECT_TRUE(contains(err, "inelastic_hard_sphere'")) << err;          // names what was asked for
@@ -96,7 +90,7 @@ TEST(BadInput, UnknownPluginSuggestsClosestName) {
 }
 
 TEST(BadInput, UnknownParameterSuggestsAlpha) {
-  const std::string yaml = replace(kGood, "alpha: 0.9}", "alpah: 0.9}");
+  const std::string yaml = replace_once(kGood, "alpha: 0.9}", "alpah: 0.9}");
   const Refusal r = refuse(yaml);
   const std::string& err = r.result.err;
   EXPECT_TRUE(contains(err, "alpah")) << err;
@@ -105,7 +99,7 @@ TEST(BadInput, UnknownParameterSuggestsAlpha) {
 }
 
 TEST(BadInput, OutOfRangeParameterNamesPluginAndRange) {
-  const std::string yaml = replace(kGood, "alpha: 0.9}", "alpha: 1.2}");
+  const std::string yaml = replace_once(kGood, "alpha: 0.9}", "alpha: 1.2}");
   const Refusal r = refuse(yaml);
   const std::string& err = r.result.err;
   EXPECT_TRUE(contains(err, "alpha")) << err;
@@ -117,7 +111,7 @@ TEST(BadInput, OutOfRangeParameterNamesPluginAndRange) {
 
 TEST(BadInput, ParticleCountMustBeAtLeastTwo) {
   for (const std::string n : {"0", "-5"}) {
-    const std::string yaml = replace(kGood, "particles: 500", "particles: " + n);
+    const std::string yaml = replace_once(kGood, "particles: 500", "particles: " + n);
     const Refusal r = refuse(yaml);
     EXPECT_TRUE(contains(r.result.err, "particles")) << r.result.err;
     EXPECT_TRUE(contains(r.result.err, n)) << r.result.err;
@@ -126,7 +120,7 @@ TEST(BadInput, ParticleCountMustBeAtLeastTwo) {
 }
 
 TEST(BadInput, NegativeTimeStep) {
-  const std::string yaml = replace(kGood, "{value: 0.01, unit: tau0", "{value: -0.01, unit: tau0");
+  const std::string yaml = replace_once(kGood, "{value: 0.01, unit: tau0", "{value: -0.01, unit: tau0");
   const Refusal r = refuse(yaml);
   EXPECT_TRUE(contains(r.result.err, "time_step")) << r.result.err;
   EXPECT_TRUE(contains(r.result.err, "> 0")) << r.result.err;
@@ -134,12 +128,12 @@ TEST(BadInput, NegativeTimeStep) {
 
 TEST(BadInput, MissingRequiredKeyAndSection) {
   {
-    const Refusal r = refuse(replace(kGood, "  particles: 500\n", ""));
+    const Refusal r = refuse(replace_once(kGood, "  particles: 500\n", ""));
     EXPECT_TRUE(contains(r.result.err, "particles")) << r.result.err;
     EXPECT_TRUE(contains(r.result.err, "missing")) << r.result.err;
   }
   {
-    const Refusal r = refuse(replace(kGood, "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n", ""));
+    const Refusal r = refuse(replace_once(kGood, "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n", ""));
     EXPECT_TRUE(contains(r.result.err, "collision")) << r.result.err;
     EXPECT_TRUE(contains(r.result.err, "missing")) << r.result.err;
   }
@@ -202,13 +196,13 @@ TEST(BadInput, DirectoryAsPipelineFileCannotBeRead) {
 
 TEST(BadInput, DuplicateKey) {
   {
-    const std::string yaml = replace(kGood, "  seed: 7\n", "  seed: 7\n  seed: 8\n");
+    const std::string yaml = replace_once(kGood, "  seed: 7\n", "  seed: 7\n  seed: 8\n");
     const Refusal r = refuse(yaml);
     EXPECT_TRUE(contains(r.result.err, "duplicate key 'seed'")) << r.result.err;
     EXPECT_TRUE(contains(r.result.err, r.file + ":" + std::to_string(line_of(yaml, "seed: 8")) + ":")) << r.result.err;
   }
   {
-    const std::string yaml = replace(kGood, "alpha: 0.9}", "alpha: 0.9, alpha: 0.5}");
+    const std::string yaml = replace_once(kGood, "alpha: 0.9}", "alpha: 0.9, alpha: 0.5}");
     const Refusal r = refuse(yaml);
     EXPECT_TRUE(contains(r.result.err, "duplicate key 'alpha'")) << r.result.err;
   }
@@ -216,8 +210,8 @@ TEST(BadInput, DuplicateKey) {
 
 // Several mistakes at once are all reported (the user fixes them in one go).
 TEST(BadInput, EveryErrorIsReported) {
-  std::string yaml = replace(kGood, "alpha: 0.9}", "alpha: 1.2}");
-  yaml = replace(yaml, "particles: 500", "particles: 0");
+  std::string yaml = replace_once(kGood, "alpha: 0.9}", "alpha: 1.2}");
+  yaml = replace_once(yaml, "particles: 500", "particles: 0");
   const Refusal r = refuse(yaml);
   EXPECT_TRUE(contains(r.result.err, "alpha")) << r.result.err;
   EXPECT_TRUE(contains(r.result.err, "particles")) << r.result.err;
@@ -228,7 +222,7 @@ TEST(Validate, GoodAndBadPipelines) {
   const std::string hcs = (gdsmc::test::source_dir() / "configs" / "hcs.yaml").string();
   const ProcessResult ok = run_gdsmc({"validate", hcs}, dir.path());
   EXPECT_EQ(ok.exit_code, 0) << ok.describe();
-  const auto bad = dir.write("bad.yaml", replace(kGood, "alpha: 0.9}", "alpha: 1.2}"));
+  const auto bad = dir.write("bad.yaml", replace_once(kGood, "alpha: 0.9}", "alpha: 1.2}"));
   const ProcessResult no = run_gdsmc({"validate", bad.string()}, dir.path());
   EXPECT_EQ(no.exit_code, 1) << no.describe();
   EXPECT_TRUE(contains(no.err, "alpha")) << no.err;

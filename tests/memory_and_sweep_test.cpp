@@ -16,21 +16,6 @@
 namespace gdsmc::test {
 namespace {
 
-std::string with(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the pipeline");
-  return text.replace(at, from.size(), to);
-}
-
-// The lines of `text` that start with `prefix`.
-std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(prefix, 0) == 0) out.push_back(line);
-  return out;
-}
-
 // "FILE:LINE:COLUMN" of the first occurrence of `needle` in `text` (1-based, as gdsmc reports).
 std::string location(const fs::path& file, const std::string& text, const std::string& needle) {
   const auto at = text.find(needle);
@@ -56,7 +41,7 @@ ShellResult under_limit(const fs::path& cwd, const std::string& kib, const std::
 // nothing written), under an address-space limit and without one.
 TEST(MemoryCheck, AStudyThatCannotFitIsRefusedWithTheEstimateAndTheMemoryAvailable) {
   TempDir dir;
-  const std::string yaml = with(kSmallHcsPipeline, "particles: 400", "particles: 4000000000");
+  const std::string yaml = replace_once(kSmallHcsPipeline, "particles: 400", "particles: 4000000000");
   const fs::path file = dir.write("pipeline.yaml", yaml);
   const std::string at = location(file, yaml, "4000000000") + ": run.particles: this run needs about 224 GiB of memory";
   for (const char* command : {"validate", "run"}) {
@@ -132,7 +117,7 @@ TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKept
 // checked with a peak resident size of a few tens of MiB.
 TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
   TempDir dir;
-  const fs::path file = dir.write("pipeline.yaml", with(kSmallHcsPipeline, "particles: 400", "particles: 10000000"));
+  const fs::path file = dir.write("pipeline.yaml", replace_once(kSmallHcsPipeline, "particles: 400", "particles: 10000000"));
   const std::string out = (dir / "verdict").string();
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
@@ -155,7 +140,7 @@ TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
 // that memory ran out and gives the estimate, in validate (begin) and during a run (record).
 TEST(MemoryCheck, RunningOutOfMemoryAnywaySaysSoWithTheEstimate) {
   TempDir dir;
-  const fs::path file = dir.write("pipeline.yaml", with(kSmallHcsPipeline, "[temperature]", "[temperature, memory_hog]"));
+  const fs::path file = dir.write("pipeline.yaml", replace_once(kSmallHcsPipeline, "[temperature]", "[temperature, memory_hog]"));
   const std::string hog = test_plugin("memory_hog").string();
   const ProcessResult run = run_gdsmc({"run", file.string(), "--quiet", "--plugin-path", hog}, dir.path());
   EXPECT_EQ(run.exit_code, 1) << run.describe();

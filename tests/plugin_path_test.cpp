@@ -20,15 +20,6 @@ using gdsmc::host::ChildOutcome;
 using gdsmc::host::ChildReport;
 using gdsmc::host::PluginRegistry;
 
-// The lines of `text` that start with `prefix`.
-std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(prefix, 0) == 0) out.push_back(line);
-  return out;
-}
-
 // The first `bytes` bytes of `from`, written to `to`.
 void copy_prefix(const fs::path& from, const fs::path& to, std::size_t bytes) {
   const std::string all = read_text(from);

@@ -12,6 +12,7 @@ namespace {
 
 using gdsmc::test::ProcessResult;
 using gdsmc::test::contains;
+using gdsmc::test::replace_once;
 using gdsmc::test::TempDir;
 using gdsmc::test::line_of;
 using gdsmc::test::run_gdsmc;
@@ -36,13 +37,6 @@ boundaries:
 diagnostics: [temperature, profiles]
 output: {file: out.h5}
 )";
-
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  if (pos == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the pipeline");
-  text.replace(pos, from.size(), to);
-  return text;
-}
 
 // `gdsmc run` and `gdsmc validate` both refuse: exit 1, no signal, nothing left but the pipeline.
 std::string refuse(const std::string& yaml, const std::string& must_say) {
@@ -70,59 +64,59 @@ TEST(SlabBadInput, GoodSlabPipelineRunsAndWrites) {
 }
 
 TEST(SlabBadInput, SlabWithoutTwoBoundaries) {
-  const std::string yaml = replace(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", "");
+  const std::string yaml = replace_once(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", "");
   const std::string err = refuse(yaml, "missing 'y_max'");
   // yaml-cpp marks a block mapping at its first key: the boundaries mapping starts at y_min.
   EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "  y_min:")) + ":")) << err;
-  refuse(replace(kGood, "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", ""),
+  refuse(replace_once(kGood, "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", ""),
          "a slab needs its two y boundaries");
 }
 
 TEST(SlabBadInput, LeesEdwardsOnOneSideOnly) {
-  const std::string yaml = replace(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}",
+  const std::string yaml = replace_once(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}",
                                    "  y_max: {plugin: lees_edwards, shear_rate: 4}");
   const std::string err = refuse(yaml, "both y boundaries must be 'lees_edwards' with the same parameters");
   EXPECT_TRUE(contains(err, "boundaries.y_max")) << err;
 }
 
 TEST(SlabBadInput, WallTemperatureMustBePositive) {
-  const std::string yaml = replace(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
+  const std::string yaml = replace_once(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
                                    "  y_min: {plugin: diffuse_wall, temperature: 0}");
   const std::string err = refuse(yaml, "boundaries.y_min.temperature");
   EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "temperature: 0")) + ":")) << err;
 }
 
 TEST(SlabBadInput, AccommodationOutsideZeroOne) {
-  const std::string yaml = replace(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
+  const std::string yaml = replace_once(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
                                    "  y_min: {plugin: maxwell_wall, temperature: 1.0, accommodation: 1.5}");
   const std::string err = refuse(yaml, "boundaries.y_min.accommodation");
   EXPECT_TRUE(contains(err, "1.5")) << err;
 }
 
 TEST(SlabBadInput, FewerThanOneParticlePerLayer) {
-  const std::string yaml = replace(kGood, "  layers: 10", "  layers: 2000");
+  const std::string yaml = replace_once(kGood, "  layers: 10", "  layers: 2000");
   const std::string err = refuse(yaml, "fewer than one particle per layer");
   EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "layers: 2000")) + ":")) << err;
 }
 
 TEST(SlabBadInput, BodyAccelerationWithLeesEdwardsIsRefusedWithTheReason) {
-  std::string yaml = replace(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}",
+  std::string yaml = replace_once(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}",
                              "  y: {plugin: lees_edwards, shear_rate: 4}");
-  yaml = replace(yaml, "forcings: []", "forcings: [{plugin: body_acceleration, acceleration: 0.5}]");
+  yaml = replace_once(yaml, "forcings: []", "forcings: [{plugin: body_acceleration, acceleration: 0.5}]");
   const std::string err = refuse(yaml, "shear_rate");
   EXPECT_TRUE(contains(err, "lees_edwards")) << err;
   EXPECT_TRUE(contains(err, "body")) << err;
 }
 
 TEST(SlabBadInput, BoundariesInAHomogeneousSystem) {
-  std::string yaml = replace(kGood, "  domain: slab\n  box: {y: 2.5}\n  layers: 10\n", "");
-  yaml = replace(yaml, "diagnostics: [temperature, profiles]", "diagnostics: [temperature]");
+  std::string yaml = replace_once(kGood, "  domain: slab\n  box: {y: 2.5}\n  layers: 10\n", "");
+  yaml = replace_once(yaml, "diagnostics: [temperature, profiles]", "diagnostics: [temperature]");
   refuse(yaml, "boundaries need a slab");
 }
 
 TEST(SlabBadInput, SlabWithoutItsGap) {
-  refuse(replace(kGood, "  box: {y: 2.5}\n", ""), "a slab needs its gap");
-  refuse(replace(kGood, "  box: {y: 2.5}\n", "  box: {y: {value: 2.5, unit: furlong}}\n"), "unknown length unit 'furlong'");
+  refuse(replace_once(kGood, "  box: {y: 2.5}\n", ""), "a slab needs its gap");
+  refuse(replace_once(kGood, "  box: {y: 2.5}\n", "  box: {y: {value: 2.5, unit: furlong}}\n"), "unknown length unit 'furlong'");
 }
 
 }  // namespace

@@ -109,6 +109,22 @@ inline std::string join(const std::vector<std::string>& v, const std::string& se
 
 inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+// `text` with the first `from` replaced by `to` (a test bug if `from` is not there).
+inline std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  if (at == std::string::npos) throw std::runtime_error("test bug: '" + from + "' not in the text");
+  return text.replace(at, from.size(), to);
+}
+
+// The lines of `text` that start with `prefix`.
+inline std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) out.push_back(line);
+  return out;
+}
+
 // A homogeneous cooling state small enough for a test to run in a fraction of a second.
 inline const std::string kSmallHcsPipeline = R"(run:
   seed: 3
