@@ -109,7 +109,7 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       {"conformance_leaky", "collision.momentum", {"conformance_leaky", "momentum not conserved", "|p' - p|"}},
       {"conformance_nan", "collision.finite", {"conformance_nan", "NaN", "nan"}},
       {"conformance_throwing", "defaults_construct", {"conformance_throwing", "does not construct", "the factory always fails"}},
-      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 3.0"}},
+      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 3.1"}},
       {"conformance_fake_thermostat", "forcing.conservation", {"conformance_fake_thermostat", "energy not conserved"}},
       // A forcing that heats the gas but reports no energy to the ledger.
       {"conformance_unreported_work", "forcing.energy", {"conformance_unreported_work"}},

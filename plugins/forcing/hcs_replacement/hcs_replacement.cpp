@@ -42,13 +42,12 @@ class HcsReplacement final : public gdsmc::Forcing {
                 .default_value(50.0)};
   }
   explicit HcsReplacement(const gdsmc::Params& p)
-      : size_(static_cast<std::size_t>(p.integer("reservoir_particles"))), relaxation_(p.real("reservoir_relaxation")),
-        cx_(size_), cy_(size_), cz_(size_) {}
+      : size_(static_cast<std::size_t>(p.integer("reservoir_particles"))), relaxation_(p.real("reservoir_relaxation")) {}
 
   Stage stage() const override { return Stage::after_collisions; }
 
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    if (!ready_) start_reservoir(ctx);
+    if (!reservoir_.started()) start_reservoir(ctx);
     const double* tally = ctx.collision_tally("dissipated_energy");
     const double dissipated_total = tally ? *tally : -ctx.collision_energy_change;
     const double dissipated = dissipated_total - last_dissipated_;
@@ -57,7 +56,7 @@ class HcsReplacement final : public gdsmc::Forcing {
     const double s_step = static_cast<double>(ctx.collisions - last_collisions_) / static_cast<double>(p.count);
     last_collisions_ = ctx.collisions;
     gdsmc::Rng reservoir_rng = ctx.streams->for_unit(0);
-    advance_reservoir(s_step, reservoir_rng);
+    reservoir_.advance(s_step, reservoir_rng);
     if (!(dissipated > 0) || p.count < 2) return 0.0;
 
     double u[3] = {0, 0, 0}, sum2 = 0;
@@ -80,8 +79,8 @@ class HcsReplacement final : public gdsmc::Forcing {
     double energy = 0;
     for (std::uint64_t k = 0; k < count; ++k) {
       const std::uint32_t i = rng.below(static_cast<std::uint32_t>(p.count));
-      const std::uint32_t r = rng.below(static_cast<std::uint32_t>(size_));
-      const double nx = u[0] + scale * cx_[r], ny = u[1] + scale * cy_[r], nz = u[2] + scale * cz_[r];
+      const gdsmc::Vec3 c = reservoir_.draw(rng);
+      const double nx = u[0] + scale * c.x, ny = u[1] + scale * c.y, nz = u[2] + scale * c.z;
       energy += 0.5 * (nx * nx + ny * ny + nz * nz - p.vx[i] * p.vx[i] - p.vy[i] * p.vy[i] - p.vz[i] * p.vz[i]);
       p.vx[i] = nx;
       p.vy[i] = ny;
@@ -96,72 +95,13 @@ class HcsReplacement final : public gdsmc::Forcing {
     if (!alpha)
       throw std::runtime_error("hcs_replacement needs the restitution of the HCS reservoir: the collision rule must "
                                "publish 'restitution' (inelastic_hard_spheres and enskog_hard_spheres do)");
-    half_one_plus_alpha_ = 0.5 * (1.0 + *alpha);
     gdsmc::Rng rng = ctx.streams->for_unit(2);
-    for (std::size_t k = 0; k < size_; ++k) {
-      cx_[k] = rng.normal();
-      cy_[k] = rng.normal();
-      cz_[k] = rng.normal();
-    }
-    rescale();
-    // Relax in chunks of one collision per particle, rescaling in between (the HCS cools).
-    for (double done = 0; done < relaxation_; done += 1.0) advance_reservoir(std::min(1.0, relaxation_ - done), rng);
-    ready_ = true;
-  }
-
-  // ds collisions per particle of IHS (accepted pairs: ds * size / 1, s counting collisions per
-  // particle as the host does), then rescale to zero mean and unit temperature.
-  void advance_reservoir(double ds, gdsmc::Rng& rng) {
-    target_ += ds * static_cast<double>(size_);
-    const auto n = static_cast<std::uint32_t>(size_);
-    while (target_ >= 1.0) {
-      const std::uint32_t i = rng.below(n);
-      std::uint32_t j = rng.below(n - 1);
-      j += (j >= i);
-      const gdsmc::Vec3 g{cx_[i] - cx_[j], cy_[i] - cy_[j], cz_[i] - cz_[j]};
-      const double gn = norm(g);
-      if (gn > majorant_) majorant_ = 1.05 * gn;
-      if (rng.uniform() * majorant_ >= gn) continue;
-      const gdsmc::Vec3 s = gdsmc::hard_sphere_impact_direction(g, gn, rng);
-      const double gs = dot(g, s);
-      const gdsmc::Vec3 dv = (half_one_plus_alpha_ * gs) * s;
-      cx_[i] -= dv.x; cy_[i] -= dv.y; cz_[i] -= dv.z;
-      cx_[j] += dv.x; cy_[j] += dv.y; cz_[j] += dv.z;
-      target_ -= 1.0;
-    }
-    rescale();
-  }
-
-  void rescale() {
-    double u[3] = {0, 0, 0}, sum2 = 0;
-    const double n = static_cast<double>(size_);
-    for (std::size_t k = 0; k < size_; ++k) {
-      u[0] += cx_[k];
-      u[1] += cy_[k];
-      u[2] += cz_[k];
-    }
-    for (double& c : u) c /= n;
-    for (std::size_t k = 0; k < size_; ++k) {
-      cx_[k] -= u[0];
-      cy_[k] -= u[1];
-      cz_[k] -= u[2];
-      sum2 += cx_[k] * cx_[k] + cy_[k] * cy_[k] + cz_[k] * cz_[k];
-    }
-    const double f = 1.0 / std::sqrt(sum2 / (3.0 * n));
-    for (std::size_t k = 0; k < size_; ++k) {
-      cx_[k] *= f;
-      cy_[k] *= f;
-      cz_[k] *= f;
-    }
+    reservoir_.start(size_, *alpha, relaxation_, rng);
   }
 
   std::size_t size_;
   double relaxation_;
-  std::vector<double> cx_, cy_, cz_;  // the reservoir's velocities, unit temperature
-  bool ready_ = false;
-  double half_one_plus_alpha_ = 1.0;
-  double majorant_ = 6.0 * M_SQRT2;  // of |g| at unit temperature (raised when exceeded)
-  double target_ = 0;                // accepted collisions still owed to the reservoir
+  gdsmc::HcsReservoir reservoir_;  // f^(0) at unit temperature
   double last_dissipated_ = 0;
   std::uint64_t last_collisions_ = 0;
 };

@@ -2,6 +2,7 @@
 #pragma once
 #include "gdsmc/collision.hpp"
 #include "gdsmc/context.hpp"
+#include "gdsmc/hcs_reservoir.hpp"
 #include "gdsmc/kinetic_theory.hpp"
 #include "gdsmc/moments.hpp"
 #include "gdsmc/output.hpp"

@@ -1,0 +1,94 @@
+// gdsmc SDK: a homogeneous cooling state (HCS) of inelastic hard spheres kept beside the gas, in
+// its scaled form (zero mean, unit temperature), as a source of draws from f^(0) (001 Eq. 2.8).
+// Header-only: plugins that need f^(0) (002's hcs_replacement, 001's cloning_annihilation) share it.
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gdsmc/collision.hpp"
+#include "gdsmc/random.hpp"
+#include "gdsmc/vec3.hpp"
+
+namespace gdsmc {
+
+class HcsReservoir {
+ public:
+  // `size` particles, started Maxwellian from `rng` and relaxed by `relaxation` collisions per
+  // particle of inelastic hard spheres with restitution `alpha`, rescaled after each one.
+  void start(std::size_t size, double alpha, double relaxation, Rng& rng) {
+    cx_.assign(size, 0.0);
+    cy_.assign(size, 0.0);
+    cz_.assign(size, 0.0);
+    half_one_plus_alpha_ = 0.5 * (1.0 + alpha);
+    for (std::size_t k = 0; k < size; ++k) {
+      cx_[k] = rng.normal();
+      cy_[k] = rng.normal();
+      cz_[k] = rng.normal();
+    }
+    rescale();
+    // In chunks of one collision per particle, rescaling in between (the HCS cools).
+    for (double done = 0; done < relaxation; done += 1.0) advance(std::min(1.0, relaxation - done), rng);
+  }
+  bool started() const { return !cx_.empty(); }
+  std::size_t size() const { return cx_.size(); }
+  Vec3 velocity(std::size_t k) const { return {cx_[k], cy_[k], cz_[k]}; }
+  // A velocity drawn uniformly from the reservoir.
+  Vec3 draw(Rng& rng) const { return velocity(rng.below(static_cast<std::uint32_t>(cx_.size()))); }
+
+  // `ds` more collisions per particle (s counted as the host does: accepted pairs over N), then
+  // rescale to zero mean and unit temperature (the HCS is self-similar: its scaled form is
+  // stationary). Pairs are picked uniformly and accepted with probability |g|/w, w a majorant of
+  // |g| raised when exceeded; sigma_hat from Theta(g.s)(g.s): the hard-sphere rate.
+  void advance(double ds, Rng& rng) {
+    owed_ += ds * static_cast<double>(cx_.size());
+    const auto n = static_cast<std::uint32_t>(cx_.size());
+    while (owed_ >= 1.0) {
+      const std::uint32_t i = rng.below(n);
+      std::uint32_t j = rng.below(n - 1);
+      j += (j >= i);
+      const Vec3 g{cx_[i] - cx_[j], cy_[i] - cy_[j], cz_[i] - cz_[j]};
+      const double gn = norm(g);
+      if (gn > majorant_) majorant_ = 1.05 * gn;
+      if (rng.uniform() * majorant_ >= gn) continue;
+      const Vec3 s = hard_sphere_impact_direction(g, gn, rng);
+      const Vec3 dv = (half_one_plus_alpha_ * dot(g, s)) * s;
+      cx_[i] -= dv.x; cy_[i] -= dv.y; cz_[i] -= dv.z;
+      cx_[j] += dv.x; cy_[j] += dv.y; cz_[j] += dv.z;
+      owed_ -= 1.0;
+    }
+    rescale();
+  }
+
+ private:
+  void rescale() {
+    const double n = static_cast<double>(cx_.size());
+    double u[3] = {0, 0, 0}, sum2 = 0;
+    for (std::size_t k = 0; k < cx_.size(); ++k) {
+      u[0] += cx_[k];
+      u[1] += cy_[k];
+      u[2] += cz_[k];
+    }
+    for (double& c : u) c /= n;
+    for (std::size_t k = 0; k < cx_.size(); ++k) {
+      cx_[k] -= u[0];
+      cy_[k] -= u[1];
+      cz_[k] -= u[2];
+      sum2 += cx_[k] * cx_[k] + cy_[k] * cy_[k] + cz_[k] * cz_[k];
+    }
+    const double f = 1.0 / std::sqrt(sum2 / (3.0 * n));
+    for (std::size_t k = 0; k < cx_.size(); ++k) {
+      cx_[k] *= f;
+      cy_[k] *= f;
+      cz_[k] *= f;
+    }
+  }
+
+  std::vector<double> cx_, cy_, cz_;  // unit temperature, zero mean
+  double half_one_plus_alpha_ = 1.0;
+  double majorant_ = 6.0 * M_SQRT2;  // of |g| at unit temperature (raised when exceeded)
+  double owed_ = 0;                  // accepted collisions still owed
+};
+
+}  // namespace gdsmc
