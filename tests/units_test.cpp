@@ -134,6 +134,32 @@ TEST(Units, APipelineWithAnUnknownUnitIsRefusedWithTheValidUnits) {
   }
 }
 
+// run.stop.time and run.average_after.time take the same forms: a bare number of tau0 or
+// {value: T, unit: tau0}; another unit is refused at its line, naming the valid one.
+TEST(Units, StopAndAverageTimesTakeANumberOrAValueWithTheUnitTau0) {
+  TempDir dir;
+  auto with_times = [](const std::string& stop, const std::string& after) {
+    std::string y = usf("0.5");
+    y = replace_once(y, "  stop: {collisions_per_particle: 1}\n",
+                     "  stop: {time: " + stop + "}\n  average_after: {time: " + after + "}\n");
+    return y;
+  };
+  const host::Pipeline bare = load_yaml(dir, with_times("3", "1.5"));
+  const host::Pipeline written = load_yaml(dir, with_times("{value: 3, unit: tau0}", "{value: 1.5, unit: tau0}"));
+  EXPECT_EQ(bare.stop_time_tau0, 3.0);
+  EXPECT_EQ(written.stop_time_tau0, 3.0);
+  EXPECT_EQ(bare.average_after_time_tau0, 1.5);
+  EXPECT_EQ(written.average_after_time_tau0, 1.5);
+  try {
+    load_yaml(dir, with_times("3", "{value: 1.5, unit: s}"));
+    FAIL() << "a time in seconds was accepted";
+  } catch (const host::PipelineError& e) {
+    const std::string all = join(e.messages(), "\n");
+    EXPECT_NE(all.find("run.average_after.time.unit"), std::string::npos) << all;
+    EXPECT_NE(all.find("unknown unit 's' (valid: tau0)"), std::string::npos) << all;
+  }
+}
+
 TEST(Units, PluginsCommandShowsTheDimensionAndItsReferenceUnit) {
   TempDir dir;
   const auto r = run_gdsmc({"plugins", "uniform_shear", "--plugin-path", plugin_dir().string()}, dir.path());

@@ -13,9 +13,22 @@ namespace gdsmc::host {
 
 namespace {
 
+// A time in tau0: a bare number or {value: T, unit: tau0}, at `key` (e.g. "run.stop.time").
+std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::string& key) {
+  if (!t.IsMap()) return c.real(t, key);
+  c.check_keys(t, key, {"value", "unit"});
+  if (t["unit"] && t["unit"].Scalar() != "tau0")
+    c.error(key + ".unit", t["unit"], "unknown unit '" + t["unit"].Scalar() + "' (valid: tau0)");
+  if (!t["value"]) {
+    c.error(key, t, "expected a number of tau0 or {value: T, unit: tau0}");
+    return std::nullopt;
+  }
+  return c.real(t["value"], key + ".value");
+}
+
 void parse_average_after(Checker& c, const YAML::Node& aa, Pipeline& p) {
   if (!aa.IsMap()) {
-    c.error("run.average_after", aa, "expected {collisions_per_particle: S} or {time: T (tau0)}");
+    c.error("run.average_after", aa, "expected {collisions_per_particle: S} or {time: T (tau0, or {value: T, unit: tau0})}");
   } else {
     c.check_keys(aa, "run.average_after", {"collisions_per_particle", "time"});
     if (aa["collisions_per_particle"])
@@ -24,7 +37,7 @@ void parse_average_after(Checker& c, const YAML::Node& aa, Pipeline& p) {
         else p.average_after_collisions_per_particle = *v;
       }
     if (aa["time"])
-      if (auto v = c.real(aa["time"], "run.average_after.time")) {
+      if (auto v = time_in_tau0(c, aa["time"], "run.average_after.time")) {
         if (*v < 0) c.error("run.average_after.time", aa["time"], "must be >= 0 (tau0)");
         else p.average_after_time_tau0 = *v;
       }
@@ -90,20 +103,6 @@ void parse_steady(Checker& c, const YAML::Node& st, const YAML::Node& sd, Pipeli
   }
 }
 
-void parse_stop_time(Checker& c, const YAML::Node& t, Pipeline& p) {
-  std::optional<double> v;
-  if (t.IsMap()) {
-    c.check_keys(t, "run.stop.time", {"value", "unit"});
-    if (t["value"]) v = c.real(t["value"], "run.stop.time.value");
-    if (t["unit"] && t["unit"].Scalar() != "tau0")
-      c.error("run.stop.time.unit", t["unit"], "unknown unit '" + t["unit"].Scalar() + "' (valid: tau0)");
-  } else {
-    v = c.real(t, "run.stop.time");
-  }
-  if (v && *v <= 0) c.error("run.stop.time", t, "must be > 0");
-  else if (v) p.stop_time_tau0 = *v;
-}
-
 void parse_stop(Checker& c, const YAML::Node& st, Pipeline& p) {
   if (!st.IsMap()) {
     c.error("run.stop", st, "expected {collisions_per_particle: S} and/or {time: T (tau0)}");
@@ -115,7 +114,11 @@ void parse_stop(Checker& c, const YAML::Node& st, Pipeline& p) {
         if (*v <= 0) c.error("run.stop.collisions_per_particle", st["collisions_per_particle"], "must be > 0");
         else p.stop_collisions_per_particle = *v;
       }
-    if (st["time"]) parse_stop_time(c, st["time"], p);
+    if (st["time"])
+      if (auto v = time_in_tau0(c, st["time"], "run.stop.time")) {
+        if (*v <= 0) c.error("run.stop.time", st["time"], "must be > 0");
+        else p.stop_time_tau0 = *v;
+      }
     if (!st["collisions_per_particle"] && !st["time"])
       c.error("run.stop", st, "give collisions_per_particle and/or time");
   }
