@@ -66,7 +66,10 @@ std::map<std::string, std::string> contexts() {
           {"delta_shell", slab + "boundaries: {y: {plugin: lees_edwards, shear_rate: 1}}\n"},
           {"profiles", walls},
           {"slab_averages", walls},
-          {"wall_fluxes", walls}};
+          {"wall_fluxes", walls},
+          // heat_flux reads the field heat_flux_force publishes.
+          {"heat_flux", "collision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
+                        "forcings: [{plugin: heat_flux_force, epsilon_star: 0.05}, energy_momentum_thermostat]\n"}};
 }
 
 }  // namespace
