@@ -3,6 +3,7 @@
 #   cmake --install <build> --prefix <prefix>
 # installs
 #   <prefix>/bin/gdsmc                              the host
+#   <prefix>/share/gdsmc/gdsmc_plot.py              the plotter that `gdsmc plot` runs
 #   <prefix>/include/gdsmc/*.hpp                    the SDK headers
 #   <prefix>/lib/gdsmc/plugins/gdsmc_*.so           the in-tree plugins (the host's default search path)
 #   <prefix>/lib/cmake/gdsmc/gdsmcConfig.cmake      the package: gdsmc::sdk, gdsmc::gdsmc,
@@ -38,6 +39,9 @@ install(TARGETS gdsmc_sdk EXPORT gdsmcTargets)
 
 # The host, exported as gdsmc::gdsmc (an imported executable) for `gdsmc conformance` tests.
 install(TARGETS gdsmc EXPORT gdsmcTargets RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The plotter of `gdsmc plot`, found by the host in <exe>/../share/gdsmc (not DATADIR-relocatable:
+# the host looks exactly there).
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/gdsmc_plot.py DESTINATION share/gdsmc)
 
 # In-tree plugins: every MODULE library made by gdsmc_add_plugin() under plugins/<kind>/<name>
 # (test plugins under tests/plugins are not installed).

@@ -79,6 +79,8 @@ std::vector<Command> commands() {
           {"validate", gdsmc::host::command_options("validate")},
           {"plugins", gdsmc::host::command_options("plugins")},
           {"conformance", conformance_options()},
+          {"plot", gdsmc::host::command_options("plot")},
+          {"inspect", gdsmc::host::command_options("inspect")},
           {"help", gdsmc::host::command_options("help")}};
 }
 

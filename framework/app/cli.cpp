@@ -47,9 +47,13 @@ const std::vector<OptionSpec>& command_options(const std::string& command) {
                                               {{"--output", "-o"}, "a value"},
                                               {{"--plugin-path"}, "a value"}};
   static const std::vector<OptionSpec> plugins = {{{"--help", "-h"}, ""}, {{"--plugin-path"}, "a value"}};
+  static const std::vector<OptionSpec> plot = {{{"--help", "-h"}, ""}, {{"--out"}, "a directory"}};
+  static const std::vector<OptionSpec> inspect = {{{"--help", "-h"}, ""}, {{"--long", "-l"}, ""}};
   static const std::vector<OptionSpec> none;
   if (command == "run" || command == "validate") return run;
   if (command == "plugins") return plugins;
+  if (command == "plot") return plot;
+  if (command == "inspect") return inspect;
   return none;
 }
 

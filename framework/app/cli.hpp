@@ -26,10 +26,10 @@ struct Args {
 // "unknown option '--x'").
 bool parse_args(int argc, char** argv, int first, const std::vector<OptionSpec>& specs, Args& out, std::string& error);
 
-// The options each of run, validate and plugins accepts (`gdsmc conformance` has its own table in
+// The options each of run, validate, plugins, plot and inspect accepts (`gdsmc conformance` has its own table in
 // conformance/runner.cpp; `gdsmc help` takes none). run and validate accept the same options, so
 // that a run's command line can be checked by changing the command word; plugins accepts only
-// --plugin-path and --help. The main help (app/main.cpp) lists every one of them, which
+// --plugin-path and --help; plot --out and --help; inspect --long and --help. The main help (app/main.cpp) lists every one of them, which
 // tests/cli_help_test.cpp checks against these tables. Returns an empty table for any other word.
 const std::vector<OptionSpec>& command_options(const std::string& command);
 

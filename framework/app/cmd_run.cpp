@@ -39,6 +39,9 @@ Options:
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   -h, --help             this text
 
+With output.plots: true the finished file is then drawn by `gdsmc plot` (PNGs in
+<output>_plots/); a plot that fails is a warning, not a failed run.
+
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
 
@@ -244,6 +247,12 @@ int cmd_run(const Options& o, bool run_it) {
     return lost(e);
   }
   if (!o.quiet) print_summary(p, cases.size(), result);
+  if (p.output_plots) {
+    std::string why;
+    if (!plot_output(p.output_file, o.quiet, why))
+      std::cerr << "gdsmc: warning: output.plots: " << p.output_file.string() << " is complete, but drawing it failed: "
+                << why << " (run `gdsmc plot " << p.output_file.string() << "` once that is fixed)\n";
+  }
   return 0;
 }
 

@@ -57,8 +57,22 @@ gdsmc conformance PLUGIN.so [options]
   --timeout S            seconds allowed per check (default 120)
   -h, --help             the help of `conformance`: every check, by kind
 
+gdsmc plot OUTPUT.h5 [options]
+  Draw every diagnostic of an output file, one PNG per figure (series with their error bands,
+  profiles, histograms, sweep summaries, theory lines); prints each file written. Python 3 with
+  the Debian packages python3-h5py, python3-numpy, python3-matplotlib.
+  --out DIR              the directory of the PNGs (default OUTPUT_plots/ beside OUTPUT.h5)
+  -h, --help             the help of `plot`
+
+gdsmc inspect OUTPUT.h5 [options]
+  Print an output file's provenance (version, pipeline, seed, overrides, plugins) and every
+  dataset with its shape and unit.
+  -l, --long             also the whole pipeline text and each dataset's description
+  -h, --help             the help of `inspect`
+
 gdsmc help [COMMAND]
-  This text, or the help of COMMAND (run, validate, plugins, conformance). No options.
+  This text, or the help of COMMAND (run, validate, plugins, conformance, plot, inspect).
+  No options.
 
 gdsmc --version          the release and the plugin SDK ABI version
 gdsmc --help, -h         this text
@@ -69,7 +83,7 @@ The documentation is installed in <prefix>/share/doc/gdsmc/ (user-guide.md, outp
 references.md, plugin-author-guide.md and examples/, one plugin project of each kind).
 
 Exit status: 0 success, 1 invalid input or failed run (nothing written), 2 bad command line,
-130 interrupted (nothing written).
+130 interrupted (nothing written). A failure of output.plots is a warning: the run exits 0.
 )";
 
 }  // namespace
@@ -96,12 +110,20 @@ int main(int argc, char** argv) {
       char* args[] = {name, help, nullptr};
       return run_conformance(2, args);
     }
-    if (!topic.empty() && topic != "run" && topic != "validate" && topic != "plugins" && topic != "help")
+    if (!topic.empty() && topic != "run" && topic != "validate" && topic != "plugins" && topic != "plot" &&
+        topic != "inspect" && topic != "help")
       return usage_error("help: unknown command '" + topic + "'");
-    std::cout << (topic == "run" ? kRunHelp : topic == "validate" ? kValidateHelp : topic == "plugins" ? kPluginsHelp : kMainHelp);
+    std::cout << (topic == "run"        ? kRunHelp
+                  : topic == "validate" ? kValidateHelp
+                  : topic == "plugins"  ? kPluginsHelp
+                  : topic == "plot"     ? kPlotHelp
+                  : topic == "inspect"  ? kInspectHelp
+                                        : kMainHelp);
     return 0;
   }
   if (cmd == "conformance") return run_conformance(argc - 1, argv + 1);
+  if (cmd == "plot") return cmd_plot(argc, argv);
+  if (cmd == "inspect") return cmd_inspect(argc, argv);
   if (cmd != "run" && cmd != "validate" && cmd != "plugins") return usage_error("unknown command '" + cmd + "'");
   Options o;
   std::string error;

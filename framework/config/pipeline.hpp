@@ -93,6 +93,7 @@ struct Pipeline {
   SourceLocation output_file_where;  // where output.file was given (file "": the default name)
   bool output_particles = false;  // write the final particle state (/particles)
   bool output_realizations = false;  // also write each realization's own diagnostics (<group>/realizations/<k>)
+  bool output_plots = false;  // after a successful run, draw the output with `gdsmc plot` (PNGs in <output>_plots/)
   std::shared_ptr<PluginRegistry> registry;
   // Problems that do not refuse the pipeline but that the user should see: plugin files on the
   // search path that could not be used (and are so shadowed by others or missing), `plugins:`

@@ -188,7 +188,7 @@ void parse_output(Checker& c, const YAML::Node& out, Pipeline& p) {
   if (!out.IsMap()) {
     c.error("output", out, "expected {file: NAME.h5}");
   } else {
-    c.check_keys(out, "output", {"file", "particles", "realizations"});
+    c.check_keys(out, "output", {"file", "particles", "realizations", "plots"});
     if (const YAML::Node f = out["file"]) {
       if (f.IsScalar() && !f.Scalar().empty()) {
         p.output_file = f.Scalar();
@@ -202,6 +202,8 @@ void parse_output(Checker& c, const YAML::Node& out, Pipeline& p) {
       if (auto b = c.boolean(out["particles"], "output.particles")) p.output_particles = *b;
     if (out["realizations"])
       if (auto b = c.boolean(out["realizations"], "output.realizations")) p.output_realizations = *b;
+    if (out["plots"])
+      if (auto b = c.boolean(out["plots"], "output.plots")) p.output_plots = *b;
   }
 }
 

@@ -1,0 +1,207 @@
+// `gdsmc plot` (the Python plotter run by the host) and `gdsmc inspect` (C++) on small real
+// outputs: a homogeneous run (series with realization errors, theory lines, scalars), a slab
+// (profiles, histograms), a sweep (/summary against the swept parameter); output.plots: true; the
+// plotter installed with `cmake --install`; and the clear one-line errors on a text file and on
+// an HDF5 file that is not a gdsmc output. The plot tests need /usr/bin/python3 with the Debian
+// packages python3-h5py, python3-numpy and python3-matplotlib (scripts/install-deps installs
+// them): without them `gdsmc plot` fails saying which to install, and so do these tests.
+#include <gtest/gtest.h>
+
+#include <gdsmc/plugin.hpp>
+
+#include "test_support.hpp"
+
+using namespace gdsmc::test;
+
+namespace {
+
+// Two realizations, so that the series have _stderr companions; a steady window for the means.
+const std::string kHomogeneous = R"(run:
+  seed: 3
+  particles: 400
+  time_step: {value: 0.05, unit: tau0}
+  stop: {collisions_per_particle: 2}
+  realizations: 2
+  average_after: {collisions_per_particle: 1}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+diagnostics: [temperature, hcs_theory]
+output: {file: out.h5}
+)";
+
+// A sheared slab with profiles and the histograms of velocity_marginals (sampled in the window).
+const std::string kSlab = R"(run:
+  seed: 5
+  particles: 600
+  time_step: {value: 0.005, unit: tau0}
+  stop: {time: 0.2}
+  average_after: {time: 0.1}
+  record_every: 10
+system:
+  density: 1.0e-3
+  domain: slab
+  box: {y: 1.0}
+  layers: 5
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+boundaries:
+  y: {plugin: lees_edwards, shear_rate: 1}
+diagnostics: [profiles, velocity_marginals]
+output: {file: slab.h5}
+)";
+
+const std::string kSweep = replace_once(kHomogeneous, "output: {file: out.h5}", "output: {file: sweep.h5}\nsweep: {collision.alpha: [0.9, 0.7]}");
+
+// Run a pipeline written into dir; the output file is `file`.
+fs::path run_pipeline(const TempDir& dir, const std::string& yaml, const std::string& file) {
+  const fs::path p = dir.write("pipeline.yaml", yaml);
+  const ProcessResult r = run_gdsmc({"run", p.string(), "-q", "--plugin-path", plugin_dir().string()}, dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  return dir / file;
+}
+
+// A PNG: the signature and more than 1 KB.
+void expect_png(const fs::path& p) {
+  ASSERT_TRUE(fs::is_regular_file(p)) << p << " was not written";
+  EXPECT_GT(fs::file_size(p), 1024u) << p;
+  const std::string head = read_text(p).substr(0, 8);
+  EXPECT_EQ(head, std::string("\x89PNG\r\n\x1a\n", 8)) << p << " is not a PNG";
+}
+
+// `gdsmc plot` exits 0, prints every file it wrote, and every one is a PNG.
+std::vector<std::string> plot(const TempDir& dir, const std::vector<std::string>& args) {
+  std::vector<std::string> cmd{"plot"};
+  cmd.insert(cmd.end(), args.begin(), args.end());
+  const ProcessResult r = run_gdsmc(cmd, dir.path(), 300);
+  EXPECT_EQ(r.exit_code, 0) << "gdsmc plot needs python3-h5py, python3-numpy and python3-matplotlib "
+                               "(apt-get install python3-matplotlib, or scripts/install-deps):\n"
+                            << r.describe();
+  std::vector<std::string> files;
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);) {
+    files.push_back(fs::path(line).filename().string());
+    expect_png(fs::path(line).is_absolute() ? fs::path(line) : dir.path() / line);
+  }
+  return files;
+}
+
+bool has(const std::vector<std::string>& files, const std::string& name) {
+  return std::find(files.begin(), files.end(), name) != files.end();
+}
+
+}  // namespace
+
+TEST(Plot, HomogeneousSeriesWithErrorsTheoryAndScalars) {
+  TempDir dir;
+  run_pipeline(dir, kHomogeneous, "out.h5");
+  const std::vector<std::string> files = plot(dir, {"out.h5"});
+  // Default directory: out_plots/ beside the file.
+  EXPECT_TRUE(fs::is_directory(dir / "out_plots"));
+  for (const char* name : {"temperature-temperature.png",   // a series with its _stderr band
+                           "hcs_theory-temperature.png",    // measured T with Haff's law
+                           "hcs_theory-a2.png",             // a2 with a2_sonine
+                           "hcs_theory-scalars.png"})       // the scalars
+    EXPECT_TRUE(has(files, name)) << name << " not in: " << join(files);
+  // The theory series are drawn on the measured quantity's figure, not on their own.
+  EXPECT_FALSE(has(files, "hcs_theory-temperature_haff.png")) << join(files);
+  EXPECT_FALSE(has(files, "hcs_theory-a2_sonine.png")) << join(files);
+}
+
+TEST(Plot, SlabProfilesAndHistograms) {
+  TempDir dir;
+  run_pipeline(dir, kSlab, "slab.h5");
+  const std::vector<std::string> files = plot(dir, {"slab.h5", "--out", "figs"});
+  EXPECT_TRUE(fs::is_directory(dir / "figs"));
+  EXPECT_FALSE(fs::exists(dir / "slab_plots"));
+  for (const char* name : {"profiles-T.png", "profiles-u_x.png",                // profiles against y
+                           "velocity_marginals-F.png",                          // histograms (F_local_equilibrium on it)
+                           "velocity_marginals-g_x_plus.png"})
+    EXPECT_TRUE(has(files, name)) << name << " not in: " << join(files);
+  EXPECT_FALSE(has(files, "velocity_marginals-F_local_equilibrium.png")) << join(files);
+}
+
+TEST(Plot, SweepSummaryAgainstTheSweptParameter) {
+  TempDir dir;
+  run_pipeline(dir, kSweep, "sweep.h5");
+  const std::vector<std::string> files = plot(dir, {"sweep.h5"});
+  for (const char* name : {"summary-hcs_theory-a2.png",          // steady a2 +- error with a2_sonine, vs alpha
+                           "summary-temperature-temperature.png",
+                           "case0-temperature-temperature.png",  // each case's own figures
+                           "case1-hcs_theory-a2.png"})
+    EXPECT_TRUE(has(files, name)) << name << " not in: " << join(files);
+}
+
+TEST(Plot, OutputPlotsTrueDrawsAfterTheRun) {
+  TempDir dir;
+  run_pipeline(dir, replace_once(kHomogeneous, "output: {file: out.h5}", "output: {file: out.h5, plots: true}"), "out.h5");
+  expect_png(dir / "out_plots" / "temperature-temperature.png");
+  // And the key is checked.
+  const fs::path bad = dir.write("bad.yaml", replace_once(kHomogeneous, "output: {file: out.h5}", "output: {file: b.h5, plots: 2}"));
+  const ProcessResult r = run_gdsmc({"validate", bad.string(), "--plugin-path", plugin_dir().string()}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "output.plots")) << r.describe();
+}
+
+TEST(Plot, InstalledPlotterIsFound) {
+  TempDir dir;
+  run_pipeline(dir, kHomogeneous, "out.h5");
+  const fs::path prefix = dir.path() / "prefix";
+  const ShellResult install = shell("cmake --install '" + std::string(GDSMC_BINARY_DIR) + "' --prefix '" + prefix.string() + "'");
+  ASSERT_EQ(install.status, 0) << install.out;
+  ASSERT_TRUE(fs::is_regular_file(prefix / "share/gdsmc/gdsmc_plot.py"));
+  const ShellResult r = shell("cd '" + dir.path().string() + "' && '" + (prefix / "bin/gdsmc").string() + "' plot out.h5 --out installed");
+  EXPECT_EQ(r.status, 0) << r.out;
+  expect_png(dir / "installed" / "temperature-temperature.png");
+}
+
+TEST(Plot, RefusesFilesThatAreNotGdsmcOutputs) {
+  TempDir dir;
+  dir.write("notes.txt", "not HDF5\n");
+  {
+    const hid_t f = H5Fcreate((dir / "other.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    H5Fclose(f);
+  }
+  for (const char* command : {"plot", "inspect"}) {
+    const ProcessResult text = run_gdsmc({command, "notes.txt"}, dir.path());
+    EXPECT_EQ(text.exit_code, 1) << text.describe();
+    EXPECT_EQ(text.err, std::string("gdsmc ") + command +
+                            ": notes.txt: not an HDF5 file (expected a gdsmc output file, OUTPUT.h5 written by `gdsmc run`)\n")
+        << text.describe();
+    const ProcessResult other = run_gdsmc({command, "other.h5"}, dir.path());
+    EXPECT_EQ(other.exit_code, 1) << other.describe();
+    EXPECT_TRUE(contains(other.err, "other.h5: an HDF5 file but not a gdsmc output")) << other.describe();
+    EXPECT_EQ(std::count(other.err.begin(), other.err.end(), '\n'), 1) << "one line:\n" << other.describe();
+    const ProcessResult missing = run_gdsmc({command, "missing.h5"}, dir.path());
+    EXPECT_EQ(missing.exit_code, 1) << missing.describe();
+    EXPECT_TRUE(contains(missing.err, "missing.h5: no such file")) << missing.describe();
+    EXPECT_TRUE(dir.entries_except({"notes.txt", "other.h5"}).empty()) << "nothing is written";
+  }
+}
+
+TEST(Inspect, PrintsProvenanceAndDatasetsWithUnits) {
+  TempDir dir;
+  run_pipeline(dir, kHomogeneous, "out.h5");
+  const ProcessResult r = run_gdsmc({"inspect", "out.h5"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_EQ(lines_starting(r.out, "  seed").size(), 1u) << r.out;
+  EXPECT_TRUE(contains(lines_starting(r.out, "  seed").at(0), " 3")) << r.out;
+  EXPECT_TRUE(contains(r.out, std::string("gdsmc version   ") + gdsmc::version_string)) << r.out;
+  EXPECT_TRUE(contains(r.out, "pipeline.yaml")) << r.out;
+  EXPECT_TRUE(contains(r.out, "inelastic_hard_spheres")) << r.out;
+  EXPECT_TRUE(contains(r.out, "params  alpha=0.9")) << r.out;
+  // A known dataset with its shape and unit, and a scalar.
+  const auto temperature = lines_starting(r.out, "  /diagnostics/temperature/temperature ");
+  ASSERT_EQ(temperature.size(), 1u) << r.out;
+  EXPECT_TRUE(temperature[0].find("[") != std::string::npos && temperature[0].substr(temperature[0].size() - 2) == "T0")
+      << temperature[0];
+  const auto time = lines_starting(r.out, "  /diagnostics/temperature/time ");
+  ASSERT_EQ(time.size(), 1u) << r.out;
+  EXPECT_EQ(time[0].substr(time[0].size() - 4), "tau0") << time[0];
+  EXPECT_EQ(lines_starting(r.out, "  /diagnostics/hcs_theory/a2.steady_mean ").size(), 1u) << r.out;
+  // --long: the descriptions too.
+  const ProcessResult l = run_gdsmc({"inspect", "--long", "out.h5"}, dir.path());
+  ASSERT_EQ(l.exit_code, 0) << l.describe();
+  EXPECT_TRUE(contains(l.out, "time t / tau0")) << l.out;
+}
