@@ -32,10 +32,8 @@ class AntiDrag final : public gdsmc::Forcing {
   int order() const override { return 0; }
 
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    const double* tally = ctx.collision_tally("dissipated_energy");
-    const double dissipated_total = tally ? *tally : -ctx.collision_energy_change;
-    const double dissipated = dissipated_total - last_;
-    last_ = dissipated_total;
+    cooling_.update(ctx, p.count);
+    const double dissipated = cooling_.dissipated_energy;
     if (dissipated == 0 || p.count < 2) return 0.0;
     double u[3] = {0, 0, 0};
     for (std::size_t i = 0; i < p.count; ++i) {
@@ -60,7 +58,7 @@ class AntiDrag final : public gdsmc::Forcing {
   }
 
  private:
-  double last_ = 0;  // the dissipated energy up to the previous call
+  gdsmc::StepCooling cooling_;  // what this step's collisions dissipated
 };
 
 }  // namespace

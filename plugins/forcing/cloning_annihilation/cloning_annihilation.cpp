@@ -140,15 +140,10 @@ class CloningAnnihilation final : public gdsmc::Forcing {
       reservoir_.start(size_, *alpha, relaxation_, start);
       usable_.assign(p.count, 1);
     }
-    const double* tally = ctx.collision_tally("dissipated_energy");
-    const double dissipated_total = tally ? *tally : -ctx.collision_energy_change;
-    const double dissipated = dissipated_total - last_dissipated_;
-    last_dissipated_ = dissipated_total;
-    const double s_step = static_cast<double>(ctx.collisions - last_collisions_) / static_cast<double>(p.count);
-    last_collisions_ = ctx.collisions;
+    cooling_.update(ctx, p.count);
     gdsmc::Rng reservoir_rng = ctx.streams->for_unit(0);
-    reservoir_.advance(s_step, reservoir_rng);
-    if (!(dissipated > 0) || p.count < 2) return 0.0;
+    reservoir_.advance(cooling_.collisions_per_particle, reservoir_rng);
+    if (!(cooling_.dissipated_energy > 0) || p.count < 2) return 0.0;
 
     double u[3] = {0, 0, 0}, sum2 = 0;
     for (std::size_t i = 0; i < p.count; ++i) {
@@ -165,9 +160,7 @@ class CloningAnnihilation final : public gdsmc::Forcing {
     const double temperature = sum2 / (3.0 * n);  // m = 1
     if (!(temperature > 0)) return 0.0;
     gdsmc::Rng rng = ctx.streams->for_unit(1);
-    const double expected = dissipated / (3.0 * temperature);  // (zeta dt / 2) N, zeta dt = dE / ((3/2) N T)
-    auto events = static_cast<std::uint64_t>(expected);
-    if (rng.uniform() < expected - static_cast<double>(events)) ++events;
+    auto events = cooling_.half_zeta_events(temperature, rng);  // (zeta dt / 2) N
     if (events == 0) return 0.0;
     events = std::min<std::uint64_t>(events, p.count / 2);  // a step this coarse is refused by the host long before
 
@@ -199,8 +192,7 @@ class CloningAnnihilation final : public gdsmc::Forcing {
   VelocityGrid grid_;
   std::vector<std::uint8_t> usable_;    // 0: annihilated already in this step
   std::vector<std::uint32_t> touched_;  // the particles annihilated in this step
-  double last_dissipated_ = 0;
-  std::uint64_t last_collisions_ = 0;
+  gdsmc::StepCooling cooling_;  // what this step's collisions dissipated
 };
 
 }  // namespace

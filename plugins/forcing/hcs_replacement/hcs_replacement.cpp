@@ -48,16 +48,10 @@ class HcsReplacement final : public gdsmc::Forcing {
 
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     if (!reservoir_.started()) start_reservoir(ctx);
-    const double* tally = ctx.collision_tally("dissipated_energy");
-    const double dissipated_total = tally ? *tally : -ctx.collision_energy_change;
-    const double dissipated = dissipated_total - last_dissipated_;
-    last_dissipated_ = dissipated_total;
-    // Advance the reservoir by the collisions per particle the gas had in this step.
-    const double s_step = static_cast<double>(ctx.collisions - last_collisions_) / static_cast<double>(p.count);
-    last_collisions_ = ctx.collisions;
+    cooling_.update(ctx, p.count);
     gdsmc::Rng reservoir_rng = ctx.streams->for_unit(0);
-    reservoir_.advance(s_step, reservoir_rng);
-    if (!(dissipated > 0) || p.count < 2) return 0.0;
+    reservoir_.advance(cooling_.collisions_per_particle, reservoir_rng);
+    if (!(cooling_.dissipated_energy > 0) || p.count < 2) return 0.0;
 
     double u[3] = {0, 0, 0}, sum2 = 0;
     for (std::size_t i = 0; i < p.count; ++i) {
@@ -72,9 +66,7 @@ class HcsReplacement final : public gdsmc::Forcing {
     if (!(temperature > 0)) return 0.0;
     // (1/2) zeta dt N = dE / (3 T), with zeta dt = dE / ((3/2) N T).
     gdsmc::Rng rng = ctx.streams->for_unit(1);
-    const double expected = dissipated / (3.0 * temperature);
-    auto count = static_cast<std::uint64_t>(expected);
-    if (rng.uniform() < expected - static_cast<double>(count)) ++count;
+    auto count = cooling_.half_zeta_events(temperature, rng);  // (zeta dt / 2) N
     const double scale = std::sqrt(temperature);
     double energy = 0;
     for (std::uint64_t k = 0; k < count; ++k) {
@@ -102,8 +94,7 @@ class HcsReplacement final : public gdsmc::Forcing {
   std::size_t size_;
   double relaxation_;
   gdsmc::HcsReservoir reservoir_;  // f^(0) at unit temperature
-  double last_dissipated_ = 0;
-  std::uint64_t last_collisions_ = 0;
+  gdsmc::StepCooling cooling_;  // what this step's collisions dissipated
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 // gdsmc SDK: a homogeneous cooling state (HCS) of inelastic hard spheres kept beside the gas, in
 // its scaled form (zero mean, unit temperature), as a source of draws from f^(0) (001 Eq. 2.8).
-// Header-only: plugins that need f^(0) (002's hcs_replacement, 001's cloning_annihilation) share it.
+// Header-only: plugins that need f^(0) (002's hcs_replacement, 001's cloning_annihilation) share it,
+// with StepCooling, what the step's collisions dissipated, which they and anti_drag follow.
 #pragma once
 #include <cmath>
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "gdsmc/collision.hpp"
+#include "gdsmc/context.hpp"
 #include "gdsmc/random.hpp"
 #include "gdsmc/vec3.hpp"
 
@@ -89,6 +91,38 @@ class HcsReservoir {
   double half_one_plus_alpha_ = 1.0;
   double majorant_ = 6.0 * M_SQRT2;  // of |g| at unit temperature (raised when exceeded)
   double owed_ = 0;                  // accepted collisions still owed
+};
+
+// What the collisions of the step just taken did, for forcings that compensate or follow the
+// cooling (002 Eq. 15, 001 Eq. 3.17): the energy they dissipated -- the increase of the rule's tally
+// "dissipated_energy", or minus the kinetic-energy change the collisions declared (the same for
+// inelastic_hard_spheres) -- and the collisions per particle s. Call update() once per step.
+class StepCooling {
+ public:
+  double dissipated_energy = 0;        // dE of this step (m = 1)
+  double collisions_per_particle = 0;  // ds of this step
+
+  void update(const StepContext& ctx, std::size_t particles) {
+    const double* tally = ctx.collision_tally("dissipated_energy");
+    const double total = tally ? *tally : -ctx.collision_energy_change;
+    dissipated_energy = total - last_dissipated_;
+    last_dissipated_ = total;
+    collisions_per_particle =
+        particles ? static_cast<double>(ctx.collisions - last_collisions_) / static_cast<double>(particles) : 0.0;
+    last_collisions_ = ctx.collisions;
+  }
+  // (zeta dt / 2) N = dE / (3 T) (zeta dt = dE / ((3/2) N T), m = 1): the expected number of the
+  // step's events of rate zeta/2 per particle, stochastically rounded with one draw of `rng`.
+  std::uint64_t half_zeta_events(double temperature, Rng& rng) const {
+    const double expected = dissipated_energy / (3.0 * temperature);
+    auto count = static_cast<std::uint64_t>(expected);
+    if (rng.uniform() < expected - static_cast<double>(count)) ++count;
+    return count;
+  }
+
+ private:
+  double last_dissipated_ = 0;
+  std::uint64_t last_collisions_ = 0;
 };
 
 }  // namespace gdsmc
