@@ -1,0 +1,569 @@
+// The acceleration-driven Poiseuille channel of paper 004: steady profiles after the total energy
+// has settled (Appendix), and every derived quantity of Secs. IV-VI with jackknife errors.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gdsmc/gdsmc.hpp>
+
+namespace {
+
+// Per-bin sums over the samples of a batch, kAcc doubles per bin (as the `profiles` diagnostic).
+enum Acc : std::size_t { kN, kSx, kSy, kSz, kSxx, kSyy, kSzz, kSxy, kSxz, kSyz, kAcc };
+// Whole-system sums of a batch, after the bins.
+enum Extra : std::size_t {
+  eSamples,      // N_t
+  eTime,         // elapsed time (reduced units)
+  eSumVx,        // sum over samples of sum_i v_x,i
+  eWallMomentum, // x momentum given to the gas by both walls
+  eWallEnergy,   // energy given to the gas by both walls
+  eCollisions,   // energy added by the collisions (negative: dissipated)
+  eForcings,     // energy added by the forcings (the body acceleration's work)
+  kExtra
+};
+
+// Scalars derived from a set of sums, in this order.
+enum Scalar : std::size_t {
+  rho_centre, rho_fw, Kn_centre, Kn_fw, T_centre, T_max, y_T_max, delta_T, u_centre, u_s, du_dy_fw, zeta,
+  T_s, dT_dy_fw, zeta_T, p_centre, N1_centre, N2_centre, T2_centre, rho2_centre, chi, Q,
+  momentum_balance_max, wall_momentum_ratio, power_acceleration, power_collisions, power_walls,
+  energy_balance_closure, power_from_flow_ratio, kScalar
+};
+
+struct Column {
+  const char* name;
+  const char* unit;
+  const char* doc;
+};
+
+constexpr Column kScalars[kScalar] = {
+    {"rho_centre", "rho_av", "centre-line density rho(0) from the even fit (004 Fig. 4a)"},
+    {"rho_fw", "rho_av", "near-wall density rho_fw = [rho(-W/2) + rho(W/2)]/2, the wall-adjacent bins (004 Eq. 20)"},
+    {"Kn_centre", "1", "local Knudsen number at the centre Kn_0 = Kn / rho(0) (004 Eq. 21, Fig. 21)"},
+    {"Kn_fw", "1", "near-wall Knudsen number Kn_fw = Kn / rho_fw (004 Eq. 24)"},
+    {"T_centre", "T_w", "centre-line temperature T(0) from the even fit"},
+    {"T_max", "T_w", "maximum of the temperature profile (vertex of the parabola through the largest bin)"},
+    {"y_T_max", "W", "distance |y| of the temperature maximum from the centre line"},
+    {"delta_T", "1", "excess temperature Delta T = (T_max - T(0)) / T(0) (004 Eq. 22)"},
+    {"u_centre", "sqrt(2T_w/m)", "centre-line velocity u_x(0) from the even fit"},
+    {"u_s", "sqrt(2T_w/m)", "slip velocity u_s = [u_x(-W/2) + u_x(W/2)]/2, the wall-adjacent bins (004 Eq. 23)"},
+    {"du_dy_fw", "sqrt(2T_w/m)/W", "near-wall velocity gradient u'_w = (du/dy)_fw into the gas (004 Fig. 11b)"},
+    {"zeta", "W", "velocity slip length zeta = u_s / u'_w (004 Eq. 25)"},
+    {"T_s", "T_w", "temperature slip T_s = T_fw - T_w (004 Eq. 27)"},
+    {"dT_dy_fw", "T_w/W", "near-wall temperature gradient T'_w = (dT/dy)_fw into the gas (004 Fig. 12c)"},
+    {"zeta_T", "W", "temperature slip length zeta_T = T_s / T'_w (004 Eq. 29)"},
+    {"p_centre", "rho_av u_R^2/2", "centre-line pressure p(0) = tr P / 3 (004 Eq. 31; P_R = n_av T_w)"},
+    {"N1_centre", "1", "first normal stress difference at the centre N1(0) = (P_xx - P_yy)/p (004 Eq. 34)"},
+    {"N2_centre", "1", "second normal stress difference at the centre N2(0) = (P_yy - P_zz)/p (004 Eq. 35)"},
+    {"T2_centre", "1", "curvature T''(0) of T/T(0) against y/W (004 Eq. 36)"},
+    {"rho2_centre", "1", "curvature rho''(0)/rho(0) against y/W (004 Eq. 36)"},
+    {"chi", "1", "Burnett combination chi = delta1 T''(0) + delta2 rho''(0)/rho(0) (004 Eq. 39)"},
+    {"Q", "1", "flow rate Q = int rho u_x dy / (rho_av u_R W a_hat) (004 Eq. 40)"},
+    {"momentum_balance_max", "1",
+     "max over bins of |P_xy(y) - a int_{-W/2}^{y} rho dy' + a rho_av W/2| / (a rho_av W/2) (004 Eq. 33)"},
+    {"wall_momentum_ratio", "1",
+     "x momentum the walls gave the gas per unit time over N m a (steady state: -1, the force balance)"},
+    {"power_acceleration", "T_w/tau0", "energy per particle and unit time added by the forcings (body acceleration)"},
+    {"power_collisions", "T_w/tau0", "energy per particle and unit time added by the collisions (minus the dissipation)"},
+    {"power_walls", "T_w/tau0", "energy per particle and unit time given to the gas by both walls"},
+    {"energy_balance_closure", "1",
+     "(power_acceleration + power_collisions + power_walls) / power_acceleration: dE/dt over the work, 0 when steady"},
+    {"power_from_flow_ratio", "1",
+     "m a sum_i <v_x,i> (the work rate from the sampled flow) over power_acceleration (1 up to O(a dt))"},
+};
+
+// Profiles written as steady arrays (with errors), in this order.
+enum ProfileIndex : std::size_t { pRho, pUx, pT, pP, pPxx, pPyy, pPzz, pPxy, pPxyBalance, pPxyResidual, pN1, pN2, pKn, kProfile };
+constexpr Column kProfiles[kProfile] = {
+    {"rho", "rho_av", "density rho(y) (004 Eq. 14)"},
+    {"u_x", "sqrt(2T_w/m)", "streamwise velocity u_x(y) (004 Eq. 15)"},
+    {"T", "T_w", "temperature T(y) (004 Eq. 16)"},
+    {"p", "rho_av u_R^2/2", "pressure p(y) = tr P / 3 (004 Eq. 31)"},
+    {"P_xx", "rho_av u_R^2/2", "P_xx(y) (004 Eq. 31)"},
+    {"P_yy", "rho_av u_R^2/2", "P_yy(y) (004 Eq. 31)"},
+    {"P_zz", "rho_av u_R^2/2", "P_zz(y) (004 Eq. 31)"},
+    {"P_xy", "rho_av u_R^2/2", "shear stress P_xy(y) (004 Eq. 31)"},
+    {"P_xy_balance", "rho_av u_R^2/2", "a int_{-W/2}^{y} rho dy' - a rho_av W/2, what Eq. 33 says P_xy(y) is"},
+    {"P_xy_residual", "rho_av u_R^2/2", "P_xy - P_xy_balance: the momentum balance of Eq. 33, zero within errors"},
+    {"N1", "1", "first normal stress difference N1(y) (004 Eq. 34)"},
+    {"N2", "1", "second normal stress difference N2(y) (004 Eq. 35)"},
+    {"Kn", "1", "local Knudsen number Kn(y) (004 Eq. 21)"},
+};
+
+constexpr double kDelta1 = -0.04;  // 004 Eq. 37 (Sela & Goldhirsch)
+constexpr double kDelta2 = 0.214;  // 004 Eq. 37
+constexpr std::size_t kMaxBatches = 16;
+
+class PoiseuilleChannel final : public gdsmc::Diagnostic {
+ public:
+  static constexpr const char* name = "poiseuille_channel";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* summary =
+      "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
+  static constexpr const char* documentation =
+      "Slab systems between two walls, driven along x by body_acceleration (paper 004). Units as in\n"
+      "the paper (Eq. 19): rho in rho_av = m N / volume, T in T_w, u in u_R = sqrt(2 T_w/m), y in\n"
+      "W = Ly, stresses in P_R = rho_av u_R^2 / 2 = n_av T_w. T_w is the parameter wall_temperature\n"
+      "(default: the system temperature T0); a_hat = a W / u_R^2 (Eq. 17) and Kn = lambda0 / W\n"
+      "(Eq. 18) are written as scalars.\n"
+      "Steady state (Appendix): the kinetic energy per particle E(t) is averaged over consecutive\n"
+      "windows of steady_window (time); the state is steady from the end of the first window whose\n"
+      "mean differs from the previous window's by at most steady_tolerance (relative) and that ends\n"
+      "after min_time. From then on every sample is accumulated (004 Eq. 13) per sampling bin: the\n"
+      "sums of 1, v_a and v_a v_b, in batches of consecutive records; when 16 batches are full,\n"
+      "neighbours are merged (8 batches of twice the length), so the batches always cover the whole\n"
+      "steady window in 8-16 pieces.\n"
+      "At the end, from the sums of the whole window: the profiles (arrays with their bin centres y/W\n"
+      "and jackknife errors over the batches) rho, u_x, T, p, P_xx, P_yy, P_zz, P_xy, the momentum\n"
+      "balance a int rho dy of Eq. 33, N1, N2, Kn(y); the even profiles (all but P_xy) are first\n"
+      "symmetrised, bin b with its mirror image. The scalars (each with <name>_error, the delete-one\n"
+      "jackknife error over the batches: an honest error when the batches are longer than the\n"
+      "correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
+      "  rho(0), T(0), u_x(0), p(0), N1(0), N2(0) and the curvatures T''(0) (of T/T(0)) and\n"
+      "  rho''(0)/rho(0): least-squares fit f = c0 + c2 y^2 + c4 y^4 (Eigen) over the bins with\n"
+      "  |y| <= centre_fit W; f(0) = c0, f''(0) = 2 c2;\n"
+      "  rho_fw, u_s, T_fw (Eqs. 20, 23, 27): the wall-adjacent bins, as the paper (so they depend on\n"
+      "  the bin width, 004 Sec. III.D.1); near-wall gradients u'_w, T'_w: straight-line fit over the\n"
+      "  wall_fit_bins bins next to each wall, the two walls averaged with the sign pointing into the gas;\n"
+      "  zeta = u_s/u'_w (Eq. 25), T_s = T_fw - T_w (27), zeta_T = T_s/T'_w (29);\n"
+      "  T_max: the largest bin of T refined by the parabola through it and its neighbours; delta_T\n"
+      "  (Eq. 22) = (T_max - T(0))/T(0) and y_T_max = |y| of the maximum;\n"
+      "  chi = delta1 T''(0) + delta2 rho''(0)/rho(0), delta1 = -0.04, delta2 = 0.214 (Eqs. 37, 39);\n"
+      "  Q (Eq. 40) = <v_x> over all particles and samples / (u_R a_hat) (= int rho u dy / (rho_av u_R W\n"
+      "  a_hat) exactly: the integral is the mean streamwise velocity of all particles);\n"
+      "  checks that must hold in every steady run: momentum_balance_max (Eq. 33: the shear stress\n"
+      "  against a times the integrated density, relative to the wall stress a rho_av W/2),\n"
+      "  wall_momentum_ratio (the walls take out what the acceleration puts in: -1), the energy\n"
+      "  balance (work of the acceleration + collisions + walls = dE/dt, energy_balance_closure ~ 0)\n"
+      "  and power_from_flow_ratio (the work computed from the sampled flow over the host's ledger: 1).\n"
+      "Series per record: E [T_w per particle], steady (0/1), Q_record (Eq. 40 over the record).\n"
+      "A run that never becomes steady writes NaN and says so in the summary.\n"
+      "Parameters: steady_window (time, bare tau0; required), steady_tolerance (default 0.005),\n"
+      "min_time (bare tau0, default 0), wall_temperature (bare T0, default 1), centre_fit (default\n"
+      "0.25), wall_fit_bins (default 3).";
+
+  static std::vector<gdsmc::ParamSpec> parameters() {
+    return {gdsmc::ParamSpec::real("steady_window", "window of the energy test of the steady state (bare: tau0)")
+                .above(0.0)
+                .unit(gdsmc::Dimension::time),
+            gdsmc::ParamSpec::real("steady_tolerance", "largest relative change of the window mean of E(t) when steady")
+                .above(0.0)
+                .default_value(0.005),
+            gdsmc::ParamSpec::real("min_time", "never steady before this time (bare: tau0)")
+                .at_least(0.0)
+                .unit(gdsmc::Dimension::time)
+                .default_value(0.0),
+            gdsmc::ParamSpec::real("wall_temperature", "T_w of the units and of the temperature slip (bare: T0)")
+                .above(0.0)
+                .unit(gdsmc::Dimension::temperature)
+                .default_value(1.0),
+            gdsmc::ParamSpec::real("centre_fit", "half-width of the centre-line fit, in W").range(0.05, 0.5).default_value(0.25),
+            gdsmc::ParamSpec::integer("wall_fit_bins", "bins next to each wall in the gradient fit").range(2, 1000).default_value(3)};
+  }
+  explicit PoiseuilleChannel(const gdsmc::Params& p)
+      : window_(p.real("steady_window")),
+        tolerance_(p.real("steady_tolerance")),
+        min_time_(p.real("min_time")),
+        t_wall_(p.real("wall_temperature")),
+        centre_fit_(p.real("centre_fit")),
+        wall_bins_(static_cast<std::size_t>(p.integer("wall_fit_bins"))) {}
+
+  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
+    if (sys.geometry != gdsmc::Geometry::slab)
+      throw std::runtime_error("poiseuille_channel: needs a slab system (system.domain: slab) between two walls");
+    sys_ = sys;
+    bins_ = sys.bins;
+    if (bins_ < 2 * wall_bins_ + 2)
+      throw std::runtime_error("poiseuille_channel: wall_fit_bins = " + std::to_string(wall_bins_) + " needs at least " +
+                               std::to_string(2 * wall_bins_ + 2) + " sampling bins (system.bins is " +
+                               std::to_string(bins_) + ")");
+    stride_ = bins_ * kAcc + kExtra;
+    batches_.assign(kMaxBatches * stride_, 0.0);
+    work_.assign(stride_, 0.0);
+    filled_ = 0;
+    batch_records_ = 1;
+    records_in_batch_ = 0;
+    steady_ = false;
+    steady_from_ = std::nan("");
+    window_sum_ = 0;
+    window_samples_ = 0;
+    window_start_ = 0;
+    previous_window_mean_ = std::nan("");
+    record_e_ = record_vx_ = 0;
+    record_samples_ = 0;
+    have_last_ = false;
+    id_e_ = out.series("E", "T_w", "kinetic energy per particle E(t) = (m/2) sum v^2 / N (004 Eq. A1), mean over the record");
+    id_steady_ = out.series("steady", "1", "1 once E(t) has settled (the averaging window), else 0");
+    id_q_ = out.series("Q_record", "1", "flow rate of Eq. 40 over the record's samples");
+  }
+
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
+    const double e = ctx.moments->kinetic_energy / static_cast<double>(p.count);
+    double sum_vx = 0;
+    for (std::size_t i = 0; i < p.count; ++i) sum_vx += p.vx[i];
+    record_e_ += e;
+    record_vx_ += sum_vx;
+    ++record_samples_;
+    accel_ = ctx.body_acceleration.x;
+    if (!steady_) {
+      test_steady(ctx, e);
+      if (!steady_) return;
+    }
+    // Accumulate into the open batch (the last filled_ slot).
+    double* b = &batches_[(filled_ - 1) * stride_];
+    for (std::size_t i = 0; i < p.count; ++i) {
+      double* a = &b[sys_.bin_of(p.y[i]) * kAcc];
+      const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
+      a[kN] += 1.0;
+      a[kSx] += vx; a[kSy] += vy; a[kSz] += vz;
+      a[kSxx] += vx * vx; a[kSyy] += vy * vy; a[kSzz] += vz * vz;
+      a[kSxy] += vx * vy; a[kSxz] += vx * vz; a[kSyz] += vy * vz;
+    }
+    double* x = b + bins_ * kAcc;
+    x[eSamples] += 1.0;
+    x[eSumVx] += sum_vx;
+    const Ledger now = ledger(ctx);
+    if (have_last_) {
+      x[eTime] += ctx.time - last_.time;
+      x[eWallMomentum] += now.wall_momentum - last_.wall_momentum;
+      x[eWallEnergy] += now.wall_energy - last_.wall_energy;
+      x[eCollisions] += now.collisions - last_.collisions;
+      x[eForcings] += now.forcings - last_.forcings;
+    }
+    last_ = now;
+    have_last_ = true;
+  }
+
+  void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
+    const double ns = static_cast<double>(record_samples_);
+    out.append(id_e_, record_samples_ ? record_e_ / ns / t_wall_ : std::nan(""));
+    out.append(id_steady_, steady_ ? 1.0 : 0.0);
+    out.append(id_q_, record_samples_ ? record_vx_ / (ns * static_cast<double>(sys_.particles)) / (u_ref() * a_hat())
+                                      : std::nan(""));
+    record_e_ = record_vx_ = 0;
+    record_samples_ = 0;
+    if (!steady_ || filled_ == 0) return;
+    // Close the record in the open batch; open the next batch when this one has its length.
+    if (++records_in_batch_ < batch_records_) return;
+    records_in_batch_ = 0;
+    if (filled_ == kMaxBatches) {  // merge neighbours: 8 batches of twice the length
+      for (std::size_t k = 0; k < kMaxBatches / 2; ++k) {
+        double* dst = &batches_[k * stride_];
+        const double* a = &batches_[2 * k * stride_];
+        const double* c = &batches_[(2 * k + 1) * stride_];
+        for (std::size_t j = 0; j < stride_; ++j) dst[j] = a[j] + c[j];
+      }
+      std::fill(batches_.begin() + static_cast<std::ptrdiff_t>(kMaxBatches / 2 * stride_), batches_.end(), 0.0);
+      filled_ = kMaxBatches / 2;
+      batch_records_ *= 2;
+    }
+    ++filled_;  // the next batch opens (empty)
+  }
+
+  void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
+    out.scalar("a_hat", a_hat(), "1", "dimensionless acceleration a_hat = a W / (2 T_w/m) (004 Eq. 17)");
+    out.scalar("Kn", sys_.mean_free_path0 / sys_.box[1], "1", "Knudsen number lambda0 / W (004 Eq. 18)");
+    out.scalar("steady_from", steady_ ? steady_from_ / sys_.time_unit0 : std::nan(""), "tau0",
+               "time at which E(t) was found steady and averaging began");
+    // The batches that hold samples (the open one may be empty).
+    std::size_t used = 0;
+    for (std::size_t k = 0; k < filled_; ++k)
+      if (batches_[k * stride_ + bins_ * kAcc + eSamples] > 0) ++used;
+    out.scalar("batches", static_cast<double>(used), "1", "batches of the steady window in the jackknife");
+    std::vector<double> total(stride_, 0.0);
+    for (std::size_t k = 0; k < used; ++k)
+      for (std::size_t j = 0; j < stride_; ++j) total[j] += batches_[k * stride_ + j];
+    out.scalar("averaged_time", total[bins_ * kAcc + eTime] / sys_.time_unit0, "tau0", "length of the steady window");
+
+    Result whole = evaluate(total);
+    Result err;
+    err.scalars.assign(kScalar, std::nan(""));
+    err.profiles.assign(kProfile * bins_, std::nan(""));
+    if (used >= 2) {
+      std::vector<Result> jack;
+      for (std::size_t k = 0; k < used; ++k) {
+        for (std::size_t j = 0; j < stride_; ++j) work_[j] = total[j] - batches_[k * stride_ + j];
+        jack.push_back(evaluate(work_));
+      }
+      jackknife(jack, whole.scalars, err.scalars, [](const Result& r) -> const std::vector<double>& { return r.scalars; });
+      jackknife(jack, whole.profiles, err.profiles, [](const Result& r) -> const std::vector<double>& { return r.profiles; });
+    }
+    for (std::size_t s = 0; s < kScalar; ++s) {
+      out.scalar(kScalars[s].name, whole.scalars[s], kScalars[s].unit, kScalars[s].doc);
+      out.scalar(std::string(kScalars[s].name) + "_error", err.scalars[s], kScalars[s].unit,
+                 std::string("jackknife error over the batches of ") + kScalars[s].name);
+    }
+    double chi2 = 0;
+    std::size_t terms = 0;
+    for (std::size_t b = 0; b < bins_; ++b) {
+      const double res = whole.profiles[pPxyResidual * bins_ + b], e = err.profiles[pPxyResidual * bins_ + b];
+      if (std::isfinite(res) && e > 0) {
+        chi2 += res * res / (e * e);
+        ++terms;
+      }
+    }
+    out.scalar("momentum_balance_chi2", terms ? chi2 / static_cast<double>(terms) : std::nan(""), "1",
+               "mean over bins of (P_xy_residual / its jackknife error)^2: about 1 when Eq. 33 holds");
+    std::vector<double> y(bins_);
+    for (std::size_t b = 0; b < bins_; ++b) y[b] = sys_.bin_centre(b) / sys_.box[1];
+    out.array("y", y, {bins_}, "W", "bin centres y / W of the steady profiles");
+    for (std::size_t k = 0; k < kProfile; ++k) {
+      std::vector<double> v(whole.profiles.begin() + static_cast<std::ptrdiff_t>(k * bins_),
+                            whole.profiles.begin() + static_cast<std::ptrdiff_t>((k + 1) * bins_));
+      std::vector<double> e(err.profiles.begin() + static_cast<std::ptrdiff_t>(k * bins_),
+                            err.profiles.begin() + static_cast<std::ptrdiff_t>((k + 1) * bins_));
+      out.array(std::string("steady_") + kProfiles[k].name, v, {bins_}, kProfiles[k].unit,
+                std::string("steady ") + kProfiles[k].doc);
+      out.array(std::string("steady_") + kProfiles[k].name + "_error", e, {bins_}, kProfiles[k].unit,
+                std::string("jackknife error of steady_") + kProfiles[k].name);
+    }
+    char line[512];
+    if (!steady_) {
+      out.summary("poiseuille_channel: E(t) never settled within the steady tolerance: no steady averages (NaN); "
+                  "run longer or loosen steady_tolerance");
+      return;
+    }
+    std::snprintf(line, sizeof line,
+                  "poiseuille_channel: steady from t = %.4g tau0 over %.4g tau0: Q = %.5g +- %.2g, rho(0) = %.4g, "
+                  "u_s = %.4g, Delta T = %.4g +- %.2g, N1(0) = %.3g, N2(0) = %.3g; momentum balance max %.2g, "
+                  "wall/body force %.5g, energy closure %.2g",
+                  steady_from_ / sys_.time_unit0, total[bins_ * kAcc + eTime] / sys_.time_unit0, whole.scalars[Q],
+                  err.scalars[Q], whole.scalars[rho_centre], whole.scalars[u_s], whole.scalars[delta_T],
+                  err.scalars[delta_T], whole.scalars[N1_centre], whole.scalars[N2_centre],
+                  whole.scalars[momentum_balance_max], whole.scalars[wall_momentum_ratio],
+                  whole.scalars[energy_balance_closure]);
+    out.summary(line);
+  }
+
+ private:
+  struct Ledger {
+    double time = 0, wall_momentum = 0, wall_energy = 0, collisions = 0, forcings = 0;
+  };
+  struct Result {
+    std::vector<double> scalars;   // kScalar
+    std::vector<double> profiles;  // kProfile x bins
+  };
+
+  double u_ref() const { return std::sqrt(2.0 * t_wall_ / sys_.mass); }
+  double a_hat() const { return accel_ * sys_.box[1] / (u_ref() * u_ref()); }  // 004 Eq. 17
+
+  static Ledger ledger(const gdsmc::StepContext& ctx) {
+    Ledger l;
+    l.time = ctx.time;
+    for (std::size_t w = 0; w < ctx.boundary_count; ++w) {
+      l.wall_momentum += ctx.boundaries[w].momentum[0];
+      l.wall_energy += ctx.boundaries[w].energy;
+    }
+    for (std::size_t k = 0; k < ctx.energy_ledger_size; ++k) {
+      const std::string stage = ctx.energy_ledger[k].stage;
+      if (stage == "collisions") l.collisions += ctx.energy_ledger[k].energy;
+      else if (stage != "y_min" && stage != "y_max") l.forcings += ctx.energy_ledger[k].energy;
+    }
+    return l;
+  }
+
+  // The energy test of the Appendix: consecutive window means of E(t).
+  void test_steady(const gdsmc::StepContext& ctx, double e) {
+    window_sum_ += e;
+    ++window_samples_;
+    if (ctx.time - window_start_ < window_ * (1.0 - 1e-12)) return;
+    const double mean = window_sum_ / static_cast<double>(window_samples_);
+    const bool settled = std::isfinite(previous_window_mean_) &&
+                         std::fabs(mean - previous_window_mean_) <= tolerance_ * std::fabs(mean);
+    previous_window_mean_ = mean;
+    window_sum_ = 0;
+    window_samples_ = 0;
+    window_start_ = ctx.time;
+    if (settled && ctx.time >= min_time_) {
+      steady_ = true;
+      steady_from_ = ctx.time;
+      filled_ = 1;  // open the first batch; this sample is its first
+      have_last_ = false;
+    }
+  }
+
+  // Symmetrise an even profile: bin b and its mirror bins-1-b get their mean.
+  void symmetrise(double* v) const {
+    for (std::size_t b = 0; b < bins_ / 2; ++b) {
+      const double m = 0.5 * (v[b] + v[bins_ - 1 - b]);
+      v[b] = v[bins_ - 1 - b] = m;
+    }
+  }
+
+  // Least-squares f = c0 + c2 y^2 + c4 y^4 over |y| <= centre_fit (y in W): returns {f(0), f''(0)}.
+  std::pair<double, double> centre_fit(const double* f) const {
+    std::vector<std::size_t> rows;
+    for (std::size_t b = 0; b < bins_; ++b)
+      if (std::fabs(sys_.bin_centre(b) / sys_.box[1]) <= centre_fit_ && std::isfinite(f[b])) rows.push_back(b);
+    if (rows.size() < 3) {  // too few bins: the mean of the two central bins, no curvature
+      return {0.5 * (f[(bins_ - 1) / 2] + f[bins_ / 2]), std::nan("")};
+    }
+    Eigen::MatrixXd A(rows.size(), 3);
+    Eigen::VectorXd rhs(rows.size());
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const double y = sys_.bin_centre(rows[r]) / sys_.box[1], y2 = y * y;
+      A(static_cast<Eigen::Index>(r), 0) = 1.0;
+      A(static_cast<Eigen::Index>(r), 1) = y2;
+      A(static_cast<Eigen::Index>(r), 2) = y2 * y2;
+      rhs(static_cast<Eigen::Index>(r)) = f[rows[r]];
+    }
+    const Eigen::Vector3d c = A.colPivHouseholderQr().solve(rhs);
+    return {c(0), 2.0 * c(1)};
+  }
+
+  // Slope d f / d(y/W) into the gas, the two walls averaged: straight lines through the
+  // wall_fit_bins bins next to each wall.
+  double wall_gradient(const double* f) const {
+    auto slope = [&](std::size_t first, int step) {
+      Eigen::MatrixXd A(static_cast<Eigen::Index>(wall_bins_), 2);
+      Eigen::VectorXd rhs(static_cast<Eigen::Index>(wall_bins_));
+      for (std::size_t r = 0; r < wall_bins_; ++r) {
+        const std::size_t b = static_cast<std::size_t>(static_cast<long>(first) + step * static_cast<long>(r));
+        A(static_cast<Eigen::Index>(r), 0) = 1.0;
+        A(static_cast<Eigen::Index>(r), 1) = sys_.bin_centre(b) / sys_.box[1];
+        rhs(static_cast<Eigen::Index>(r)) = f[b];
+      }
+      return Eigen::Vector2d(A.colPivHouseholderQr().solve(rhs))(1);
+    };
+    return 0.5 * (slope(0, 1) - slope(bins_ - 1, -1));
+  }
+
+  // Every profile and scalar from one set of sums (the whole window, or the window less a batch).
+  Result evaluate(const std::vector<double>& s) const {
+    Result r;
+    r.scalars.assign(kScalar, std::nan(""));
+    r.profiles.assign(kProfile * bins_, std::nan(""));
+    const double* x = &s[bins_ * kAcc];
+    const double samples = x[eSamples];
+    if (samples <= 0) return r;
+    const double n_av = sys_.number_density, tw = t_wall_, ur = u_ref(), width = sys_.box[1];
+    const double bin_volume = sys_.bin_width() * sys_.cross_section();
+    const double p_ref = n_av * tw;  // P_R = rho_av u_R^2 / 2 (m = 1)
+    double* prof = r.profiles.data();
+    auto P = [&](std::size_t k) { return prof + k * bins_; };
+    for (std::size_t b = 0; b < bins_; ++b) {
+      const double* a = &s[b * kAcc];
+      const double N = a[kN];
+      if (N <= 0) continue;
+      const double norm = 1.0 / (samples * bin_volume);
+      const double n = N * norm;
+      const double u[3] = {a[kSx] / N, a[kSy] / N, a[kSz] / N};
+      const double pxx = sys_.mass * norm * (a[kSxx] - N * u[0] * u[0]);
+      const double pyy = sys_.mass * norm * (a[kSyy] - N * u[1] * u[1]);
+      const double pzz = sys_.mass * norm * (a[kSzz] - N * u[2] * u[2]);
+      const double pxy = sys_.mass * norm * (a[kSxy] - N * u[0] * u[1]);
+      const double p = (pxx + pyy + pzz) / 3.0;
+      P(pRho)[b] = n / n_av;
+      P(pUx)[b] = u[0] / ur;
+      P(pT)[b] = p / n / tw;
+      P(pP)[b] = p / p_ref;
+      P(pPxx)[b] = pxx / p_ref;
+      P(pPyy)[b] = pyy / p_ref;
+      P(pPzz)[b] = pzz / p_ref;
+      P(pPxy)[b] = pxy / p_ref;
+      P(pN1)[b] = (pxx - pyy) / p;
+      P(pN2)[b] = (pyy - pzz) / p;
+    }
+    for (std::size_t k : {pRho, pUx, pT, pP, pPxx, pPyy, pPzz, pN1, pN2}) symmetrise(P(k));
+    // Eq. 33: P_xy(y) = a int_{-W/2}^{y} rho dy' - a rho_av W/2 (in P_R units, y in W, rho in rho_av).
+    const double a_red = accel_ * width / p_ref * n_av * sys_.mass;  // a rho_av W / P_R
+    double cumulative = 0;
+    const double h = 1.0 / static_cast<double>(bins_);
+    for (std::size_t b = 0; b < bins_; ++b) {
+      const double rho = std::isfinite(P(pRho)[b]) ? P(pRho)[b] : 0.0;
+      P(pPxyBalance)[b] = a_red * (cumulative + 0.5 * h * rho - 0.5);
+      cumulative += h * rho;
+      P(pPxyResidual)[b] = P(pPxy)[b] - P(pPxyBalance)[b];
+      P(pKn)[b] = sys_.mean_free_path0 / width / P(pRho)[b];
+    }
+    double* v = r.scalars.data();
+    const double kn = sys_.mean_free_path0 / width;
+    const auto [rho0, rho2] = centre_fit(P(pRho));
+    const auto [T0, T2] = centre_fit(P(pT));
+    v[rho_centre] = rho0;
+    v[rho2_centre] = rho2 / rho0;
+    v[T_centre] = T0;
+    v[T2_centre] = T2 / T0;
+    v[u_centre] = centre_fit(P(pUx)).first;
+    v[p_centre] = centre_fit(P(pP)).first;
+    v[N1_centre] = centre_fit(P(pN1)).first;
+    v[N2_centre] = centre_fit(P(pN2)).first;
+    v[chi] = kDelta1 * v[T2_centre] + kDelta2 * v[rho2_centre];
+    v[rho_fw] = P(pRho)[0];  // symmetrised: the mean of both wall-adjacent bins
+    v[Kn_centre] = kn / rho0;
+    v[Kn_fw] = kn / v[rho_fw];
+    // T_max: the largest bin, refined by the parabola through it and its neighbours.
+    const double* T = P(pT);
+    std::size_t m = 0;
+    for (std::size_t b = 1; b < bins_; ++b)
+      if (T[b] > T[m]) m = b;
+    double tmax = T[m], ymax = sys_.bin_centre(m) / width;
+    if (m > 0 && m + 1 < bins_) {
+      const double den = T[m - 1] - 2.0 * T[m] + T[m + 1];
+      if (den < 0) {
+        const double shift = 0.5 * (T[m - 1] - T[m + 1]) / den;  // in bins, |shift| <= 1/2
+        tmax = T[m] - 0.25 * (T[m - 1] - T[m + 1]) * shift;
+        ymax += shift * h;
+      }
+    }
+    v[T_max] = tmax;
+    v[y_T_max] = std::fabs(ymax);
+    v[delta_T] = (tmax - T0) / T0;
+    v[u_s] = P(pUx)[0];
+    v[du_dy_fw] = wall_gradient(P(pUx));
+    v[zeta] = v[u_s] / v[du_dy_fw];
+    v[T_s] = T[0] - 1.0;
+    v[dT_dy_fw] = wall_gradient(T);
+    v[zeta_T] = v[T_s] / v[dT_dy_fw];
+    const double nsum = samples * static_cast<double>(sys_.particles);
+    v[Q] = x[eSumVx] / nsum / (ur * a_hat());
+    double worst = 0;
+    for (std::size_t b = 0; b < bins_; ++b)
+      if (std::isfinite(P(pPxy)[b])) worst = std::max(worst, std::fabs(P(pPxy)[b] - P(pPxyBalance)[b]));
+    v[momentum_balance_max] = worst / (0.5 * std::fabs(a_red));
+    const double time = x[eTime];
+    const double N = static_cast<double>(sys_.particles);
+    v[wall_momentum_ratio] = x[eWallMomentum] / (time * N * sys_.mass * accel_);
+    const double rate = sys_.time_unit0 / (N * tw * time);  // to T_w per particle per tau0
+    v[power_acceleration] = x[eForcings] * rate;
+    v[power_collisions] = x[eCollisions] * rate;
+    v[power_walls] = x[eWallEnergy] * rate;
+    v[energy_balance_closure] = (x[eForcings] + x[eCollisions] + x[eWallEnergy]) / x[eForcings];
+    v[power_from_flow_ratio] = sys_.mass * accel_ * x[eSumVx] / samples * time / x[eForcings];
+    return r;
+  }
+
+  template <class Get>
+  static void jackknife(const std::vector<Result>& jack, const std::vector<double>& whole, std::vector<double>& err, Get get) {
+    const double B = static_cast<double>(jack.size());
+    for (std::size_t j = 0; j < whole.size(); ++j) {
+      double mean = 0;
+      for (const auto& r : jack) mean += get(r)[j];
+      mean /= B;
+      double ss = 0;
+      for (const auto& r : jack) ss += (get(r)[j] - mean) * (get(r)[j] - mean);
+      err[j] = std::sqrt((B - 1.0) / B * ss);
+    }
+  }
+
+  double window_, tolerance_, min_time_, t_wall_, centre_fit_;
+  std::size_t wall_bins_;
+  gdsmc::SystemInfo sys_;
+  std::size_t bins_ = 0, stride_ = 0, filled_ = 0, batch_records_ = 1, records_in_batch_ = 0;
+  std::vector<double> batches_, work_;
+  bool steady_ = false, have_last_ = false;
+  double steady_from_ = 0, window_sum_ = 0, window_start_ = 0, previous_window_mean_ = 0;
+  std::size_t window_samples_ = 0, record_samples_ = 0;
+  double record_e_ = 0, record_vx_ = 0, accel_ = 0;
+  Ledger last_;
+  std::size_t id_e_ = 0, id_steady_ = 0, id_q_ = 0;
+};
+
+}  // namespace
+
+GDSMC_PLUGIN(PoiseuilleChannel)

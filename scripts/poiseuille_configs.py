@@ -1,0 +1,172 @@
+#!/usr/bin/python3
+"""Write the granular Poiseuille pipelines of paper 004 (configs/poiseuille*.yaml) from one rule.
+
+Protocol (ii) of 004 Sec. III.C: the channel width is fixed at W = 1860 sigma and Kn = lambda/W
+(Eq. 18) is set through the mean density, lambda = Kn W; the acceleration a = a_hat 2 T_w / (m W)
+(Eq. 17) is then the same for every Kn (in reduced units sigma, m, T_w = T0 = 1).
+
+Resolution rule (documented in docs/poiseuille.md; the paper used delta y = lambda/3 ... lambda/200,
+Sec. III.D.1):
+  layers  M   = max(40, ceil(9 / Kn))        delta y = min(lambda/9, W/40): the paper's lambda/9 for
+                                             inelastic gases at small Kn, lambda/200 at Kn = 5
+  time step dt = min(0.02 tau0, 0.5 delta y / u_R)   a particle crosses at most half a layer per step
+                                             at the thermal speed, and collides with probability
+                                             <= 2 % per step. Samples are taken after the collisions,
+                                             so stresses and Delta T carry an O(dt) bias: at Kn = 0.1,
+                                             dt = 0.05 tau0 gave N1(0) 20 % high and Delta T 35 % low,
+                                             the Eq. 33 residual 3 %; 0.025 and 0.0125 agree (Q does
+                                             not change at all)
+  relaxation t_r = max(0.18 / Kn^2, 2 / Kn, 1) tau0: the e-folding time of the slowest viscous mode,
+                                             W^2 / (pi^2 eta / rho) = tau0 / (5.55 Kn^2) for hard
+                                             spheres, or two wall-to-wall flights W / u_R = tau0 / Kn,
+                                             and at least one mean free time (at large Kn the particles
+                                             flying nearly parallel to the walls relax by collisions)
+                                             The sweeps whose figures need only Q (a_hat = 10, the
+                                             walls, the linear-response check) cap dt at 0.05 tau0.
+  steady test  E(t) window means over 2 t_r agree within 0.2 %, not before 4 t_r (Appendix); near
+                                             linear response (the a_hat = min(0.05, 0.2 Kn) sweep) E
+                                             hardly feels the flow, so not before 8 t_r
+  stop         22 t_r: the test passes near 10 t_r, leaving about 12 t_r (8-16 jackknife batches
+                                             of at least 0.75 t_r) of averaging
+Run:  scripts/poiseuille_configs.py   (rewrites the configs; the committed files are its output)
+"""
+import math
+import os
+
+W_SIGMA = 1860.0  # 004 Sec. III.C
+KNUDSEN = [0.02, 0.03, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10]
+HEADER = "# Written by scripts/poiseuille_configs.py (the resolution rule is documented there and in docs/poiseuille.md).\n"
+
+
+def rule(kn, dt_cap=0.02, min_factor=4):
+    layers = max(40, math.ceil(9.0 / kn))
+    dy_over_lambda = 1.0 / (layers * kn)
+    dt = min(dt_cap, 0.5 * dy_over_lambda)  # tau0 = lambda / u_R, so delta y / u_R = (delta y / lambda) tau0
+    t_r = max(0.18 / kn**2, 2.0 / kn, 1.0)
+    return dict(layers=layers, dt=float(f"{dt:.4g}"), window=float(f"{2 * t_r:.4g}"),
+                min_time=float(f"{min_factor * t_r:.4g}"), stop=float(f"{22 * t_r:.4g}"), t_r=t_r)
+
+
+def acceleration(a_hat, t_wall=1.0):
+    return a_hat * 2.0 * t_wall / W_SIGMA  # Eq. 17 in reduced units (m = 1, sigma = 1)
+
+
+def kn_variant(kn, dt_cap, a_hat_of_kn=None):
+    # near linear response E(t) hardly feels the flow: wait 8 t_r (the slowest mode down to 3e-4)
+    r = rule(kn, dt_cap, 8 if a_hat_of_kn else 4)
+    extra = f"forcings.0.acceleration.value: {acceleration(a_hat_of_kn(kn)):.8g}, " if a_hat_of_kn else ""
+    return (f'    "{kn:g}": {{system.mean_free_path: {kn * W_SIGMA:.6g}, system.layers: {r["layers"]}, {extra}'
+            f'run.time_step.value: {r["dt"]:g}, run.stop.time: {r["stop"]:g}, '
+            f'diagnostics.0.steady_window: {r["window"]:g}, diagnostics.0.min_time: {r["min_time"]:g}}}\n')
+
+
+def pipeline(name, comment, kn, alpha, a_hat, walls, particles, sweep=None, seed=4, dt_cap=0.02):
+    r = rule(kn, dt_cap)
+    walls_text = {
+        "diffuse": "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n",
+        "maxwell": "  y_min: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n"
+                   "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n",
+    }[walls]
+    text = HEADER + comment + f"""run:
+  seed: {seed}
+  particles: {particles}
+  time_step: {{value: {r["dt"]:g}, unit: tau0}}
+  stop: {{time: {r["stop"]:g}}}
+  sample_every: 2
+  record_every: 100
+system:
+  mean_free_path: {kn * W_SIGMA:.6g}      # lambda0 in sigma: Kn = lambda0 / W = {kn:g} (004 Eq. 18)
+  temperature: 1.0                 # T0 = T_w: outputs in T_w and u_R = sqrt(2 T_w/m) (004 Eq. 19)
+  domain: slab
+  box: {{y: {{value: {W_SIGMA:g}, unit: sigma}}}}   # W / d = 1860 (004 Sec. III.C)
+  layers: {r["layers"]}                       # max(40, ceil(9/Kn)): delta y = min(lambda/9, W/40)
+initial_state: maxwellian
+collision: {{plugin: inelastic_hard_spheres, alpha: {alpha:g}}}
+forcings:
+  - {{plugin: body_acceleration, acceleration: {{value: {acceleration(a_hat):.8g}, unit: reduced}}}}   # a_hat = {a_hat:g} (Eq. 17)
+boundaries:
+{walls_text}diagnostics:
+  - {{plugin: poiseuille_channel, steady_window: {r["window"]:g}, min_time: {r["min_time"]:g}, steady_tolerance: 0.002}}
+  - energy_balance
+"""
+    if sweep:
+        text += "sweep:\n" + sweep
+    text += f"output: {{file: {name}.h5}}\n"
+    return text
+
+
+def kn_axis(kns=KNUDSEN, dt_cap=0.02, a_hat_of_kn=None):
+    return "  Kn:\n" + "".join(kn_variant(k, dt_cap, a_hat_of_kn) for k in kns)
+
+
+def linear_a_hat(kn):
+    """a_hat small enough for linear response: the centre-line Mach number u(0)/u_R ~ a_hat delta/8
+    (Navier-Stokes, delta = 0.888/Kn) stays below about 0.03, so viscous heating (~ Mach^2) stays
+    below 0.1 %; at a_hat = 0.1 and Kn = 0.02 the heating lowered Q by 11 %."""
+    return min(0.05, 0.2 * kn)
+
+
+def a_hat_axis(values):
+    return "  a_hat:\n" + "".join(
+        f'    "{a:g}": {{forcings.0.acceleration.value: {acceleration(a):.8g}}}\n' for a in values)
+
+
+def main():
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs")
+    files = {
+        "poiseuille": pipeline(
+            "poiseuille", "# Granular Poiseuille flow (paper 004), protocol (ii): W/d = 1860, Kn = 0.05, e_n = 0.9, a_hat = 0.5,\n"
+            "# fully diffuse walls at T_w. The representative near-continuum case of Figs. 3-16.\n",
+            0.05, 0.9, 0.5, "diffuse", 100000),
+        "poiseuille_fig2": pipeline(
+            "poiseuille_fig2", "# The code-validation case of 004 Fig. 2 (and Fig. 13): a molecular gas (e_n = 1) at Kn = 0.1,\n"
+            "# a_hat = 0.3, against Mansour et al. (ref. 13) and Uribe & Garcia (ref. 14).\n",
+            0.1, 1.0, 0.3, "diffuse", 100000),
+        "poiseuille_sweep": pipeline(
+            "poiseuille_sweep", "# Kn x e_n at a_hat = 0.5, fully diffuse walls (004 Figs. 3-21).\n",
+            0.05, 0.9, 0.5, "diffuse", 50000,
+            sweep="  collision.alpha: [0.7, 0.9, 0.99, 1.0]\n" + kn_axis()),
+        "poiseuille_bimodality_sweep": pipeline(
+            "poiseuille_bimodality_sweep", "# The nearly elastic gases of Figs. 7-9 and 17-18 (e_n = 0.95 for Fig. 17) at a_hat = 0.5.\n",
+            0.05, 0.99, 0.5, "diffuse", 50000,
+            sweep="  collision.alpha: [0.95, 0.995, 0.999]\n" + kn_axis()),
+        "poiseuille_restitution_sweep": pipeline(
+            "poiseuille_restitution_sweep", "# Against e_n at Kn = 0.05, 1 and 5 (Figs. 4c-d, 7b, 10d, 12b): the e_n the other sweeps lack.\n",
+            0.05, 0.9, 0.5, "diffuse", 50000,
+            sweep="  collision.alpha: [0.5, 0.6, 0.8]\n" + kn_axis([0.05, 1, 5])),
+        "poiseuille_a5_sweep": pipeline(
+            "poiseuille_a5_sweep", "# The triangles of Fig. 8: the bimodality phase boundary at a_hat = 5.\n",
+            0.05, 0.99, 5, "diffuse", 50000,
+            sweep="  collision.alpha: [0.99, 0.995, 0.999, 1.0]\n" + kn_axis([0.02, 0.03, 0.05, 0.1, 0.2, 0.5, 1])),
+        "poiseuille_a10_sweep": pipeline(
+            "poiseuille_a10_sweep", "# The flow rate at a_hat = 10 (Fig. 20b): Kn x e_n.\n",
+            0.05, 0.9, 10, "diffuse", 50000, dt_cap=0.05,
+            sweep="  collision.alpha: [0.7, 0.9, 0.99, 1.0]\n" + kn_axis(dt_cap=0.05)),
+        "poiseuille_linear_sweep": pipeline(
+            "poiseuille_linear_sweep", "# The elastic gas near linear response, a_hat = min(0.05, 0.2 Kn): Q(Kn) against the linearised\n"
+            "# BGK solution of scripts/poiseuille_reference.py (docs/poiseuille-reference.md).\n",
+            0.05, 1.0, 0.01, "diffuse", 50000, dt_cap=0.05, sweep=kn_axis(dt_cap=0.05, a_hat_of_kn=linear_a_hat)),
+        "poiseuille_walls_sweep": pipeline(
+            "poiseuille_walls_sweep", "# The Knudsen minimum with partially diffuse and specular walls (004 Sec. VI): accommodation x Kn,\n"
+            "# e_n = 0.9 and 0.99 (an elastic gas between specular walls has no steady state: nothing removes the\n"
+            "# work of the acceleration).\n",
+            0.05, 0.9, 0.5, "maxwell", 50000, dt_cap=0.05,
+            sweep="  walls:\n"
+                  '    "1": {boundaries.y_min.accommodation: 1.0, boundaries.y_max.accommodation: 1.0}\n'
+                  '    "0.5": {boundaries.y_min.accommodation: 0.5, boundaries.y_max.accommodation: 0.5}\n'
+                  '    "0.1": {boundaries.y_min.accommodation: 0.1, boundaries.y_max.accommodation: 0.1}\n'
+                  '    "0": {boundaries.y_min.accommodation: 0.0, boundaries.y_max.accommodation: 0.0}\n'
+                  "  collision.alpha: [0.9, 0.99]\n" + kn_axis([0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10], dt_cap=0.05)),
+    }
+    for name, text in files.items():
+        with open(os.path.join(root, name + ".yaml"), "w") as f:
+            f.write(text)
+        print("wrote configs/" + name + ".yaml")
+    print("Kn      layers  dt[tau0]  t_r[tau0]  stop[tau0]  steps")
+    for kn in KNUDSEN:
+        r = rule(kn)
+        print(f"{kn:<7g} {r['layers']:<7d} {r['dt']:<9g} {r['t_r']:<10.4g} {r['stop']:<11g} {r['stop'] / r['dt']:.3g}")
+
+
+if __name__ == "__main__":
+    main()
