@@ -67,6 +67,9 @@ std::map<std::string, std::string> contexts() {
           {"profiles", walls},
           {"slab_averages", walls},
           {"wall_fluxes", walls},
+          // The Poiseuille channel: walls, 12 bins (its wall-gradient fits) and the acceleration.
+          {"poiseuille_channel", "system: {density: 0.001, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 12}\n"
+                                 "boundaries: {y: diffuse_wall}\nforcings: [{plugin: body_acceleration, acceleration: 0.5}]\n"},
           // heat_flux reads the field heat_flux_force publishes.
           {"heat_flux", "collision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
                         "forcings: [{plugin: heat_flux_force, epsilon_star: 0.05}, energy_momentum_thermostat]\n"}};

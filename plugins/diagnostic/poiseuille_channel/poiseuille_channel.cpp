@@ -42,15 +42,15 @@ struct Column {
 };
 
 constexpr Column kScalars[kScalar] = {
-    {"rho_centre", "rho_av", "centre-line density rho(0) from the even fit (004 Fig. 4a)"},
+    {"rho_centre", "rho_av", "centre-line density rho(0): local even fit at the centre (004 Fig. 4a)"},
     {"rho_fw", "rho_av", "near-wall density rho_fw = [rho(-W/2) + rho(W/2)]/2, the wall-adjacent bins (004 Eq. 20)"},
     {"Kn_centre", "1", "local Knudsen number at the centre Kn_0 = Kn / rho(0) (004 Eq. 21, Fig. 21)"},
     {"Kn_fw", "1", "near-wall Knudsen number Kn_fw = Kn / rho_fw (004 Eq. 24)"},
-    {"T_centre", "T_w", "centre-line temperature T(0) from the even fit"},
-    {"T_max", "T_w", "maximum of the temperature profile (vertex of the parabola through the largest bin)"},
+    {"T_centre", "T_w", "centre-line temperature T(0): local even fit at the centre"},
+    {"T_max", "T_w", "maximum of the temperature profile (vertex of the parabola fitted around the largest bin)"},
     {"y_T_max", "W", "distance |y| of the temperature maximum from the centre line"},
     {"delta_T", "1", "excess temperature Delta T = (T_max - T(0)) / T(0) (004 Eq. 22)"},
-    {"u_centre", "sqrt(2T_w/m)", "centre-line velocity u_x(0) from the even fit"},
+    {"u_centre", "sqrt(2T_w/m)", "centre-line velocity u_x(0): local even fit at the centre"},
     {"u_s", "sqrt(2T_w/m)", "slip velocity u_s = [u_x(-W/2) + u_x(W/2)]/2, the wall-adjacent bins (004 Eq. 23)"},
     {"du_dy_fw", "sqrt(2T_w/m)/W", "near-wall velocity gradient u'_w = (du/dy)_fw into the gas (004 Fig. 11b)"},
     {"zeta", "W", "velocity slip length zeta = u_s / u'_w (004 Eq. 25)"},
@@ -124,14 +124,18 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "symmetrised, bin b with its mirror image. The scalars (each with <name>_error, the delete-one\n"
       "jackknife error over the batches: an honest error when the batches are longer than the\n"
       "correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
-      "  rho(0), T(0), u_x(0), p(0), N1(0), N2(0) and the curvatures T''(0) (of T/T(0)) and\n"
-      "  rho''(0)/rho(0): least-squares fit f = c0 + c2 y^2 + c4 y^4 (Eigen) over the bins with\n"
-      "  |y| <= centre_fit W; f(0) = c0, f''(0) = 2 c2;\n"
+      "  rho(0), T(0), u_x(0), p(0), N1(0), N2(0): c0 of the least-squares c0 + c2 y^2 over the bins\n"
+      "  within max(2, bins/15) bin widths of the centre (local, like the wall bins of the wall values);\n"
+      "  the curvatures T''(0)/T(0) and rho''(0)/rho(0): least-squares fit\n"
+      "  f = c0 + c2 y^2 + c4 y^4 (Eigen) over the bins with |y| <= centre_fit W, f''(0)/f(0) = 2 c2/c0\n"
+      "  (unreliable where the centre is a cusp, as for e_n <= 0.6 at Kn = 0.05);\n"
       "  rho_fw, u_s, T_fw (Eqs. 20, 23, 27): the wall-adjacent bins, as the paper (so they depend on\n"
       "  the bin width, 004 Sec. III.D.1); near-wall gradients u'_w, T'_w: straight-line fit over the\n"
-      "  wall_fit_bins bins next to each wall, the two walls averaged with the sign pointing into the gas;\n"
+      "  wall_fit_bins bins next to each wall (at most bins/2 - 1; NaN with fewer than 6 bins), the two\n"
+      "  walls averaged with the sign pointing into the gas;\n"
       "  zeta = u_s/u'_w (Eq. 25), T_s = T_fw - T_w (27), zeta_T = T_s/T'_w (29);\n"
-      "  T_max: the largest bin of T refined by the parabola through it and its neighbours; delta_T\n"
+      "  T_max: the vertex of the least-squares parabola through the bins within max(2, bins/15) of\n"
+      "  the largest bin of T (the largest bin if the vertex falls outside); delta_T\n"
       "  (Eq. 22) = (T_max - T(0))/T(0) and y_T_max = |y| of the maximum;\n"
       "  chi = delta1 T''(0) + delta2 rho''(0)/rho(0), delta1 = -0.04, delta2 = 0.214 (Eqs. 37, 39);\n"
       "  Q (Eq. 40) = <v_x> over all particles and samples / (u_R a_hat) (= int rho u dy / (rho_av u_R W\n"
@@ -163,7 +167,9 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
                 .unit(gdsmc::Dimension::temperature)
                 .default_value(1.0),
             gdsmc::ParamSpec::real("centre_fit", "half-width of the centre-line fit, in W").range(0.05, 0.5).default_value(0.25),
-            gdsmc::ParamSpec::integer("wall_fit_bins", "bins next to each wall in the gradient fit").range(2, 1000).default_value(3)};
+            gdsmc::ParamSpec::integer("wall_fit_bins", "bins next to each wall in the gradient fit (at most bins/2 - 1 are used)")
+                .range(2, 50)
+                .default_value(3)};
   }
   explicit PoiseuilleChannel(const gdsmc::Params& p)
       : window_(p.real("steady_window")),
@@ -178,10 +184,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       throw std::runtime_error("poiseuille_channel: needs a slab system (system.domain: slab) between two walls");
     sys_ = sys;
     bins_ = sys.bins;
-    if (bins_ < 2 * wall_bins_ + 2)
-      throw std::runtime_error("poiseuille_channel: wall_fit_bins = " + std::to_string(wall_bins_) + " needs at least " +
-                               std::to_string(2 * wall_bins_ + 2) + " sampling bins (system.bins is " +
-                               std::to_string(bins_) + ")");
+    // The wall fits use at most the wall-side half of the bins (less the central one).
+    wall_fit_ = std::min(wall_bins_, bins_ / 2 > 0 ? bins_ / 2 - 1 : 0);
     stride_ = bins_ * kAcc + kExtra;
     batches_.assign(kMaxBatches * stride_, 0.0);
     work_.assign(stride_, 0.0);
@@ -416,13 +420,28 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     return {c(0), 2.0 * c(1)};
   }
 
+  // c0 of the least-squares c0 + c2 y^2 over the bins within max(2, bins/15) bin widths of y = 0.
+  double local_centre(const double* f) const {
+    const double half = static_cast<double>(std::max<std::size_t>(2, bins_ / 15)) + 0.5;  // in bins
+    double s0 = 0, s2 = 0, s4 = 0, f0 = 0, f2 = 0;
+    for (std::size_t b = 0; b < bins_; ++b) {
+      const double d = sys_.bin_centre(b) / sys_.bin_width();  // y in bins
+      if (std::fabs(d) > half || !std::isfinite(f[b])) continue;
+      const double d2 = d * d;
+      s0 += 1; s2 += d2; s4 += d2 * d2; f0 += f[b]; f2 += f[b] * d2;
+    }
+    const Eigen::Matrix2d normal{{s0, s2}, {s2, s4}};
+    return Eigen::Vector2d(normal.ldlt().solve(Eigen::Vector2d(f0, f2)))(0);
+  }
+
   // Slope d f / d(y/W) into the gas, the two walls averaged: straight lines through the
   // wall_fit_bins bins next to each wall.
   double wall_gradient(const double* f) const {
+    if (wall_fit_ < 2) return std::nan("");  // fewer than 6 bins
     auto slope = [&](std::size_t first, int step) {
-      Eigen::MatrixXd A(static_cast<Eigen::Index>(wall_bins_), 2);
-      Eigen::VectorXd rhs(static_cast<Eigen::Index>(wall_bins_));
-      for (std::size_t r = 0; r < wall_bins_; ++r) {
+      Eigen::MatrixXd A(static_cast<Eigen::Index>(wall_fit_), 2);
+      Eigen::VectorXd rhs(static_cast<Eigen::Index>(wall_fit_));
+      for (std::size_t r = 0; r < wall_fit_; ++r) {
         const std::size_t b = static_cast<std::size_t>(static_cast<long>(first) + step * static_cast<long>(r));
         A(static_cast<Eigen::Index>(r), 0) = 1.0;
         A(static_cast<Eigen::Index>(r), 1) = sys_.bin_centre(b) / sys_.box[1];
@@ -483,32 +502,54 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     }
     double* v = r.scalars.data();
     const double kn = sys_.mean_free_path0 / width;
-    const auto [rho0, rho2] = centre_fit(P(pRho));
-    const auto [T0, T2] = centre_fit(P(pT));
+    // Centre-line values: c0 of c0 + c2 y^2 over the central 2 max(2, bins/15) bins, local enough to
+    // follow the sharp density peak of strongly inelastic gases at small Kn (a fit over |y| <= W/4
+    // flattens it by half), smooth enough not to carry one bin's noise; curvatures: the wide even
+    // fit, normalised by its own f(0).
+    auto centre = [&](const double* f) { return local_centre(f); };
+    const auto [rho0_fit, rho2] = centre_fit(P(pRho));
+    const auto [T0_fit, T2] = centre_fit(P(pT));
+    const double rho0 = centre(P(pRho)), T0 = centre(P(pT));
     v[rho_centre] = rho0;
-    v[rho2_centre] = rho2 / rho0;
+    v[rho2_centre] = rho2 / rho0_fit;
     v[T_centre] = T0;
-    v[T2_centre] = T2 / T0;
-    v[u_centre] = centre_fit(P(pUx)).first;
-    v[p_centre] = centre_fit(P(pP)).first;
-    v[N1_centre] = centre_fit(P(pN1)).first;
-    v[N2_centre] = centre_fit(P(pN2)).first;
+    v[T2_centre] = T2 / T0_fit;
+    v[u_centre] = centre(P(pUx));
+    v[p_centre] = centre(P(pP));
+    v[N1_centre] = centre(P(pN1));
+    v[N2_centre] = centre(P(pN2));
     v[chi] = kDelta1 * v[T2_centre] + kDelta2 * v[rho2_centre];
     v[rho_fw] = P(pRho)[0];  // symmetrised: the mean of both wall-adjacent bins
     v[Kn_centre] = kn / rho0;
     v[Kn_fw] = kn / v[rho_fw];
-    // T_max: the largest bin, refined by the parabola through it and its neighbours.
+    // T_max: a least-squares parabola over the bins within +-max(2, bins/15) of the largest one
+    // (one bin alone carries the noise of ~1/bins of the particles); its vertex if it lies in
+    // that window, else the largest bin.
     const double* T = P(pT);
     std::size_t m = 0;
     for (std::size_t b = 1; b < bins_; ++b)
       if (T[b] > T[m]) m = b;
     double tmax = T[m], ymax = sys_.bin_centre(m) / width;
-    if (m > 0 && m + 1 < bins_) {
-      const double den = T[m - 1] - 2.0 * T[m] + T[m + 1];
-      if (den < 0) {
-        const double shift = 0.5 * (T[m - 1] - T[m + 1]) / den;  // in bins, |shift| <= 1/2
-        tmax = T[m] - 0.25 * (T[m - 1] - T[m + 1]) * shift;
-        ymax += shift * h;
+    const std::size_t half = std::max<std::size_t>(2, bins_ / 15);
+    const std::size_t lo = m > half ? m - half : 0, hi = std::min(bins_ - 1, m + half);
+    if (hi - lo >= 2) {
+      Eigen::MatrixXd A(static_cast<Eigen::Index>(hi - lo + 1), 3);
+      Eigen::VectorXd rhs(static_cast<Eigen::Index>(hi - lo + 1));
+      for (std::size_t b = lo; b <= hi; ++b) {
+        const double d = static_cast<double>(b) - static_cast<double>(m);  // in bins
+        const auto r = static_cast<Eigen::Index>(b - lo);
+        A(r, 0) = 1.0;
+        A(r, 1) = d;
+        A(r, 2) = d * d;
+        rhs(r) = T[b];
+      }
+      const Eigen::Vector3d c = A.colPivHouseholderQr().solve(rhs);
+      if (c(2) < 0) {
+        const double shift = -c(1) / (2.0 * c(2));
+        if (shift >= static_cast<double>(lo) - static_cast<double>(m) && shift <= static_cast<double>(hi) - static_cast<double>(m)) {
+          tmax = c(0) - c(1) * c(1) / (4.0 * c(2));
+          ymax += shift * h;
+        }
       }
     }
     v[T_max] = tmax;
@@ -552,7 +593,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   double window_, tolerance_, min_time_, t_wall_, centre_fit_;
-  std::size_t wall_bins_;
+  std::size_t wall_bins_, wall_fit_ = 0;
   gdsmc::SystemInfo sys_;
   std::size_t bins_ = 0, stride_ = 0, filled_ = 0, batch_records_ = 1, records_in_batch_ = 0;
   std::vector<double> batches_, work_;

@@ -139,6 +139,7 @@ class CloningAnnihilation final : public gdsmc::Forcing {
       gdsmc::Rng start = ctx.streams->for_unit(2);
       reservoir_.start(size_, *alpha, relaxation_, start);
       usable_.assign(p.count, 1);
+      touched_.reserve(p.count / 2);  // at most N/2 events per step: no allocation in the step loop
     }
     cooling_.update(ctx, p.count);
     gdsmc::Rng reservoir_rng = ctx.streams->for_unit(0);
