@@ -258,6 +258,18 @@ def grid(out, cases, q, ens, kns=None, label="Kn"):
     table(out, [label] + [f"e_n = {e:g}" for e in ens], rows)
 
 
+def by_restitution(out, cases, quantities, kns=(0.05, 1, 5)):
+    """A table against e_n (rows) of each (scalar, label) of `quantities` at each Kn of `kns` (columns)."""
+    rows = []
+    for en in sorted({c.en for c in cases}):
+        row = [f"{en:g}"]
+        for kn in kns:
+            cc = pick(cases, en=en, kn=kn)
+            row += [fmt(*sval(cc[0], q)) if cc else "" for q, _ in quantities]
+        rows.append(row)
+    table(out, ["e_n"] + [f"{lab}, Kn = {k:g}" for k in kns for _, lab in quantities], rows)
+
+
 def series(cases, en, q):
     """Kn, value, error of the finite points of one e_n."""
     cc = pick(cases, en=en)
@@ -468,14 +480,7 @@ def main():
             grid(out, main05, q, [e for e in ENS if pick(main05, en=e)])
         w("Against e_n at Kn = 0.05, 1, 5:")
         w("")
-        rows = []
-        for en in sorted({c.en for c in main05}):
-            row = [f"{en:g}"]
-            for kn in (0.05, 1, 5):
-                cc = pick(main05, en=en, kn=kn)
-                row += [fmt(*sval(cc[0], "rho_centre")), fmt(*cc[0].s("rho_fw"))] if cc else ["", ""]
-            rows.append(row)
-        table(out, ["e_n"] + [f"{q} Kn={k:g}" for k in (0.05, 1, 5) for q in ("ρ(0)", "ρ_fw")], rows)
+        by_restitution(out, main05, (("rho_centre", "ρ(0)"), ("rho_fw", "ρ_fw")))
         for en in (0.9, 0.7):
             k, r0, _ = series(main05, en, "rho_centre")
             _, rf, _ = series(main05, en, "rho_fw")
@@ -514,14 +519,7 @@ def main():
         w("")
         w("ΔT against e_n (Fig. 7b):")
         w("")
-        rows = []
-        for en in sorted({c.en for c in main05}):
-            row = [f"{en:g}"]
-            for kn in (0.05, 1, 5):
-                cc = pick(main05, en=en, kn=kn)
-                row.append(fmt(*sval(cc[0], "delta_T")) if cc else "")
-            rows.append(row)
-        table(out, ["e_n", "Kn = 0.05", "Kn = 1", "Kn = 5"], rows)
+        by_restitution(out, main05, (("delta_T", "ΔT"),))
     for tag, cs in (("â = 0.5", main05), ("â = 5", files["a5"] or [])):
         w(f"### Phase boundaries, {tag}")
         w("")

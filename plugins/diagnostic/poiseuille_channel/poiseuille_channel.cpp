@@ -167,7 +167,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
                 .above(0.0)
                 .unit(gdsmc::Dimension::temperature)
                 .default_value(1.0),
-            gdsmc::ParamSpec::real("centre_fit", "half-width of the centre-line fit, in W").range(0.05, 0.5).default_value(0.25),
+            gdsmc::ParamSpec::real("centre_fit", "half-width of the curvature fit at the centre line, in W").range(0.05, 0.5).default_value(0.25),
             gdsmc::ParamSpec::integer("wall_fit_bins", "bins next to each wall in the gradient fit (at most bins/2 - 1 are used)")
                 .range(2, 50)
                 .default_value(3)};
@@ -507,18 +507,17 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     // follow the sharp density peak of strongly inelastic gases at small Kn (a fit over |y| <= W/4
     // flattens it by half), smooth enough not to carry one bin's noise; curvatures: the wide even
     // fit, normalised by its own f(0).
-    auto centre = [&](const double* f) { return local_centre(f); };
     const auto [rho0_fit, rho2] = centre_fit(P(pRho));
     const auto [T0_fit, T2] = centre_fit(P(pT));
-    const double rho0 = centre(P(pRho)), T0 = centre(P(pT));
+    const double rho0 = local_centre(P(pRho)), T0 = local_centre(P(pT));
     v[rho_centre] = rho0;
     v[rho2_centre] = rho2 / rho0_fit;
     v[T_centre] = T0;
     v[T2_centre] = T2 / T0_fit;
-    v[u_centre] = centre(P(pUx));
-    v[p_centre] = centre(P(pP));
-    v[N1_centre] = centre(P(pN1));
-    v[N2_centre] = centre(P(pN2));
+    v[u_centre] = local_centre(P(pUx));
+    v[p_centre] = local_centre(P(pP));
+    v[N1_centre] = local_centre(P(pN1));
+    v[N2_centre] = local_centre(P(pN2));
     v[chi] = kDelta1 * v[T2_centre] + kDelta2 * v[rho2_centre];
     v[rho_fw] = P(pRho)[0];  // symmetrised: the mean of both wall-adjacent bins
     v[Kn_centre] = kn / rho0;
