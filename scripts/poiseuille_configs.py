@@ -5,7 +5,7 @@ Protocol (ii) of 004 Sec. III.C: the channel width is fixed at W = 1860 sigma an
 (Eq. 18) is set through the mean density, lambda = Kn W; the acceleration a = a_hat 2 T_w / (m W)
 (Eq. 17) is then the same for every Kn (in reduced units sigma, m, T_w = T0 = 1).
 
-Resolution rule (documented in docs/poiseuille.md; the paper used delta y = lambda/3 ... lambda/200,
+Resolution rule (documented in docs/user-guide.md; the paper used delta y = lambda/3 ... lambda/200,
 Sec. III.D.1):
   layers  M   = max(40, ceil(9 / Kn))        delta y = min(lambda/9, W/40): the paper's lambda/9 for
                                              inelastic gases at small Kn, lambda/200 at Kn = 5
@@ -16,14 +16,17 @@ Sec. III.D.1):
                                              dt = 0.05 tau0 gave N1(0) 20 % high and Delta T 35 % low,
                                              the Eq. 33 residual 3 %; 0.025 and 0.0125 agree (Q does
                                              not change at all)
-  relaxation t_r = max(0.18 / Kn^2, 2 / Kn, 1) tau0: the e-folding time of the slowest viscous mode,
+  relaxation t_r = max(0.18 / Kn^2, 2 / Kn, 1) tau0 (diffuse walls): the e-folding time of the slowest viscous mode,
                                              W^2 / (pi^2 eta / rho) = tau0 / (5.55 Kn^2) for hard
                                              spheres, or two wall-to-wall flights W / u_R = tau0 / Kn,
                                              and at least one mean free time (at large Kn the particles
                                              flying nearly parallel to the walls relax by collisions)
                                              The sweeps whose figures need only Q (a_hat = 10, the
                                              walls, the linear-response check) cap dt at 0.05 tau0.
-  steady test  E(t) window means over 2 t_r agree within 0.2 %, not before 4 t_r (Appendix); near
+  walls        Maxwell walls of accommodation acc < 1 exchange momentum slowly: the wall time
+                                             (2 - acc)/acc x 2/Kn tau0 replaces 2/Kn in t_r
+  steady test  E(t) window means over 2 t_r agree within 0.2 % or within two standard errors of
+                                             their difference (noise), not before 4 t_r (Appendix); near
                                              linear response (the a_hat = min(0.05, 0.2 Kn) sweep) E
                                              hardly feels the flow, so not before 8 t_r
   stop         22 t_r: the test passes near 10 t_r, leaving about 12 t_r (8-16 jackknife batches
@@ -35,42 +38,43 @@ import os
 
 W_SIGMA = 1860.0  # 004 Sec. III.C
 KNUDSEN = [0.02, 0.03, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10]
-HEADER = "# Written by scripts/poiseuille_configs.py (the resolution rule is documented there and in docs/poiseuille.md).\n"
+HEADER = "# Written by scripts/poiseuille_configs.py (the resolution rule is documented there and in docs/user-guide.md).\n"
 
 
-def rule(kn, dt_cap=0.02, min_factor=4):
+def rule(kn, dt_cap=0.02, min_factor=4, accommodation=1.0, stop_factor=22):
     layers = max(40, math.ceil(9.0 / kn))
     dy_over_lambda = 1.0 / (layers * kn)
     dt = min(dt_cap, 0.5 * dy_over_lambda)  # tau0 = lambda / u_R, so delta y / u_R = (delta y / lambda) tau0
-    t_r = max(0.18 / kn**2, 2.0 / kn, 1.0)
+    t_r = max(0.18 / kn**2, 2.0 / kn * (2.0 - accommodation) / accommodation, 1.0)
     return dict(layers=layers, dt=float(f"{dt:.4g}"), window=float(f"{2 * t_r:.4g}"),
-                min_time=float(f"{min_factor * t_r:.4g}"), stop=float(f"{22 * t_r:.4g}"), t_r=t_r)
+                min_time=float(f"{min_factor * t_r:.4g}"), stop=float(f"{stop_factor * t_r:.4g}"), t_r=t_r)
 
 
 def acceleration(a_hat, t_wall=1.0):
     return a_hat * 2.0 * t_wall / W_SIGMA  # Eq. 17 in reduced units (m = 1, sigma = 1)
 
 
-def kn_variant(kn, dt_cap, a_hat_of_kn=None):
+def kn_variant(kn, dt_cap, a_hat_of_kn=None, accommodation=1.0, stop_factor=22):
     # near linear response E(t) hardly feels the flow: wait 8 t_r (the slowest mode down to 3e-4)
-    r = rule(kn, dt_cap, 8 if a_hat_of_kn else 4)
+    r = rule(kn, dt_cap, 8 if a_hat_of_kn else 4, accommodation, stop_factor)
     extra = f"forcings.0.acceleration.value: {acceleration(a_hat_of_kn(kn)):.8g}, " if a_hat_of_kn else ""
     return (f'    "{kn:g}": {{system.mean_free_path: {kn * W_SIGMA:.6g}, system.layers: {r["layers"]}, {extra}'
             f'run.time_step.value: {r["dt"]:g}, run.stop.time: {r["stop"]:g}, '
             f'diagnostics.0.steady_window: {r["window"]:g}, diagnostics.0.min_time: {r["min_time"]:g}}}\n')
 
 
-def pipeline(name, comment, kn, alpha, a_hat, walls, particles, sweep=None, seed=4, dt_cap=0.02):
-    r = rule(kn, dt_cap)
+def pipeline(name, comment, kn, alpha, a_hat, walls, particles, sweep=None, seed=4, dt_cap=0.02, stop_factor=22,
+             follow_temperature=False, accommodation=0.5):
+    r = rule(kn, dt_cap, stop_factor=stop_factor)
     walls_text = {
         "diffuse": "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n",
-        "maxwell": "  y_min: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n"
-                   "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n",
+        "maxwell": f"  y_min: {{plugin: maxwell_wall, temperature: 1.0, accommodation: {accommodation:g}}}\n"
+                   f"  y_max: {{plugin: maxwell_wall, temperature: 1.0, accommodation: {accommodation:g}}}\n",
     }[walls]
     text = HEADER + comment + f"""run:
   seed: {seed}
   particles: {particles}
-  time_step: {{value: {r["dt"]:g}, unit: tau0}}
+  time_step: {{value: {r["dt"]:g}, unit: tau0{", follow_temperature: true" if follow_temperature else ""}}}
   stop: {{time: {r["stop"]:g}}}
   sample_every: 2
   record_every: 100
@@ -95,8 +99,20 @@ boundaries:
     return text
 
 
-def kn_axis(kns=KNUDSEN, dt_cap=0.02, a_hat_of_kn=None):
-    return "  Kn:\n" + "".join(kn_variant(k, dt_cap, a_hat_of_kn) for k in kns)
+def kn_axis(kns=KNUDSEN, dt_cap=0.02, a_hat_of_kn=None, stop_factor=22):
+    return "  Kn:\n" + "".join(kn_variant(k, dt_cap, a_hat_of_kn, stop_factor=stop_factor) for k in kns)
+
+
+def walls_axis(accommodations, kns, dt_cap):
+    """Accommodation x Kn as one axis: the run length depends on both (the wall time of the rule)."""
+    lines = []
+    for acc in accommodations:
+        for kn in kns:
+            variant = kn_variant(kn, dt_cap, accommodation=acc).strip()
+            key, rest = variant.split(": ", 1)
+            lines.append(f'    "{acc:g}, {kn:g}": {{boundaries.y_min.accommodation: {acc:g}, '
+                         f'boundaries.y_max.accommodation: {acc:g}, {rest[1:]}\n')
+    return "  walls_Kn:\n" + "".join(lines)
 
 
 def linear_a_hat(kn):
@@ -135,28 +151,32 @@ def main():
             0.05, 0.9, 0.5, "diffuse", 50000,
             sweep="  collision.alpha: [0.5, 0.6, 0.8]\n" + kn_axis([0.05, 1, 5])),
         "poiseuille_a5_sweep": pipeline(
-            "poiseuille_a5_sweep", "# The triangles of Fig. 8: the bimodality phase boundary at a_hat = 5.\n",
-            0.05, 0.99, 5, "diffuse", 50000,
-            sweep="  collision.alpha: [0.99, 0.995, 0.999, 1.0]\n" + kn_axis([0.02, 0.03, 0.05, 0.1, 0.2, 0.5, 1])),
+            "poiseuille_a5_sweep", "# The triangles of Fig. 8: the bimodality phase boundary at a_hat = 5 (Kn >= 0.03). The gas heats\n"
+            "# to several T_w, so the time step follows the temperature (dt = rule x sqrt(T0/T)).\n",
+            0.05, 0.99, 5, "diffuse", 50000, follow_temperature=True,
+            sweep="  collision.alpha: [0.99, 0.995, 0.999, 1.0]\n" + kn_axis([0.03, 0.05, 0.1, 0.2, 0.5, 1])),
         "poiseuille_a10_sweep": pipeline(
-            "poiseuille_a10_sweep", "# The flow rate at a_hat = 10 (Fig. 20b): Kn x e_n.\n",
-            0.05, 0.9, 10, "diffuse", 50000, dt_cap=0.05,
-            sweep="  collision.alpha: [0.7, 0.9, 0.99, 1.0]\n" + kn_axis(dt_cap=0.05)),
+            "poiseuille_a10_sweep", "# The flow rate at a_hat = 10 (Fig. 20b): Kn 0.1-10 x e_n. The gas heats to tens of T_w, so the\n"
+            "# time step follows the temperature (dt = rule x sqrt(T0/T)).\n",
+            0.1, 0.9, 10, "diffuse", 50000, dt_cap=0.05, follow_temperature=True,
+            sweep="  collision.alpha: [0.9, 0.99, 1.0]\n" + kn_axis([0.1, 0.2, 0.5, 1, 2, 5, 10], dt_cap=0.05)),
         "poiseuille_linear_sweep": pipeline(
             "poiseuille_linear_sweep", "# The elastic gas near linear response, a_hat = min(0.05, 0.2 Kn): Q(Kn) against the linearised\n"
             "# BGK solution of scripts/poiseuille_reference.py (docs/poiseuille-reference.md).\n",
             0.05, 1.0, 0.01, "diffuse", 50000, dt_cap=0.05, sweep=kn_axis(dt_cap=0.05, a_hat_of_kn=linear_a_hat)),
         "poiseuille_walls_sweep": pipeline(
-            "poiseuille_walls_sweep", "# The Knudsen minimum with partially diffuse and specular walls (004 Sec. VI): accommodation x Kn,\n"
-            "# e_n = 0.9 and 0.99 (an elastic gas between specular walls has no steady state: nothing removes the\n"
-            "# work of the acceleration).\n",
+            "poiseuille_walls_sweep", "# The Knudsen minimum with partially diffuse walls (004 Sec. VI): Maxwell walls of accommodation\n"
+            "# 0.5 and 0.1 x Kn, e_n = 0.9 and 0.99 (accommodation 1 is poiseuille_sweep.yaml). One axis holds\n"
+            "# accommodation and Kn together because the run length depends on both: the wall time\n"
+            "# (2 - acc)/acc 2/Kn tau0 of the resolution rule.\n",
             0.05, 0.9, 0.5, "maxwell", 50000, dt_cap=0.05,
-            sweep="  walls:\n"
-                  '    "1": {boundaries.y_min.accommodation: 1.0, boundaries.y_max.accommodation: 1.0}\n'
-                  '    "0.5": {boundaries.y_min.accommodation: 0.5, boundaries.y_max.accommodation: 0.5}\n'
-                  '    "0.1": {boundaries.y_min.accommodation: 0.1, boundaries.y_max.accommodation: 0.1}\n'
-                  '    "0": {boundaries.y_min.accommodation: 0.0, boundaries.y_max.accommodation: 0.0}\n'
-                  "  collision.alpha: [0.9, 0.99]\n" + kn_axis([0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10], dt_cap=0.05)),
+            sweep="  collision.alpha: [0.9, 0.99]\n" + walls_axis([0.5, 0.1], [0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10], 0.05)),
+        "poiseuille_specular": pipeline(
+            "poiseuille_specular", "# Specular walls (accommodation 0) have no steady state: collisions and specular reflections\n"
+            "# conserve x momentum, so the mean streamwise velocity grows as a t and Q (Eq. 40) as Kn t/tau0.\n"
+            "# The validation checks that slope (stop at 10 t_r: E grows as t^2).\n",
+            1.0, 0.9, 0.5, "maxwell", 50000, dt_cap=0.05, stop_factor=10, accommodation=0.0,
+            sweep=kn_axis([0.1, 1, 10], dt_cap=0.05, stop_factor=10)),
     }
     for name, text in files.items():
         with open(os.path.join(root, name + ".yaml"), "w") as f:

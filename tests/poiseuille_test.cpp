@@ -26,6 +26,9 @@ struct Channel {
   double dt_tau0 = 0.0125;
   double stop_tau0 = 200;
   double window_tau0 = 4, min_time_tau0 = 8;
+  double accommodation = 1.0;  // Maxwell walls below 1, diffuse walls at 1
+  double steady_sigmas = -1;   // < 0: the diagnostic's default
+  double steady_tolerance = 0.002;
   std::uint64_t seed = 21;
 };
 
@@ -33,6 +36,13 @@ std::string num(double v) {  // every digit: an a_hat of 0.1 must stay 0.1
   char b[32];
   std::snprintf(b, sizeof b, "%.17g", v);
   return b;
+}
+
+std::string walls(const Channel& c) {
+  if (c.accommodation >= 1.0)
+    return "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n";
+  const std::string w = "{plugin: maxwell_wall, temperature: 1.0, accommodation: " + num(c.accommodation) + "}\n";
+  return "  y_min: " + w + "  y_max: " + w;
 }
 
 std::string channel_yaml(const Channel& c) {
@@ -45,9 +55,10 @@ std::string channel_yaml(const Channel& c) {
          std::to_string(c.layers) + (c.bins ? "\n  bins: " + std::to_string(c.bins) : std::string()) + "\ninitial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: " +
          std::to_string(c.alpha) + "}\nforcings:\n  - {plugin: body_acceleration, acceleration: {value: " +
          num(c.a_hat * 2.0 / width) + ", unit: reduced}}\n"
-         "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n"
+         "boundaries:\n" + walls(c) +
          "diagnostics:\n  - {plugin: poiseuille_channel, steady_window: " + std::to_string(c.window_tau0) +
-         ", min_time: " + std::to_string(c.min_time_tau0) + ", steady_tolerance: 0.002}\n"
+         ", min_time: " + std::to_string(c.min_time_tau0) + ", steady_tolerance: " + num(c.steady_tolerance) +
+         (c.steady_sigmas >= 0 ? ", steady_sigmas: " + num(c.steady_sigmas) : std::string()) + "}\n"
          "output: {file: out.h5}\n";
 }
 
@@ -142,6 +153,35 @@ TEST(Poiseuille, InelasticChannelReachesASteadyEnergyAndItsEnergyBalanceCloses) 
   EXPECT_LT(run.error("energy_balance_closure"), 0.1);
   EXPECT_NEAR(run.value("power_from_flow_ratio"), 1.0, 1e-3);
   EXPECT_NEAR(run.value("wall_momentum_ratio"), -1.0, 4.0 * run.error("wall_momentum_ratio"));
+}
+
+// The steady test must not mistake noise for a transient. Maxwell walls of accommodation 0.5 at
+// Kn = 0.5, e_n = 0.9, a_hat = 0.5 heat the gas to 3 T_w; the window means of E(t) over 8 tau0
+// scatter by about 0.5 % with 2e4 particles. With a relative tolerance of 1e-7 (far below that
+// noise: two window means agree that closely with probability ~1e-5) only the statistical allowance
+// (steady_sigmas: two standard errors of the difference, from the 8 piece means of each window) can
+// accept a window: with it the run becomes steady, without it (steady_sigmas: 0, the test of
+// version 1.0) it never does. That the accepted state is steady is checked by the walls taking out
+// N m a and by the energy balance closing (4 jackknife errors each).
+TEST(Poiseuille, SteadyTestAcceptsAWindowWhoseChangeIsNoiseAndTheStateIsSteady) {
+  Channel c;
+  c.kn = 0.5;
+  c.alpha = 0.9;
+  c.a_hat = 0.5;
+  c.accommodation = 0.5;
+  c.dt_tau0 = 0.025;
+  c.stop_tau0 = 120;
+  c.window_tau0 = 8;
+  c.min_time_tau0 = 16;
+  c.steady_tolerance = 1e-7;
+  Ran run(c);
+  ASSERT_TRUE(std::isfinite(run.value("steady_from")));
+  EXPECT_GT(run.value("averaged_time"), 30.0);
+  EXPECT_NEAR(run.value("wall_momentum_ratio"), -1.0, 4.0 * run.error("wall_momentum_ratio"));
+  EXPECT_NEAR(run.value("energy_balance_closure"), 0.0, 4.0 * run.error("energy_balance_closure"));
+  c.steady_sigmas = 0;
+  Ran tolerance_only(c);
+  EXPECT_TRUE(std::isnan(tolerance_only.value("steady_from")));
 }
 
 // A pipeline without walls is refused with the plugin's reason: the diagnostic needs a slab.

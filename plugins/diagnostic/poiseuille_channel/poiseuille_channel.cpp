@@ -1,6 +1,7 @@
 // The acceleration-driven Poiseuille channel of paper 004: steady profiles after the total energy
 // has settled (Appendix), and every derived quantity of Secs. IV-VI with jackknife errors.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -99,11 +100,12 @@ constexpr Column kProfiles[kProfile] = {
 constexpr double kDelta1 = -0.04;  // 004 Eq. 37 (Sela & Goldhirsch)
 constexpr double kDelta2 = 0.214;  // 004 Eq. 37
 constexpr std::size_t kMaxBatches = 16;
+constexpr std::size_t kPieces = 8;  // pieces of a steady-test window (batch means of its error)
 
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -113,9 +115,10 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "(default: the system temperature T0); a_hat = a W / u_R^2 (Eq. 17) and Kn = lambda0 / W\n"
       "(Eq. 18) are written as scalars.\n"
       "Steady state (Appendix): the kinetic energy per particle E(t) is averaged over consecutive\n"
-      "windows of steady_window (time); the state is steady from the end of the first window whose\n"
-      "mean differs from the previous window's by at most steady_tolerance (relative) and that ends\n"
-      "after min_time. From then on every sample is accumulated (004 Eq. 13) per sampling bin: the\n"
+      "windows of steady_window (time); the state is steady from the end of the first window that\n"
+      "ends after min_time and whose mean differs from the previous window's by at most\n"
+      "steady_tolerance (relative) or by at most steady_sigmas standard errors of the difference (each\n"
+      "window mean's error from the means of its 8 equal pieces: a change noise alone explains). From then on every sample is accumulated (004 Eq. 13) per sampling bin: the\n"
       "sums of 1, v_a and v_a v_b, in batches of consecutive records; when 16 batches are full,\n"
       "neighbours are merged (8 batches of twice the length), so the batches always cover the whole\n"
       "steady window in 8-16 pieces.\n"
@@ -149,6 +152,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "Series per record: E [T_w per particle], steady (0/1), Q_record (Eq. 40 over the record).\n"
       "A run that never becomes steady writes NaN and says so in the summary.\n"
       "Parameters: steady_window (time, bare tau0; required), steady_tolerance (default 0.005),\n"
+      "steady_sigmas (default 2), "
       "min_time (bare tau0, default 0), wall_temperature (bare T0, default 1), centre_fit (default\n"
       "0.25), wall_fit_bins (default 3).";
 
@@ -159,6 +163,10 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
             gdsmc::ParamSpec::real("steady_tolerance", "largest relative change of the window mean of E(t) when steady")
                 .above(0.0)
                 .default_value(0.005),
+            gdsmc::ParamSpec::real("steady_sigmas",
+                                   "a change of the window mean within this many standard errors (noise) also counts as settled; 0: tolerance only")
+                .at_least(0.0)
+                .default_value(2.0),
             gdsmc::ParamSpec::real("min_time", "never steady before this time (bare: tau0)")
                 .at_least(0.0)
                 .unit(gdsmc::Dimension::time)
@@ -175,6 +183,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   explicit PoiseuilleChannel(const gdsmc::Params& p)
       : window_(p.real("steady_window")),
         tolerance_(p.real("steady_tolerance")),
+        sigmas_(p.real("steady_sigmas")),
         min_time_(p.real("min_time")),
         t_wall_(p.real("wall_temperature")),
         centre_fit_(p.real("centre_fit")),
@@ -195,10 +204,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     records_in_batch_ = 0;
     steady_ = false;
     steady_from_ = std::nan("");
-    window_sum_ = 0;
-    window_samples_ = 0;
+    piece_sum_.fill(0.0);
+    piece_samples_.fill(0);
     window_start_ = 0;
     previous_window_mean_ = std::nan("");
+    previous_window_error_ = 0;
     record_e_ = record_vx_ = 0;
     record_samples_ = 0;
     have_last_ = false;
@@ -372,17 +382,38 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     return l;
   }
 
-  // The energy test of the Appendix: consecutive window means of E(t).
+  // The energy test of the Appendix: consecutive window means of E(t). Each window is cut into
+  // kPieces equal pieces; the spread of the piece means is the window mean's standard error (batch
+  // means), so a change that noise alone explains counts as settled:
+  // |m_k - m_{k-1}| <= max(tolerance |m_k|, sigmas sqrt(s_k^2 + s_{k-1}^2)).
   void test_steady(const gdsmc::StepContext& ctx, double e) {
-    window_sum_ += e;
-    ++window_samples_;
-    if (ctx.time - window_start_ < window_ * (1.0 - 1e-12)) return;
-    const double mean = window_sum_ / static_cast<double>(window_samples_);
+    const double into = (ctx.time - window_start_) / window_;
+    const std::size_t piece = std::min(kPieces - 1, static_cast<std::size_t>(std::max(0.0, into) * kPieces));
+    piece_sum_[piece] += e;
+    ++piece_samples_[piece];
+    if (into < 1.0 - 1e-12) return;
+    double sum = 0, count = 0, sum_means = 0, sum_means2 = 0;
+    std::size_t pieces = 0;
+    for (std::size_t k = 0; k < kPieces; ++k) {
+      sum += piece_sum_[k];
+      count += static_cast<double>(piece_samples_[k]);
+      if (piece_samples_[k] == 0) continue;
+      const double m = piece_sum_[k] / static_cast<double>(piece_samples_[k]);
+      sum_means += m;
+      sum_means2 += m * m;
+      ++pieces;
+    }
+    const double mean = sum / count;
+    const double np = static_cast<double>(pieces);
+    const double error = pieces > 1 ? std::sqrt(std::max(0.0, (sum_means2 - sum_means * sum_means / np) / (np - 1) / np)) : 0.0;
+    const double change = std::fabs(mean - previous_window_mean_);
     const bool settled = std::isfinite(previous_window_mean_) &&
-                         std::fabs(mean - previous_window_mean_) <= tolerance_ * std::fabs(mean);
+                         (change <= tolerance_ * std::fabs(mean) ||
+                          change <= sigmas_ * std::sqrt(error * error + previous_window_error_ * previous_window_error_));
     previous_window_mean_ = mean;
-    window_sum_ = 0;
-    window_samples_ = 0;
+    previous_window_error_ = error;
+    piece_sum_.fill(0.0);
+    piece_samples_.fill(0);
     window_start_ = ctx.time;
     if (settled && ctx.time >= min_time_) {
       steady_ = true;
@@ -592,14 +623,16 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     }
   }
 
-  double window_, tolerance_, min_time_, t_wall_, centre_fit_;
+  double window_, tolerance_, sigmas_, min_time_, t_wall_, centre_fit_;
   std::size_t wall_bins_, wall_fit_ = 0;
   gdsmc::SystemInfo sys_;
   std::size_t bins_ = 0, stride_ = 0, filled_ = 0, batch_records_ = 1, records_in_batch_ = 0;
   std::vector<double> batches_, work_;
   bool steady_ = false, have_last_ = false;
-  double steady_from_ = 0, window_sum_ = 0, window_start_ = 0, previous_window_mean_ = 0;
-  std::size_t window_samples_ = 0, record_samples_ = 0;
+  double steady_from_ = 0, window_start_ = 0, previous_window_mean_ = 0, previous_window_error_ = 0;
+  std::array<double, kPieces> piece_sum_{};
+  std::array<std::size_t, kPieces> piece_samples_{};
+  std::size_t record_samples_ = 0;
   double record_e_ = 0, record_vx_ = 0, accel_ = 0;
   Ledger last_;
   std::size_t id_e_ = 0, id_steady_ = 0, id_q_ = 0;
