@@ -1,5 +1,7 @@
 #include "app/cli.hpp"
 
+#include <cstdlib>
+
 namespace gdsmc::host {
 
 const std::vector<std::string>& Args::all(const std::string& name) const {
@@ -45,7 +47,8 @@ const std::vector<OptionSpec>& command_options(const std::string& command) {
                                               {{"--quiet", "-q"}, ""},
                                               {{"--set"}, "a value"},
                                               {{"--output", "-o"}, "a value"},
-                                              {{"--plugin-path"}, "a value"}};
+                                              {{"--plugin-path"}, "a value"},
+                                              {{"--threads"}, "a number"}};
   static const std::vector<OptionSpec> plugins = {{{"--help", "-h"}, ""}, {{"--plugin-path"}, "a value"}};
   static const std::vector<OptionSpec> plot = {{{"--help", "-h"}, ""}, {{"--out"}, "a directory"}};
   static const std::vector<OptionSpec> inspect = {{{"--help", "-h"}, ""}, {{"--long", "-l"}, ""}};
@@ -66,6 +69,16 @@ bool parse(const std::string& command, int argc, char** argv, int first, Options
   o.quiet = args.has("--quiet");
   o.sets = args.all("--set");
   for (const auto& p : args.all("--plugin-path")) o.plugin_paths.emplace_back(p);
+  if (args.has("--threads")) {
+    const std::string& t = args.all("--threads").back();
+    char* end = nullptr;
+    const long v = std::strtol(t.c_str(), &end, 10);
+    if (t.empty() || *end != '\0' || v < 0 || v > 4096) {
+      error = "--threads needs a whole number between 0 (every core) and 4096, got '" + t + "'";
+      return false;
+    }
+    o.threads = static_cast<int>(v);
+  }
   if (args.has("--output")) {
     o.output = args.all("--output").back();
     if (o.output.empty()) {

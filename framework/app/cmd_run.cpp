@@ -37,6 +37,10 @@ Options:
   -o, --output FILE      write to FILE instead of output.file
   -q, --quiet            no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  --threads N            runs (sweep cases x realizations) at once; default run.threads, else
+                         every core; 1 runs them one after another. The output is the same bits
+                         for any N (each run is independent; results are gathered in case order);
+                         memory grows with N (each running run holds its particles)
   -h, --help             this text
 
 With output.plots: true the finished file is then drawn by `gdsmc plot` (PNGs in
@@ -71,6 +75,7 @@ Options (those of `run`, so that a run's command line can be checked by changing
   -o, --output FILE      the output file to check (nothing is left behind)
   -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  --threads N            as for run: the runs at once that the memory estimate assumes
   -h, --help             this text
 )";
 
@@ -142,6 +147,10 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
   bool estimated = false;
   try {
     cases = expand_cases(p, progress);
+    if (o.threads >= 0) {  // --threads overrides run.threads (not part of the pipeline: results do not depend on it)
+      p.threads = static_cast<std::uint32_t>(o.threads);
+      for (auto& c : cases) c.pipeline.threads = p.threads;
+    }
     try {
       target = check_output_path(p.output_file, run_inputs(p, cases));
       if (!run_it) probe_temporary(target);

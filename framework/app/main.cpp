@@ -27,6 +27,8 @@ gdsmc run PIPELINE.yaml [options]
   -o, --output FILE      write to FILE instead of the pipeline's output.file
   -q, --quiet            no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  --threads N            runs (cases x realizations) at once (default: every core); the output
+                         is the same bits for any N
   -h, --help             the help of `run`
 
 gdsmc validate PIPELINE.yaml [options]
@@ -37,6 +39,7 @@ gdsmc validate PIPELINE.yaml [options]
   -o, --output FILE      the output file the verdict names (nothing is written)
   -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  --threads N            the runs at once the memory estimate assumes
   -h, --help             the help of `validate`
 
 gdsmc plugins [NAME | FILE.so]... [options]

@@ -66,6 +66,9 @@ struct Pipeline {
   std::optional<SteadyStop> stop_steady;
   std::uint64_t sample_every = 1, record_every = 1, moments_every = 4;
   std::uint32_t realizations = 1;
+  // run.threads (or --threads): runs (cases x realizations) at once; 0 = every core. Results do
+  // not depend on it: each run is independent and the outputs are gathered in case order.
+  std::uint32_t threads = 0;
   // run.candidate_pairs: false = distinct (N_c (N_c - 1)/2 pairs per cell), true = squared (N_c^2/2,
   // 000 Eq. 4.13 as written).
   bool candidate_pairs_squared = false;

@@ -226,7 +226,7 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
     c.error("run", run, "expected a mapping");
   } else {
     c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
-                              "realizations", "average_after", "candidate_pairs"});
+                              "realizations", "average_after", "candidate_pairs", "threads"});
     if (const YAML::Node cp = run["candidate_pairs"]) {
       if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;
       else if (!(cp.IsScalar() && cp.Scalar() == "distinct"))
@@ -238,6 +238,14 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {
         if (*v < 1 || *v > 100000) c.error("run.realizations", run["realizations"], "realizations must be between 1 and 100000");
         else p.realizations = static_cast<std::uint32_t>(*v);
+      }
+    }
+    if (run["threads"]) {
+      if (auto v = c.integer(run["threads"], "run.threads")) {
+        if (*v < 0 || *v > 4096)
+          c.error("run.threads", run["threads"],
+                  "threads must be between 0 (every core) and 4096 (1: one run at a time; results do not depend on it)");
+        else p.threads = static_cast<std::uint32_t>(*v);
       }
     }
     if (const YAML::Node aa = run["average_after"]) parse_average_after(c, aa, p);

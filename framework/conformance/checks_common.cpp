@@ -1,5 +1,8 @@
-// Checks every plugin kind gets: load, ABI, descriptor, schema, defaults, bounds, out-of-range and wrong-type values, determinism.
+// Checks every plugin kind gets: load, ABI, descriptor, schema, defaults, bounds, out-of-range and wrong-type values, determinism, two runs at once.
 #include "conformance/internal.hpp"
+
+#include <exception>
+#include <thread>
 
 namespace gdsmc::host::conformance {
 
@@ -432,48 +435,105 @@ std::string compare_particles(const ParticleSpan& a, const ParticleSpan& b) {
   return "";
 }
 
-Result check_determinism(const Subject& s) {
-  const Assignment a = base_assignment(s);
-  constexpr int steps = 20;
-  if (s.kind() == PluginKind::boundary) {
-    // The boundary checks' slab (engine Mover, plugin on both planes) twice with the same seed.
-    constexpr int slab_steps = 100;
-    auto run = [&]() {
-      auto h = make_slab(s, a);
-      if (h->refusal.empty()) h->stream(slab_steps, 0.05);
-      return h;
-    };
-    auto h1 = run(), h2 = run();
-    if (!h1->refusal.empty()) return skip(h1->refusal + " (a refusal in begin() is allowed)");
-    std::string d = compare_particles(h1->span(), h2->span());
-    for (int side = 0; side < 2 && d.empty(); ++side) {
-      const BoundaryTally &t1 = h1->tally.sides[side], &t2 = h2->tally.sides[side];
-      if (t1.hits != t2.hits || std::memcmp(&t1.energy, &t2.energy, sizeof(double)) != 0 ||
-          std::memcmp(t1.momentum, t2.momentum, sizeof t1.momentum) != 0)
-        d = fmt("the %s tallies differ (%llu hits, energy %.17g against %llu hits, energy %.17g)", side ? "y_max" : "y_min",
-                static_cast<unsigned long long>(t1.hits), t1.energy, static_cast<unsigned long long>(t2.hits), t2.energy);
-    }
-    if (!d.empty()) return fail("not deterministic: the same seed twice gives different results: " + d);
-    return pass(fmt("seed %llu twice: bit-identical particles and boundary tallies after %d steps of a %zu-particle slab "
-                    "(%llu hits)", static_cast<unsigned long long>(s.cfg.seed), slab_steps, h1->span().count,
-                    static_cast<unsigned long long>(h1->tally.sides[0].hits + h1->tally.sides[1].hits)));
+namespace {
+
+// The boundary checks' slab (engine Mover, plugin on both planes) for `steps` steps.
+std::unique_ptr<SlabHarness> run_slab(const Subject& s, const Assignment& a, int steps) {
+  auto h = make_slab(s, a);
+  if (h->refusal.empty()) h->stream(steps, 0.05);
+  return h;
+}
+
+std::string compare_slabs(SlabHarness& h1, SlabHarness& h2) {
+  std::string d = compare_particles(h1.span(), h2.span());
+  for (int side = 0; side < 2 && d.empty(); ++side) {
+    const BoundaryTally &t1 = h1.tally.sides[side], &t2 = h2.tally.sides[side];
+    if (t1.hits != t2.hits || std::memcmp(&t1.energy, &t2.energy, sizeof(double)) != 0 ||
+        std::memcmp(t1.momentum, t2.momentum, sizeof t1.momentum) != 0)
+      d = fmt("the %s tallies differ (%llu hits, energy %.17g against %llu hits, energy %.17g)", side ? "y_max" : "y_min",
+              static_cast<unsigned long long>(t1.hits), t1.energy, static_cast<unsigned long long>(t2.hits), t2.energy);
   }
-  auto p1 = load_test_pipeline(s, a), p2 = load_test_pipeline(s, a);
-  Engine e1(*p1), e2(*p2);
-  for (int k = 0; k < steps; ++k) {
-    e1.step();
-    e2.step();
-  }
+  return d;
+}
+
+std::string compare_engines(const Subject& s, Engine& e1, Engine& e2) {
   std::string d = compare_particles(e1.particles(), e2.particles());
   if (d.empty() && e1.context().collisions != e2.context().collisions)
     d = fmt("%llu collisions in one run and %llu in the other", static_cast<unsigned long long>(e1.context().collisions),
             static_cast<unsigned long long>(e2.context().collisions));
   if (d.empty() && s.kind() == PluginKind::diagnostic)
     d = compare_outputs(e1.diagnostics().at(0), e2.diagnostics().at(0), 0, 0);
+  return d;
+}
+
+constexpr int kSteps = 20, kSlabSteps = 100;
+
+}  // namespace
+
+Result check_determinism(const Subject& s) {
+  const Assignment a = base_assignment(s);
+  if (s.kind() == PluginKind::boundary) {
+    auto h1 = run_slab(s, a, kSlabSteps), h2 = run_slab(s, a, kSlabSteps);
+    if (!h1->refusal.empty()) return skip(h1->refusal + " (a refusal in begin() is allowed)");
+    const std::string d = compare_slabs(*h1, *h2);
+    if (!d.empty()) return fail("not deterministic: the same seed twice gives different results: " + d);
+    return pass(fmt("seed %llu twice: bit-identical particles and boundary tallies after %d steps of a %zu-particle slab "
+                    "(%llu hits)", static_cast<unsigned long long>(s.cfg.seed), kSlabSteps, h1->span().count,
+                    static_cast<unsigned long long>(h1->tally.sides[0].hits + h1->tally.sides[1].hits)));
+  }
+  auto p1 = load_test_pipeline(s, a), p2 = load_test_pipeline(s, a);
+  Engine e1(*p1), e2(*p2);
+  for (int k = 0; k < kSteps; ++k) {
+    e1.step();
+    e2.step();
+  }
+  const std::string d = compare_engines(s, e1, e2);
   if (!d.empty()) return fail("not deterministic: the same seed twice gives different results: " + d);
   return pass(fmt("seed %llu twice: bit-identical particles%s after %d steps of a %zu-particle pipeline",
                   static_cast<unsigned long long>(s.cfg.seed),
-                  s.kind() == PluginKind::diagnostic ? " and output" : "", steps, p1->particles));
+                  s.kind() == PluginKind::diagnostic ? " and output" : "", kSteps, p1->particles));
+}
+
+// Runs at once (run.threads): two instances of the plugin, each in its own run on its own thread,
+// at the same time, must give the bits of one run alone. Shared mutable state (a static counter,
+// cache or generator) shows up as a difference, or as a crash.
+Result check_threads(const Subject& s) {
+  const Assignment a = base_assignment(s);
+  auto concurrently = [](const std::function<void()>& f1, const std::function<void()>& f2) {
+    std::exception_ptr x1, x2;
+    std::thread t1([&] { try { f1(); } catch (...) { x1 = std::current_exception(); } });
+    std::thread t2([&] { try { f2(); } catch (...) { x2 = std::current_exception(); } });
+    t1.join();
+    t2.join();
+    if (x1) std::rethrow_exception(x1);
+    if (x2) std::rethrow_exception(x2);
+  };
+  if (s.kind() == PluginKind::boundary) {
+    auto alone = run_slab(s, a, kSlabSteps);
+    if (!alone->refusal.empty()) return skip(alone->refusal + " (a refusal in begin() is allowed)");
+    std::unique_ptr<SlabHarness> h1, h2;
+    concurrently([&] { h1 = run_slab(s, a, kSlabSteps); }, [&] { h2 = run_slab(s, a, kSlabSteps); });
+    std::string d = compare_slabs(*alone, *h1);
+    if (d.empty()) d = compare_slabs(*alone, *h2);
+    if (!d.empty()) return fail("two runs at once (run.threads: 2) differ from one alone: " + d +
+                                "; keep mutable state in the object, not in static or global variables");
+    return pass(fmt("two %d-step slabs on two threads at once: the bits of one alone", kSlabSteps));
+  }
+  auto p0 = load_test_pipeline(s, a), p1 = load_test_pipeline(s, a), p2 = load_test_pipeline(s, a);
+  Engine alone(*p0);
+  for (int k = 0; k < kSteps; ++k) alone.step();
+  std::unique_ptr<Engine> e1, e2;
+  auto run = [&](std::unique_ptr<Engine>& e, const Pipeline& p) {
+    e = std::make_unique<Engine>(p);
+    for (int k = 0; k < kSteps; ++k) e->step();
+  };
+  concurrently([&] { run(e1, *p1); }, [&] { run(e2, *p2); });
+  std::string d = compare_engines(s, alone, *e1);
+  if (d.empty()) d = compare_engines(s, alone, *e2);
+  if (!d.empty()) return fail("two runs at once (run.threads: 2) differ from one alone: " + d +
+                              "; keep mutable state in the object, not in static or global variables");
+  return pass(fmt("two %d-step runs on two threads at once: the bits%s of one alone", kSteps,
+                  s.kind() == PluginKind::diagnostic ? " (particles and output)" : ""));
 }
 
 }  // namespace gdsmc::host::conformance

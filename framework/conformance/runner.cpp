@@ -82,7 +82,8 @@ std::vector<Check> checks_for(PluginKind kind) {
                           {"parameter_interior", check_interior},
                           {"out_of_range_rejected", check_out_of_range},
                           {"wrong_type_rejected", check_wrong_type},
-                          {"determinism", check_determinism}};
+                          {"determinism", check_determinism},
+                          {"threads", check_threads}};
   switch (kind) {
     case PluginKind::collision_rule:
       c.insert(c.end(), {{"collision.finite", check_collision_finite},

@@ -81,9 +81,22 @@ CaseMemory case_memory(const Pipeline& p, const RunLayout& layout) {
   return m;
 }
 
-MemoryEstimate study_memory(const std::vector<CaseMemory>& cases) {
+MemoryEstimate study_memory(const std::vector<CaseMemory>& cases, std::uint32_t concurrent) {
   MemoryEstimate e;
   double kept = 0;
+  if (concurrent > 1) {  // any runs may overlap: bound by the largest run, that many times
+    for (std::size_t c = 0; c < cases.size(); ++c) {
+      if (c == 0 || cases[c].peak > e.at_peak.peak) {
+        e.peak_case = c;
+        e.at_peak = cases[c];
+      }
+      kept += cases[c].kept;
+    }
+    e.concurrent = concurrent;
+    e.kept_before = kept;
+    e.bytes = kept + concurrent * e.at_peak.peak;
+    return e;
+  }
   for (std::size_t c = 0; c < cases.size(); ++c) {
     if (kept + cases[c].peak > e.bytes || c == 0) {
       e.bytes = kept + cases[c].peak;
@@ -98,10 +111,13 @@ MemoryEstimate study_memory(const std::vector<CaseMemory>& cases) {
 
 std::string MemoryEstimate::drivers() const {
   const CaseMemory& c = at_peak;
-  std::string s = std::to_string(c.particles) + " particles x " + fmt("%.0f", c.bytes_per_particle) + " bytes = " +
-                  bytes_text(static_cast<double>(c.particles) * c.bytes_per_particle);
+  std::string s = concurrent > 1 ? std::to_string(concurrent) + " runs at once (run.threads; --threads 1 runs one at a time), each " : "";
+  s += std::to_string(c.particles) + " particles x " + fmt("%.0f", c.bytes_per_particle) + " bytes = " +
+       bytes_text(static_cast<double>(c.particles) * c.bytes_per_particle);
   s += "; diagnostics' records about " + bytes_text(c.records_bytes) + fmt(" (about %.0f steps)", c.steps);
-  if (kept_before > 0) s += "; " + bytes_text(kept_before) + " kept from earlier cases until the file is written";
+  if (kept_before > 0)
+    s += "; " + bytes_text(kept_before) + (concurrent > 1 ? " kept from the cases until the file is written"
+                                                           : " kept from earlier cases until the file is written");
   return s;
 }
 

@@ -3,6 +3,7 @@
 // process can still take: a study that cannot fit is refused before it starts, with both figures.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <string>
 #include <vector>
@@ -39,9 +40,10 @@ struct CaseMemory {
 };
 CaseMemory case_memory(const Pipeline& p, const RunLayout& layout);
 
-// The study's peak: the cases run one after another, each keeping its outputs until the end.
+// The memory a study needs at its peak, and what drives it.
 struct MemoryEstimate {
   double bytes = 0;
+  std::uint32_t concurrent = 1;  // runs at once (run.threads): each holds its particles and records
   std::size_t peak_case = 0;  // the case during which the peak is reached
   double kept_before = 0;     // what the cases before it keep at that time
   CaseMemory at_peak;
@@ -49,7 +51,10 @@ struct MemoryEstimate {
   // steps); 3 MiB kept from earlier cases"
   std::string drivers() const;
 };
-MemoryEstimate study_memory(const std::vector<CaseMemory>& cases);
+// The study's peak: the cases run one after another, each keeping its outputs until the end; with
+// `concurrent` runs at once (run.threads), that many of the largest run's peak on top of
+// everything the cases keep.
+MemoryEstimate study_memory(const std::vector<CaseMemory>& cases, std::uint32_t concurrent = 1);
 
 // What this process can still allocate: the smaller of MemAvailable (/proc/meminfo) and what the
 // address-space and data limits (RLIMIT_AS, RLIMIT_DATA) leave of what is in use.

@@ -1,9 +1,11 @@
 #include "study/cases.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <new>
+#include <thread>
 
 #include "util/text.hpp"
 
@@ -144,6 +146,14 @@ std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& p
   return cases;
 }
 
+std::uint32_t study_threads(const std::vector<StudyCase>& cases) {
+  std::size_t runs = 0;
+  for (const auto& c : cases) runs += c.pipeline.realizations;
+  std::uint32_t threads = cases.front().pipeline.threads;
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<std::uint32_t>(std::max<std::size_t>(1, std::min<std::size_t>(threads, runs)));
+}
+
 MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress) {
   std::vector<AxisValues> values;
   for (const auto& c : cases) values.push_back(c.axis_values);
@@ -165,24 +175,26 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
   }
   if (!problems.empty()) throw problems.error();
 
-  const MemoryEstimate estimate = study_memory(memory);
+  const MemoryEstimate estimate = study_memory(memory, study_threads(cases));
   const MemoryAvailable available = available_memory();
   if (estimate.bytes <= available.bytes) return estimate;
   const StudyCase& peak = cases[estimate.peak_case];
   const CaseMemory& m = estimate.at_peak;
-  const double particles = static_cast<double>(m.particles) * m.bytes_per_particle, others = estimate.bytes - particles;
+  const double particles = estimate.concurrent * static_cast<double>(m.particles) * m.bytes_per_particle,
+               others = estimate.bytes - particles;
   // Located at run.particles, unless the records are what does not fit.
   std::string message = particles >= others ? peak.pipeline.particles_where.str() + ": run.particles: "
                                             : peak.pipeline.file.string() + ": diagnostics: ";
-  message += std::string(cases.size() > 1 ? "this study needs about " : "this run needs about ") +
+  message += std::string(cases.size() > 1 || estimate.concurrent > 1 ? "this study needs about " : "this run needs about ") +
              bytes_text(estimate.bytes) + " of memory";
   if (!peak.label.empty())
     message += " (at its peak, in sweep case " + std::to_string(estimate.peak_case) + " (" + peak.label + "))";
   message += " but " + bytes_text(available.bytes) + " is available (" + available.source + "); the estimate: " +
              estimate.drivers();
   if (others < available.bytes)
-    message += "; at most about " + std::to_string(round_down((available.bytes - others) / m.bytes_per_particle)) +
-               " particles fit";
+    message += "; at most about " +
+               std::to_string(round_down((available.bytes - others) / (estimate.concurrent * m.bytes_per_particle))) +
+               " particles fit" + (estimate.concurrent > 1 ? " per run" : "");
   else
     message += "; the records alone need " + bytes_text(others) +
                ": record less often (record_every), stop sooner (run.stop) or run fewer realizations";

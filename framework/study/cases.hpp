@@ -29,8 +29,12 @@ using CheckProgress = std::function<void(const char* stage, std::size_t done, st
 // sweep value at its entry in the sweep) and naming the cases it occurs in.
 std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress = {});
 
+// How many runs (case x realization) the study runs at once: run.threads of the first case (0:
+// every core), at most the number of runs, at least 1.
+std::uint32_t study_threads(const std::vector<StudyCase>& cases);
+
 // Set up every case's plugins as validate does (Engine::check_setup) and estimate the study's
-// memory from what they declared. Throws PipelineError naming the case(s) on a setup problem, and
+// memory from what they declared (study_threads() runs at once). Throws PipelineError naming the case(s) on a setup problem, and
 // when the estimate exceeds the memory available (both figures, and what drives the estimate).
 MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress = {});
 

@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
 
 #include "study/summary.hpp"
 
@@ -12,70 +17,107 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Where the study is, for progress reports of the runs.
-struct StudyClock {
-  Clock::time_point start = Clock::now();
-  Clock::time_point last_report = start;  // of the study: runs shorter than the interval share it
-  std::size_t run_index = 0, total_runs = 0;
+// One run: a realization of a case, on whichever worker takes it. Everything it gives to the
+// output is computed from (case, realization) alone, so the gathered output is the same bits for
+// any number of workers.
+struct Run {
+  std::size_t case_index = 0;
+  std::uint32_t realization = 0;
+  std::string label;
+  // Results
+  std::optional<CaseOutput> output;  // realization 0 only
+  std::vector<std::string> summary;  // realization 0 only
+  std::vector<DiagnosticOutput> diagnostics;
+  double collisions = 0, wall_seconds = 0;
+  std::uint64_t steps = 0;
+  bool steady = false;
+  std::exception_ptr error;
 };
 
-// One case: every realization run, the diagnostics averaged and the steady averages added.
-CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result, std::vector<std::string>& case_summary,
-                    const std::function<void(const StudyProgress&)>& report, double report_interval,
-                    const std::atomic<bool>* interrupt) {
+// Progress of the whole study, shared by the workers: each run's fraction, reported at most once
+// per interval (and once at the very end).
+class StudyClock {
+ public:
+  StudyClock(std::size_t runs, const std::function<void(const StudyProgress&)>& report, double interval)
+      : fractions_(runs, 0.0), report_(report), interval_(interval) {}
+
+  void update(std::size_t run, const std::string& label, const Progress& pr) {
+    if (!report_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    fractions_[run] = std::clamp(pr.fraction, 0.0, 1.0);
+    if (pr.final) ++finished_;
+    const auto now = Clock::now();
+    const bool last = pr.final && finished_ == fractions_.size();
+    if (!last && std::chrono::duration<double>(now - last_report_).count() < interval_) return;
+    last_report_ = now;
+    StudyProgress sp;
+    sp.run = run;
+    sp.runs = fractions_.size();
+    sp.label = label;
+    sp.progress = pr;
+    double sum = 0;
+    for (double f : fractions_) sum += f;
+    sp.fraction = sum / static_cast<double>(fractions_.size());
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    sp.elapsed_seconds = elapsed;
+    sp.remaining_seconds = sp.fraction > 0 ? elapsed * (1 - sp.fraction) / sp.fraction : -1;
+    report_(sp);
+  }
+  double interval() const { return interval_; }
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+ private:
+  std::mutex mutex_;
+  std::vector<double> fractions_;
+  std::size_t finished_ = 0;
+  const std::function<void(const StudyProgress&)>& report_;
+  double interval_;
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point last_report_ = start_;
+};
+
+void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index, const std::atomic<bool>* stop) {
   const Pipeline& p = sc.pipeline;
-  std::vector<std::vector<DiagnosticOutput>> runs;
-  CaseOutput case_out;
-  for (std::uint32_t r = 0; r < p.realizations; ++r, ++clock.run_index) {
-    Engine engine(p, r);
-    std::string label = sc.label;
-    if (p.realizations > 1) label += (label.empty() ? "" : ", ") + std::string("realization ") + std::to_string(r);
-    std::function<void(const Progress&)> inner;
-    if (report) {
-      inner = [&, label](const Progress& pr) {
-        // At most one report per interval over the whole study (thousands of short realizations
-        // each end with a report), and the very last one.
-        const auto now = Clock::now();
-        const bool last = pr.final && clock.run_index + 1 == clock.total_runs;
-        if (!last && std::chrono::duration<double>(now - clock.last_report).count() < report_interval) return;
-        clock.last_report = now;
-        StudyProgress sp;
-        sp.run = clock.run_index;
-        sp.runs = clock.total_runs;
-        sp.label = label;
-        sp.progress = pr;
-        sp.fraction = (static_cast<double>(clock.run_index) + std::clamp(pr.fraction, 0.0, 1.0)) /
-                      static_cast<double>(clock.total_runs);
-        const double elapsed = std::chrono::duration<double>(now - clock.start).count();
-        sp.elapsed_seconds = elapsed;
-        sp.remaining_seconds = sp.fraction > 0 ? elapsed * (1 - sp.fraction) / sp.fraction : -1;
-        report(sp);
-      };
+  Engine engine(p, run.realization);
+  std::function<void(const Progress&)> inner = [&](const Progress& pr) { clock.update(index, run.label, pr); };
+  engine.run(inner, clock.interval(), stop);
+  run.collisions = engine.context().collisions;
+  run.steps = engine.context().step;
+  run.wall_seconds = engine.wall_seconds();
+  run.steady = engine.reached_steady_state();
+  if (run.realization == 0) {
+    run.output = engine.output();
+    run.summary = engine.summary();
+  }
+  run.diagnostics = engine.diagnostics();
+}
+
+// A case from its runs (in realization order): the diagnostics averaged, the steady averages added.
+CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<std::string>& case_summary) {
+  const Pipeline& p = sc.pipeline;
+  CaseOutput case_out = std::move(*runs.front()->output);
+  for (const auto& line : runs.front()->summary)
+    case_summary.push_back((p.realizations > 1 ? "[realization 0] " : "") + line);
+  std::vector<std::vector<DiagnosticOutput>> diagnostics;
+  for (Run* r : runs) {
+    if (r->realization > 0) {
+      case_out.run["wall_seconds"] += r->wall_seconds;
+      case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"], r->steady ? 1.0 : 0.0);
     }
-    engine.run(inner, report_interval, interrupt);
-    result.collisions += engine.context().collisions;
-    result.steps += engine.context().step;
-    if (r == 0) {
-      case_out = engine.output();
-      for (const auto& line : engine.summary())
-        case_summary.push_back((p.realizations > 1 ? "[realization 0] " : "") + line);
-    } else {
-      case_out.run["wall_seconds"] += engine.wall_seconds();
-      case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"],
-                                                      engine.reached_steady_state() ? 1.0 : 0.0);
-    }
-    runs.push_back(engine.diagnostics());
+    diagnostics.push_back(std::move(r->diagnostics));
   }
   case_out.run["realizations"] = p.realizations;
-  case_out.diagnostics = average_realizations(runs, nullptr);
-  add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0, runs);
+  case_out.diagnostics = average_realizations(diagnostics, nullptr);
+  add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0,
+                      diagnostics);
   const std::string missed =
       steady_window_missed(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0);
   if (!missed.empty()) case_summary.push_back("warning: " + missed);
   if (p.output_realizations) {
-    for (auto& run : runs) add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
+    for (auto& run : diagnostics)
+      add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
     for (std::size_t d = 0; d < case_out.diagnostics.size(); ++d)
-      for (auto& run : runs) case_out.diagnostics[d].realizations.push_back(std::move(run[d]));
+      for (auto& run : diagnostics) case_out.diagnostics[d].realizations.push_back(std::move(run[d]));
   }
   return case_out;
 }
@@ -84,31 +126,125 @@ CaseOutput run_case(const StudyCase& sc, StudyClock& clock, StudyResult& result,
 
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt) {
-  StudyClock clock;
   StudyResult result;
   describe_provenance(cases.front().pipeline, result.output);
-  for (const auto& c : cases) clock.total_runs += c.pipeline.realizations;
   const bool sweep = cases.size() > 1 || !cases.front().label.empty();
+
+  // Every run, in case order and realization order within a case: the order workers take them in.
+  std::vector<Run> runs;
+  std::vector<std::size_t> first_run(cases.size());
+  for (std::size_t ci = 0; ci < cases.size(); ++ci) {
+    first_run[ci] = runs.size();
+    const Pipeline& p = cases[ci].pipeline;
+    for (std::uint32_t r = 0; r < p.realizations; ++r) {
+      Run run;
+      run.case_index = ci;
+      run.realization = r;
+      run.label = cases[ci].label;
+      if (p.realizations > 1)
+        run.label += (run.label.empty() ? "" : ", ") + std::string("realization ") + std::to_string(r);
+      runs.push_back(std::move(run));
+    }
+  }
+  // A case is gathered by the worker that finishes its last run (so that only the averaged
+  // records of finished cases are kept, as in a serial study), into its own slot.
+  std::vector<std::optional<CaseOutput>> gathered(cases.size());
+  std::vector<std::vector<std::string>> case_summaries(cases.size());
+  std::vector<std::uint32_t> left(cases.size());
+  for (std::size_t ci = 0; ci < cases.size(); ++ci) left[ci] = cases[ci].pipeline.realizations;
+
+  StudyClock clock(runs.size(), report, report_interval);
+  const std::uint32_t workers = study_threads(cases);
+  std::mutex mutex;
+  auto finish = [&](std::size_t index) {
+    const std::size_t ci = runs[index].case_index;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (--left[ci] > 0) return;
+    }
+    std::vector<Run*> case_runs;
+    for (std::uint32_t r = 0; r < cases[ci].pipeline.realizations; ++r) case_runs.push_back(&runs[first_run[ci] + r]);
+    gathered[ci] = gather_case(cases[ci], case_runs, case_summaries[ci]);
+  };
+
+  if (workers == 1) {
+    // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
+    for (std::size_t index = 0; index < runs.size(); ++index) {
+      execute(cases[runs[index].case_index], runs[index], clock, index, interrupt);
+      finish(index);
+    }
+  } else {
+    // Workers stop at the user's interrupt or at the first failed run (`stop`, polled by every
+    // engine); the main thread forwards the interrupt flag while it waits.
+    std::atomic<bool> stop{false};
+    std::condition_variable idle;
+    std::size_t next = 0, active = workers;
+    auto work = [&] {
+      for (;;) {
+        std::size_t index;
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (next == runs.size() || stop.load()) break;
+          index = next++;
+        }
+        try {
+          execute(cases[runs[index].case_index], runs[index], clock, index, &stop);
+          finish(index);
+        } catch (...) {
+          runs[index].error = std::current_exception();
+          stop.store(true);
+        }
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      --active;
+      idle.notify_all();
+    };
+    std::vector<std::thread> pool;
+    for (std::uint32_t w = 0; w < workers; ++w) pool.emplace_back(work);
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      while (active > 0) {
+        idle.wait_for(lock, std::chrono::milliseconds(50));
+        if (interrupt && interrupt->load()) stop.store(true);
+      }
+    }
+    for (auto& t : pool) t.join();
+    // The first run (in study order) that failed of itself; the runs stopped because of it, or by
+    // the user, were interrupted and say nothing new.
+    for (const Run& run : runs) {
+      if (!run.error) continue;
+      try {
+        std::rethrow_exception(run.error);
+      } catch (const Engine::Interrupted&) {
+        continue;
+      }
+    }
+    if (stop.load()) throw Engine::Interrupted();
+  }
 
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
     const StudyCase& sc = cases[ci];
     const Pipeline& p = sc.pipeline;
-    std::vector<std::string> case_summary;
-    CaseOutput case_out = run_case(sc, clock, result, case_summary, report, report_interval, interrupt);
+    for (std::uint32_t r = 0; r < p.realizations; ++r) {
+      result.collisions += runs[first_run[ci] + r].collisions;
+      result.steps += runs[first_run[ci] + r].steps;
+    }
+    CaseOutput case_out = std::move(*gathered[ci]);
     if (sweep) {
       case_out.group = "cases/" + std::to_string(ci);
       case_out.attributes["case"] = sc.label;
       for (const auto& [axis, value] : sc.axis_values) case_out.attributes["sweep." + axis] = value;
       result.summary.push_back("case " + std::to_string(ci) + ": " + sc.label);
-      for (const auto& line : case_summary) result.summary.push_back("  " + line);
+      for (const auto& line : case_summaries[ci]) result.summary.push_back("  " + line);
     } else {
-      for (const auto& line : case_summary) result.summary.push_back(line);
+      for (const auto& line : case_summaries[ci]) result.summary.push_back(line);
     }
     if (p.realizations > 1) add_realization_lines(case_out.diagnostics, p.realizations, sweep, result.summary);
     result.output.cases.push_back(std::move(case_out));
   }
   if (sweep) result.output.summary = summary_table(cases, result.output.cases);
-  result.wall_seconds = std::chrono::duration<double>(Clock::now() - clock.start).count();
+  result.wall_seconds = clock.elapsed();
+  result.threads = workers;
   return result;
 }
 

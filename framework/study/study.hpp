@@ -28,8 +28,13 @@ struct StudyResult {
   std::vector<std::string> summary;  // lines for stdout
   double collisions = 0, wall_seconds = 0;
   std::uint64_t steps = 0;
+  std::uint32_t threads = 1;  // runs that ran at once
 };
 
+
+// Runs every case and realization, study_threads() at a time; the output (every dataset and value,
+// the summary lines) is the same for any number of threads. The first run that fails (in study
+// order) is rethrown once the others have stopped; an interrupt throws Engine::Interrupted.
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt);
 

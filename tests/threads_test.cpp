@@ -1,0 +1,166 @@
+// Runs at once (run.threads, --threads): the cases and realizations of a study run on a pool of
+// workers, and the output does not depend on how many. Each run is a pure function of (case,
+// realization) and the outputs are gathered in case order, so every dataset and every attribute
+// but the wall times must be the same bytes for 1, 2 and 3 threads: a homogeneous sweep with
+// realizations, a slab between walls, and Lees-Edwards boundaries. A failing run ends the study
+// with its own error, naming its case, and nothing is written.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+using namespace gdsmc::test;
+
+// The raw bytes of a dataset or attribute (variable-length strings as their characters).
+std::string value_bytes(hid_t object, hid_t type, hid_t space, bool attribute) {
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (H5Tis_variable_str(type) > 0) {
+    std::vector<char*> strings(static_cast<std::size_t>(n), nullptr);
+    h5::Handle mem(H5Tcopy(type), H5Tclose);  // the file's own string type (its character set)
+    const herr_t r = attribute ? H5Aread(object, mem, strings.data())
+                               : H5Dread(object, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, strings.data());
+    if (r < 0) throw std::runtime_error("cannot read a string value");
+    std::string out;
+    for (char* s : strings) out += std::string(s ? s : "") + '\0';
+    H5Dvlen_reclaim(mem, space, H5P_DEFAULT, strings.data());
+    return out;
+  }
+  std::string out(static_cast<std::size_t>(n) * H5Tget_size(type), '\0');
+  const herr_t r = attribute ? H5Aread(object, type, out.data())
+                             : H5Dread(object, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  if (r < 0) throw std::runtime_error("cannot read a value");
+  return out;
+}
+
+// Every dataset (path -> bytes) and every attribute (path@name -> bytes) of a file, but the wall
+// times (the only values that may differ between two runs of the same pipeline).
+std::map<std::string, std::string> contents(const fs::path& file) {
+  h5::File f(file);
+  std::map<std::string, std::string> out;
+  auto attributes = [&](hid_t object, const std::string& path) {
+    H5O_info_t info;
+    H5Oget_info(object, &info);
+    for (hsize_t k = 0; k < info.num_attrs; ++k) {
+      h5::Handle a(H5Aopen_by_idx(object, ".", H5_INDEX_NAME, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+      char name[256];
+      H5Aget_name(a, sizeof name, name);
+      if (std::string(name) == "wall_seconds") continue;
+      h5::Handle type(H5Aget_type(a), H5Tclose), space(H5Aget_space(a), H5Sclose);
+      out[path + "@" + name] = value_bytes(a, type, space, true);
+    }
+  };
+  attributes(f.id(), "/");
+  for (const auto& [path, kind] : h5::objects(f.id())) {
+    h5::Handle o(H5Oopen(f.id(), path.c_str(), H5P_DEFAULT), H5Oclose);
+    attributes(o, path);
+    if (kind != H5O_TYPE_DATASET) continue;
+    h5::Handle type(H5Dget_type(o), H5Tclose), space(H5Dget_space(o), H5Sclose);
+    out[path] = value_bytes(o, type, space, false);
+  }
+  return out;
+}
+
+// Run `yaml` with --threads 1, 2 and 3 and expect the same contents each time.
+void expect_same_bits_for_any_thread_count(const std::string& yaml, std::size_t min_datasets) {
+  TempDir dir;
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  std::map<std::string, std::string> first;
+  for (const char* threads : {"1", "2", "3"}) {
+    const std::string out = std::string("out") + threads + ".h5";
+    const ProcessResult r = run_gdsmc({"run", pipeline.string(), "--quiet", "--threads", threads, "-o", out}, dir.path(), 300);
+    ASSERT_EQ(r.exit_code, 0) << r.describe();
+    const auto c = contents(dir / out);
+    if (first.empty()) {
+      first = c;
+      EXPECT_GE(first.size(), min_datasets);
+      continue;
+    }
+    ASSERT_EQ(c.size(), first.size()) << threads << " threads";
+    for (const auto& [key, bytes] : first) {
+      auto it = c.find(key);
+      ASSERT_NE(it, c.end()) << key << " missing with " << threads << " threads";
+      EXPECT_TRUE(it->second == bytes) << key << " differs with " << threads << " threads";
+    }
+  }
+}
+
+TEST(Threads, HomogeneousSweepWithRealizationsIsTheSameBitsForOneTwoAndThreeThreads) {
+  expect_same_bits_for_any_thread_count(
+      "run:\n  seed: 7\n  particles: 3000\n  time_step: {value: 0.01, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 6}\n  record_every: 20\n  realizations: 3\n"
+      "  average_after: {collisions_per_particle: 2}\n"
+      "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "diagnostics: [temperature, cumulants, pressure_tensor]\n"
+      "sweep:\n  collision.alpha: [0.5, 0.9]\noutput: {file: out.h5, realizations: true}\n",
+      40);
+}
+
+TEST(Threads, SlabBetweenDiffuseWallsIsTheSameBitsForOneTwoAndThreeThreads) {
+  expect_same_bits_for_any_thread_count(
+      "run:\n  seed: 11\n  particles: 4000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 6}\n"
+      "  record_every: 20\nsystem:\n  mean_free_path: 186\n  temperature: 1.0\n  domain: slab\n"
+      "  box: {y: {value: 1860, unit: sigma}}\n  layers: 40\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 5.0e-4, unit: reduced}}\n"
+      "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n"
+      "diagnostics: [slab_averages, energy_balance]\n"
+      "sweep:\n  collision.alpha: [0.7, 0.9, 1.0]\noutput: {file: out.h5, particles: true}\n",
+      20);
+}
+
+TEST(Threads, LeesEdwardsSlabWithRealizationsIsTheSameBitsForOneTwoAndThreeThreads) {
+  expect_same_bits_for_any_thread_count(
+      "run:\n  seed: 2001\n  particles: 2000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 3}\n  record_every: 40\n  realizations: 3\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"
+      "diagnostics: [slab_averages, shear_rheology]\noutput: {file: out.h5}\n",
+      10);
+}
+
+// Case 1 of 3 fails in its diagnostic's finish(); with two workers the study stops, reports that
+// run's own error (not the interruption of the others) and writes nothing.
+TEST(Threads, AFailingRunEndsTheStudyWithItsOwnErrorAndWritesNothing) {
+  TempDir dir;
+  const fs::path plugins = dir / "plugins";
+  fs::create_directories(plugins);
+  fs::copy_file(test_plugin("failing_finish"), plugins / "gdsmc_failing_finish.so");
+  const fs::path pipeline = dir.write(
+      "p.yaml",
+      "run: {seed: 3, particles: 2000, time_step: 0.01, stop: {collisions_per_particle: 2}}\n"
+      "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\ndiagnostics: [temperature]\n"
+      "sweep:\n  variant:\n    a: {}\n    b: {diagnostics: [temperature, failing_finish]}\n    c: {}\n"
+      "output: {file: out.h5}\n");
+  const ProcessResult r =
+      run_gdsmc({"run", pipeline.string(), "--quiet", "--threads", "2", "--plugin-path", plugins.string()}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "deliberate failure")) << r.err;
+  EXPECT_FALSE(contains(r.err, "interrupted")) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.h5"));
+}
+
+TEST(Threads, ThreadCountsOutsideTheirRangeAreRefusedWithTheValidRange) {
+  TempDir dir;
+  const fs::path pipeline = dir.write(
+      "p.yaml",
+      "run: {particles: 100, time_step: 0.01, stop: {time: 0.1}, threads: -2}\n"
+      "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\noutput: {file: out.h5}\n");
+  ProcessResult r = run_gdsmc({"validate", pipeline.string()}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "run.threads")) << r.err;
+  EXPECT_TRUE(contains(r.err, "0 (every core)")) << r.err;
+  r = run_gdsmc({"run", pipeline.string(), "--threads", "two"}, dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_TRUE(contains(r.err, "--threads needs a whole number")) << r.err;
+}
+
+}  // namespace
