@@ -25,7 +25,7 @@ RUNS = [  # name, what, default e_n (when not a sweep axis)
     ("bimodality", "e_n 0.95, 0.995, 0.999 × Kn, â = 0.5", None),
     ("restitution", "e_n 0.5, 0.6, 0.8 × Kn 0.05, 1, 5, â = 0.5", None),
     ("steady_rerun", "e_n 0.995, Kn = 1, â = 0.5: the bimodality case the fixed-tolerance steady test missed, with the statistical test", 0.995),
-    ("a5", "e_n 0.99, 0.995, 0.999, 1 × Kn 0.03–1, â = 5, dt following T", None),
+    ("a5", "e_n 0.99, 0.995, 0.999, 1 × Kn 0.1–1, â = 5, dt following T", None),
     ("a10", "e_n 0.9, 0.99, 1 × Kn 0.1–10, â = 10, dt following T", None),
     ("walls", "accommodation 0.5, 0.1 × e_n 0.9, 0.99 × Kn 0.05–10 (Maxwell walls; accommodation 1 is the sweep), â = 0.5", None),
     ("specular", "accommodation 0, e_n 0.9 × Kn 0.1, 1, 10, â = 0.5: no steady state exists", 0.9),
@@ -206,7 +206,10 @@ OPEN_FINDINGS = [
     "**Stresses and ΔT carry an O(dt) bias** because diagnostics sample after the collision stage: at "
     "Kn = 0.1 the Eq. 33 residual falls from 3.0 % to 1.6 % to 1.1 % of the wall stress for dt = 0.05, "
     "0.025, 0.0125 τ0, N₁(0) is 20 % high and ΔT 35 % low at 0.05 τ0; the sweeps use dt ≤ 0.02 τ0 "
-    "(0.05 τ0 where only Q is wanted: Q did not move within 0.15 % between those steps).",
+    "(0.05 τ0 where only Q is wanted: Q did not move within 0.15 % between those steps). The â = 10 sweep (0.05 τ0 "
+    "√(T0/T), the global T) has Eq. 33 residuals up to 9 % at Kn ≤ 0.2, where the gas clusters at the centre and "
+    "collides there faster than the global temperature says. Q is measured exactly (the mean velocity of all particles), "
+    "but the time step's effect on the flow itself was checked only at â = 0.5, not at â = 10.",
 ]
 
 CENTRE = {"rho_centre": "rho", "T_centre": "T", "u_centre": "u_x", "p_centre": "p", "N1_centre": "N1",
@@ -373,7 +376,16 @@ def main():
     if not allc:
         w("*(no run available)*")
     else:
-        never = [f"{c.run}: {c.label}" for c in allc if not np.isfinite(c.s("steady_from")[0])]
+        # Specular walls have no steady state (section 8); a case rerun in steady_rerun is superseded.
+        superseded = [c for c in allc if c.run == "bimodality" and not np.isfinite(c.s("steady_from")[0]) and
+                      any(abs(r.en - c.en) < 1e-9 and abs(r.kn - c.kn) < 1e-9 for r in (files["steady_rerun"] or []))]
+        never = [f"{c.run}: {c.label}" for c in allc if not np.isfinite(c.s("steady_from")[0])
+                 and c.run != "specular" and c not in superseded]
+        if superseded or files["specular"]:
+            w(f"Not counted as never steady: the {len(files['specular'] or [])} specular-wall cases (no steady state exists, section 8)"
+              + (f" and {', '.join(c.run + ': ' + c.label for c in superseded)} (missed by the fixed-tolerance test of 1.0.0; "
+                 "rerun as steady_rerun)" if superseded else "") + ".")
+            w("")
         st = [c for c in allc if np.isfinite(c.s("steady_from")[0])]
         wm = [((c.s("wall_momentum_ratio")[0] + 1) / c.s("wall_momentum_ratio")[1], c) for c in st]
         ebc = [(c.s("energy_balance_closure")[0] / c.s("energy_balance_closure")[1], c) for c in st]
@@ -748,8 +760,9 @@ def main():
         FINDINGS.append(f"Knudsen minimum ({tag}): " + "; ".join(f"e_n = {r[0]}: Kn_min = {r[1]}" + (f", Q_min = {r[2]}" if r[2] else "")
                                                                  for r in rows) +
                         " (paper: at Kn = O(1), moving to larger Kn as e_n falls).")
-        k005 = [(en, pick(cs, en=en, kn=0.05)) for en in ens8]
-        FINDINGS.append(f"Q at Kn = 0.05 ({tag}): " + ", ".join(f"e_n = {en:g}: {fmt(*c[0].s('Q'))}" for en, c in k005 if c) +
+        kq = min(c.kn for c in cs)
+        k005 = [(en, pick(cs, en=en, kn=kq)) for en in ens8]
+        FINDINGS.append(f"Q at Kn = {kq:g} ({tag}): " + ", ".join(f"e_n = {en:g}: {fmt(*c[0].s('Q'))}" for en, c in k005 if c) +
                         " (paper: Q at small Kn rises as e_n falls).")
     w("### Walls: Q against Kn per accommodation (Maxwell walls), â = 0.5")
     w("")
