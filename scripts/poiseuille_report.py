@@ -318,8 +318,11 @@ def main():
     allc = [c for n, _, _ in RUNS if files[n] for c in files[n]]
     # A case rerun (steady_rerun) replaces its never-steady original in the a_hat = 0.5 tables.
     rerun = files["steady_rerun"] or []
-    main05 = rerun + [c for n in ("sweep", "bimodality", "restitution") if files[n] for c in files[n]
-                      if not (np.isnan(c.s("steady_from")[0]) and any(abs(r.en - c.en) < 1e-9 and abs(r.kn - c.kn) < 1e-9 for r in rerun))]
+
+    def superseded(c):
+        return c.run != "steady_rerun" and np.isnan(c.s("steady_from")[0]) and \
+            any(abs(r.en - c.en) < 1e-9 and abs(r.kn - c.kn) < 1e-9 for r in rerun)
+    main05 = rerun + [c for n in ("sweep", "bimodality", "restitution") if files[n] for c in files[n] if not superseded(c)]
     ENS = [1.0, 0.999, 0.995, 0.99, 0.95, 0.9, 0.8, 0.7, 0.6, 0.5]
 
     w("# Validation: granular Poiseuille flow (paper 004, Gupta & Alam, PRE 95, 022903 (2017))")
@@ -377,14 +380,13 @@ def main():
         w("*(no run available)*")
     else:
         # Specular walls have no steady state (section 8); a case rerun in steady_rerun is superseded.
-        superseded = [c for c in allc if c.run == "bimodality" and not np.isfinite(c.s("steady_from")[0]) and
-                      any(abs(r.en - c.en) < 1e-9 and abs(r.kn - c.kn) < 1e-9 for r in (files["steady_rerun"] or []))]
+        replaced = [c for c in allc if superseded(c)]
         never = [f"{c.run}: {c.label}" for c in allc if not np.isfinite(c.s("steady_from")[0])
-                 and c.run != "specular" and c not in superseded]
-        if superseded or files["specular"]:
+                 and c.run != "specular" and c not in replaced]
+        if replaced or files["specular"]:
             w(f"Not counted as never steady: the {len(files['specular'] or [])} specular-wall cases (no steady state exists, section 8)"
-              + (f" and {', '.join(c.run + ': ' + c.label for c in superseded)} (missed by the fixed-tolerance test of 1.0.0; "
-                 "rerun as steady_rerun)" if superseded else "") + ".")
+              + (f" and {', '.join(c.run + ': ' + c.label for c in replaced)} (missed by the fixed-tolerance test of 1.0.0; "
+                 "rerun as steady_rerun)" if replaced else "") + ".")
             w("")
         st = [c for c in allc if np.isfinite(c.s("steady_from")[0])]
         wm = [((c.s("wall_momentum_ratio")[0] + 1) / c.s("wall_momentum_ratio")[1], c) for c in st]
