@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <gdsmc/version.hpp>
+
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
@@ -111,11 +113,12 @@ struct BadPlugin {
 };
 
 TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
+  const std::string host_abi = "host SDK ABI " + std::to_string(gdsmc::sdk_abi_major) + "." + std::to_string(gdsmc::sdk_abi_minor);
   const std::vector<BadPlugin> bad = {
       {"conformance_leaky", "collision.momentum", {"conformance_leaky", "momentum not conserved", "|p' - p|"}},
       {"conformance_nan", "collision.finite", {"conformance_nan", "NaN", "nan"}},
       {"conformance_throwing", "defaults_construct", {"conformance_throwing", "does not construct", "the factory always fails"}},
-      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", "SDK ABI 3.1"}},
+      {"conformance_wrong_abi", "abi_version", {"conformance_wrong_abi", "wrong ABI version", host_abi.c_str()}},
       {"conformance_fake_thermostat", "forcing.conservation", {"conformance_fake_thermostat", "energy not conserved"}},
       // A forcing that heats the gas but reports no energy to the ledger.
       {"conformance_unreported_work", "forcing.energy", {"conformance_unreported_work"}},

@@ -66,9 +66,13 @@ struct Pipeline {
   std::optional<SteadyStop> stop_steady;
   std::uint64_t sample_every = 1, record_every = 1, moments_every = 4;
   std::uint32_t realizations = 1;
-  // run.threads (or --threads): runs (cases x realizations) at once; 0 = every core. Results do
-  // not depend on it: each run is independent and the outputs are gathered in case order.
+  // run.threads (or --threads): threads of the study; 0 = every core. Runs (cases x realizations)
+  // go at once, and the threads left over when there are fewer runs than threads work inside each
+  // run (layers, sub-populations, blocks of particles). Results do not depend on it.
   std::uint32_t threads = 0;
+  // run.subpopulation: particles per collision sub-population of a homogeneous system (0: one
+  // population of all N). See CollisionStage; the default keeps each group's pairs in cache.
+  std::size_t subpopulation = 32768;
   // run.candidate_pairs: false = distinct (N_c (N_c - 1)/2 pairs per cell), true = squared (N_c^2/2,
   // 000 Eq. 4.13 as written).
   bool candidate_pairs_squared = false;

@@ -226,7 +226,7 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
     c.error("run", run, "expected a mapping");
   } else {
     c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
-                              "realizations", "average_after", "candidate_pairs", "threads"});
+                              "realizations", "average_after", "candidate_pairs", "threads", "subpopulation"});
     if (const YAML::Node cp = run["candidate_pairs"]) {
       if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;
       else if (!(cp.IsScalar() && cp.Scalar() == "distinct"))
@@ -246,6 +246,17 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
           c.error("run.threads", run["threads"],
                   "threads must be between 0 (every core) and 4096 (1: one run at a time; results do not depend on it)");
         else p.threads = static_cast<std::uint32_t>(*v);
+      }
+    }
+    if (const YAML::Node sp = run["subpopulation"]) {
+      if (sp.IsScalar() && sp.Scalar() == "all") {
+        p.subpopulation = 0;
+      } else if (auto v = c.integer(sp, "run.subpopulation")) {
+        if (*v < 2 && *v != 0)
+          c.error("run.subpopulation", sp,
+                  "valid: a number of particles >= 2 per collision sub-population of a homogeneous system (default "
+                  "32768), or 'all' (or 0) for one population of every particle");
+        else p.subpopulation = static_cast<std::size_t>(*v);
       }
     }
     if (const YAML::Node aa = run["average_after"]) parse_average_after(c, aa, p);

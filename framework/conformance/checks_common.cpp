@@ -422,10 +422,12 @@ std::string compare_outputs(const DiagnosticOutput& a, const DiagnosticOutput& b
 std::string compare_particles(const ParticleSpan& a, const ParticleSpan& b) {
   const std::pair<const char*, std::pair<const double*, const double*>> arrays[] = {
       {"x", {a.x, b.x}}, {"y", {a.y, b.y}}, {"z", {a.z, b.z}}, {"vx", {a.vx, b.vx}}, {"vy", {a.vy, b.vy}}, {"vz", {a.vz, b.vz}}};
-  for (const auto& [name, d] : arrays)
+  for (const auto& [name, d] : arrays) {
+    if (!d.first || !d.second) continue;  // a homogeneous system keeps no positions
     for (std::size_t k = 0; k < a.count; ++k)
       if (std::memcmp(&d.first[k], &d.second[k], sizeof(double)) != 0)
         return fmt("%s of particle %zu is %.17g in one run and %.17g in the other", name, k, d.first[k], d.second[k]);
+  }
   for (std::size_t at = 0; at < a.attribute_count; ++at) {
     const std::size_t n = a.count * static_cast<std::size_t>(a.attribute_specs[at].components);
     for (std::size_t k = 0; k < n; ++k)
@@ -517,7 +519,19 @@ Result check_threads(const Subject& s) {
     if (d.empty()) d = compare_slabs(*alone, *h2);
     if (!d.empty()) return fail("two runs at once (run.threads: 2) differ from one alone: " + d +
                                 "; keep mutable state in the object, not in static or global variables");
-    return pass(fmt("two %d-step slabs on two threads at once: the bits of one alone", kSlabSteps));
+    // Threads inside one run: the mover's blocks on two threads call interact() at once.
+    const std::size_t n = 3 * Mover::kBlock;
+    auto serial = make_slab(s, a, n), threaded = make_slab(s, a, n);
+    WorkPool pool(2), one(1);
+    serial->pool = &one;  // the plugin called directly in both
+    threaded->pool = &pool;
+    serial->stream(kSlabSteps, 0.05);
+    threaded->stream(kSlabSteps, 0.05);
+    d = compare_slabs(*serial, *threaded);
+    if (!d.empty()) return fail("one run on two threads (interact() called from two threads at once) differs from the "
+                                "same run on one: " + d + "; interact() is const: it must not change the object");
+    return pass(fmt("two %d-step slabs on two threads at once, and one %zu-particle slab whose blocks ran on two threads: "
+                    "the bits of one thread alone", kSlabSteps, n));
   }
   auto p0 = load_test_pipeline(s, a), p1 = load_test_pipeline(s, a), p2 = load_test_pipeline(s, a);
   Engine alone(*p0);
@@ -532,7 +546,20 @@ Result check_threads(const Subject& s) {
   if (d.empty()) d = compare_engines(s, alone, *e2);
   if (!d.empty()) return fail("two runs at once (run.threads: 2) differ from one alone: " + d +
                               "; keep mutable state in the object, not in static or global variables");
-  return pass(fmt("two %d-step runs on two threads at once: the bits%s of one alone", kSteps,
+  // Threads inside one run: sub-populations of 256 (or the layers of a slab) collide on two threads
+  // at once, through the one collision rule object.
+  auto p3 = load_test_pipeline(s, a, 4000), p4 = load_test_pipeline(s, a, 4000);
+  p3->subpopulation = p4->subpopulation = 256;
+  Engine serial(*p3, 0, 1), threaded(*p4, 0, 2);
+  for (int k = 0; k < kSteps; ++k) {
+    serial.step();
+    threaded.step();
+  }
+  d = compare_engines(s, serial, threaded);
+  if (!d.empty()) return fail("one run on two threads (sub-populations of 256 colliding at once) differs from the same run "
+                              "on one: " + d + "; collide() is const: it must not change the rule");
+  return pass(fmt("two %d-step runs on two threads at once, and one 4000-particle run whose collision groups ran on two "
+                  "threads: the bits%s of one thread alone", kSteps,
                   s.kind() == PluginKind::diagnostic ? " (particles and output)" : ""));
 }
 

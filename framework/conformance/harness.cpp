@@ -6,7 +6,7 @@ namespace gdsmc::host::conformance {
 Snapshot Particles::save() {
   const ParticleSpan p = span();
   Snapshot s;
-  auto copy = [&](const double* d) { return std::vector<double>(d, d + p.count); };
+  auto copy = [&](const double* d) { return d ? std::vector<double>(d, d + p.count) : std::vector<double>(); };
   s.id.assign(p.id, p.id + p.count);
   s.x = copy(p.x); s.y = copy(p.y); s.z = copy(p.z);
   s.vx = copy(p.vx); s.vy = copy(p.vy); s.vz = copy(p.vz);
@@ -21,7 +21,9 @@ void Particles::restore(const Snapshot& s, const std::vector<std::uint32_t>* per
   for (std::size_t k = 0; k < p.count; ++k) {
     const std::size_t i = perm ? (*perm)[k] : k;
     id[k] = s.id[i];
-    p.x[k] = s.x[i]; p.y[k] = s.y[i]; p.z[k] = s.z[i];
+    if (p.x) {
+      p.x[k] = s.x[i]; p.y[k] = s.y[i]; p.z[k] = s.z[i];
+    }
     p.vx[k] = s.vx[i]; p.vy[k] = s.vy[i]; p.vz[k] = s.vz[i];
     for (std::size_t a = 0; a < p.attribute_count; ++a) {
       const std::size_t comps = static_cast<std::size_t>(p.attribute_specs[a].components);
@@ -81,10 +83,10 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
       objects.push_back(create_object(*p.boundaries[b].plugin, p.boundaries[b].params));
   for (const auto& o : objects)
     for (auto& at : o->attributes()) h->attributes.push_back(std::move(at));
-  h->particles.allocate(n, h->attributes);
+  h->sys = p.system_info(n, 0);
+  h->particles.allocate(n, h->attributes, h->sys.geometry == Geometry::slab);
   for (const auto& o : objects) o->publish(h->board);
 
-  h->sys = p.system_info(n, 0);
   h->sys.seed = s.cfg.seed;
   auto* rule = static_cast<CollisionRule*>(h->collision.get());
   rule->begin(h->sys, h->board);  // after every publish, as the engine does
@@ -121,15 +123,15 @@ std::string SlabHarness::side_name(int side) const {
 }
 
 void SlabHarness::stream(int steps, double dt) {
-  const Mover mover(sys.box, Vec3{0, 0, 0},
-                    {Mover::Side{recorder.get(), side_name(-1)}, Mover::Side{recorder.get(), side_name(+1)}});
+  const Boundary* b = pool ? boundary : recorder.get();
+  const Mover mover(sys.box, Vec3{0, 0, 0}, {Mover::Side{b, side_name(-1)}, Mover::Side{b, side_name(+1)}});
   const ParticleSpan p = span();
   for (int k = 0; k < steps; ++k) {
     factory.set_step(step);
     ctx.step = step;
     ctx.time = time;
     ctx.dt = dt;
-    mover.stream(p, particles.cells(), grid, time, dt, ctx, factory, tally);
+    mover.stream(p, particles.cells(), grid, time, dt, ctx, factory, tally, pool);
     grid.sort(particles.cells(), p.count);
     time += dt;
     ++step;
@@ -185,7 +187,7 @@ std::string nonfinite_in(const ParticleSpan& p, bool positions) {
   const std::pair<const char*, const double*> arrays[] = {{"x", p.x}, {"y", p.y}, {"z", p.z},
                                                            {"vx", p.vx}, {"vy", p.vy}, {"vz", p.vz}};
   for (const auto& [name, d] : arrays) {
-    if (!positions && name[0] != 'v') continue;
+    if ((!positions && name[0] != 'v') || !d) continue;
     for (std::size_t k = 0; k < p.count; ++k)
       if (!std::isfinite(d[k])) return fmt("%s of particle %zu is %g", name, k, d[k]);
   }

@@ -33,7 +33,11 @@ struct Snapshot {
 struct Particles {
   ParticleStore store;
 
-  void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes) { store.allocate(n, attributes); }
+  // positions: as the engine allocates them (a slab only), so that a plugin which writes positions
+  // in a homogeneous system fails here as it would in a run.
+  void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes, bool positions = true) {
+    store.allocate(n, attributes, positions);
+  }
   ParticleSpan span() { return store.span(); }
   std::uint32_t* cells() { return store.cells(); }
   std::vector<std::uint64_t> ids() { return {store.ids(), store.ids() + store.size()}; }
@@ -141,6 +145,9 @@ struct SlabHarness {
   Particles particles;
   StreamingTally tally;
   std::string refusal;  // begin() refused the system (a ParameterError): the message
+  // Threads inside the run (the threads check): the mover's blocks on this pool, and the plugin
+  // called directly (the recorder keeps one list of hits, for one thread).
+  WorkPool* pool = nullptr;
 
   ParticleSpan span() { return particles.span(); }
   std::string side_name(int side) const;

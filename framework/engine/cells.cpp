@@ -44,43 +44,93 @@ void CellGrid::sort(const std::uint32_t* cell, std::size_t n) {
 }
 
 void CellGrid::assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) cell[i] = slab_ ? layer_of(y[i]) : 0u;
+  if (!slab_) return;  // one cell, and no positions or cell array to fill
+  for (std::size_t i = 0; i < n; ++i) cell[i] = layer_of(y[i]);
   sort(cell, n);
 }
 
+std::size_t CellGrid::piece_count() const {
+  return slab_ ? layers_ : std::max<std::size_t>(1, (total_ + kMomentBlock - 1) / kMomentBlock);
+}
+
+void CellGrid::piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const {
+  if (slab_) {
+    cell = k;
+    begin = 0;
+    end = members_count(k);
+  } else {
+    cell = 0;
+    begin = k * kMomentBlock;
+    end = std::min<std::size_t>(total_, begin + kMomentBlock);
+  }
+}
+
 void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
-                            CellMoments& global) const {
+                            CellMoments& global, WorkPool* pool) const {
   cells.resize(layers_);
-  double gsum[3] = {0, 0, 0}, weighted_t = 0;
-  for (std::size_t c = 0; c < layers_; ++c) {
+  const std::size_t pieces = piece_count();
+  pieces_.resize(pieces);
+  auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
+  // Pass 1: velocity sums of every piece.
+  run(pieces, [&](std::size_t k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
     const std::uint32_t* m = members(c);
-    const std::uint32_t n = members_count(c);
-    CellMoments& cm = cells[c];
-    cm = CellMoments{};
-    cm.count = n;
-    cm.number_density = slab_ ? n / cell_volume_ : mean_density;  // n_I = N_I / (A delta y), Eq. 4.4
-    if (n == 0) continue;
-    double s[3] = {0, 0, 0};
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const std::uint32_t i = m ? m[k] : k;
-      s[0] += p.vx[i];
-      s[1] += p.vy[i];
-      s[2] += p.vz[i];
+    PieceSums& ps = pieces_[k];
+    ps = PieceSums{};
+    for (std::size_t q = b; q < e; ++q) {
+      const std::uint32_t i = m ? m[q] : static_cast<std::uint32_t>(q);
+      ps.s[0] += p.vx[i];
+      ps.s[1] += p.vy[i];
+      ps.s[2] += p.vz[i];
     }
+  });
+  double gsum[3] = {0, 0, 0};
+  for (std::size_t c = 0; c < layers_; ++c) {
+    cells[c] = CellMoments{};
+    cells[c].count = members_count(c);
+    cells[c].number_density = slab_ ? members_count(c) / cell_volume_ : mean_density;  // n_I = N_I / (A delta y), Eq. 4.4
+  }
+  for (std::size_t k = 0; k < pieces; ++k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
     for (int a = 0; a < 3; ++a) {
-      gsum[a] += s[a];
-      cm.mean_velocity[a] = s[a] / n;  // u_I, Eq. 4.5
+      cells[c].mean_velocity[a] += pieces_[k].s[a];
+      gsum[a] += pieces_[k].s[a];
     }
-    if (n < 2) continue;
+  }
+  for (std::size_t c = 0; c < layers_; ++c) {
+    const double n = cells[c].count;
+    if (n > 0)
+      for (int a = 0; a < 3; ++a) cells[c].mean_velocity[a] /= n;  // u_I, Eq. 4.5
+  }
+  // Pass 2: sums of the squared peculiar velocities.
+  run(pieces, [&](std::size_t k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
+    const std::uint32_t* m = members(c);
+    const double* u = cells[c].mean_velocity;
     double c2 = 0;
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const std::uint32_t i = m ? m[k] : k;
-      const double cx = p.vx[i] - cm.mean_velocity[0], cy = p.vy[i] - cm.mean_velocity[1],
-                   cz = p.vz[i] - cm.mean_velocity[2];
+    for (std::size_t q = b; q < e; ++q) {
+      const std::uint32_t i = m ? m[q] : static_cast<std::uint32_t>(q);
+      const double cx = p.vx[i] - u[0], cy = p.vy[i] - u[1], cz = p.vz[i] - u[2];
       c2 += cx * cx + cy * cy + cz * cz;
     }
-    cm.temperature = c2 / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
-    weighted_t += n * cm.temperature;
+    pieces_[k].c2 = c2;
+  });
+  std::vector<double>& c2 = scratch_mean_;  // 3 * layers >= layers
+  std::fill(c2.begin(), c2.begin() + static_cast<std::ptrdiff_t>(layers_), 0.0);
+  for (std::size_t k = 0; k < pieces; ++k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
+    c2[c] += pieces_[k].c2;
+  }
+  double weighted_t = 0;
+  for (std::size_t c = 0; c < layers_; ++c) {
+    const double n = cells[c].count;
+    if (n < 2) continue;
+    cells[c].temperature = c2[c] / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
+    weighted_t += n * cells[c].temperature;
   }
   global = CellMoments{};
   global.count = p.count;
@@ -90,47 +140,66 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
   global.temperature = weighted_t / static_cast<double>(p.count);  // T-bar, Eq. 4.8
 }
 
-void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out) const {
+void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool) const {
   out = SampledMoments{};
   out.number_density = mean_density;
   VelocityMoments& m = out.local;
   m.count = p.count;
   if (p.count == 0) return;
+  const std::size_t pieces = piece_count();
+  pieces_.resize(pieces);
+  auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
   // Pass 1: the mean of every cell and of everyone, and the kinetic energy.
-  double* u = scratch_mean_.data();
-  double g[3] = {0, 0, 0}, v2 = 0;
-  for (std::size_t c = 0; c < layers_; ++c) {
+  run(pieces, [&](std::size_t k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
     const std::uint32_t* mem = members(c);
-    const std::uint32_t n = members_count(c);
-    double s[3] = {0, 0, 0};
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const std::uint32_t i = mem ? mem[k] : k;
-      s[0] += p.vx[i];
-      s[1] += p.vy[i];
-      s[2] += p.vz[i];
-      v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+    PieceSums& ps = pieces_[k];
+    ps = PieceSums{};
+    for (std::size_t q = b; q < e; ++q) {
+      const std::uint32_t i = mem ? mem[q] : static_cast<std::uint32_t>(q);
+      ps.s[0] += p.vx[i];
+      ps.s[1] += p.vy[i];
+      ps.s[2] += p.vz[i];
+      ps.v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
     }
-    const double inv_n = n ? 1.0 / n : 0.0;
+  });
+  double* u = scratch_mean_.data();
+  std::fill(u, u + 3 * layers_, 0.0);
+  double g[3] = {0, 0, 0}, v2 = 0;
+  for (std::size_t k = 0; k < pieces; ++k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
     for (int a = 0; a < 3; ++a) {
-      g[a] += s[a];
-      u[3 * c + a] = s[a] * inv_n;
+      u[3 * c + a] += pieces_[k].s[a];
+      g[a] += pieces_[k].s[a];
     }
+    v2 += pieces_[k].v2;
+  }
+  for (std::size_t c = 0; c < layers_; ++c) {
+    const std::uint32_t n = members_count(c);
+    const double inv_n = n ? 1.0 / n : 0.0;
+    for (int a = 0; a < 3; ++a) u[3 * c + a] *= inv_n;
   }
   const double inv = 1.0 / static_cast<double>(p.count);
   for (int a = 0; a < 3; ++a) m.mean[a] = g[a] * inv;
   out.kinetic_energy = 0.5 * v2;  // 004 Eq. A1 (m = 1)
   out.cell_mean_velocity = u;
   // Pass 2: moments of the local peculiar velocities V = v - u_I.
-  PeculiarSums sums;
-  for (std::size_t c = 0; c < layers_; ++c) {
+  run(pieces, [&](std::size_t k) {
+    std::size_t c, b, e;
+    piece_range(k, c, b, e);
     const std::uint32_t* mem = members(c);
-    const std::uint32_t n = members_count(c);
     const double ux = u[3 * c], uy = u[3 * c + 1], uz = u[3 * c + 2];
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const std::uint32_t i = mem ? mem[k] : k;
+    PeculiarSums sums;
+    for (std::size_t q = b; q < e; ++q) {
+      const std::uint32_t i = mem ? mem[q] : static_cast<std::uint32_t>(q);
       sums.add(p.vx[i] - ux, p.vy[i] - uy, p.vz[i] - uz);
     }
-  }
+    pieces_[k].peculiar = sums;
+  });
+  PeculiarSums sums;
+  for (std::size_t k = 0; k < pieces; ++k) sums.merge(pieces_[k].peculiar);
   sums.finish(m, inv);  // T is T-bar (000 Eq. 4.8) in a slab, T (Eq. 4.15) in a homogeneous system
 }
 

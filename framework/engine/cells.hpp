@@ -8,7 +8,10 @@
 #include <vector>
 
 #include <gdsmc/context.hpp>
+#include <gdsmc/moments.hpp>
 #include <gdsmc/particles.hpp>
+
+#include "engine/work_pool.hpp"
 
 namespace gdsmc::host {
 
@@ -34,23 +37,29 @@ class CellGrid {
   // Counting sort of the particles by the layer index already stored in cell[] (the mover writes
   // it); fills the member lists. No allocation.
   void sort(const std::uint32_t* cell, std::size_t n);
-  // Recompute cell[] from y, then sort (after the initial state, or in tests).
+  // Recompute cell[] from y, then sort (after the initial state, or in tests); nothing in a
+  // homogeneous system.
   void assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n);
 
   // Every particle, layer after layer (members of layer 0, then layer 1, ...): the order that makes
   // each layer a contiguous range of storage (ParticleStore::permute), after which assign_and_sort
   // lists each layer as 0..N_0-1, N_0.., and so on.
-  const std::uint32_t* all_members() const { return members_.data(); }
+  // (Writable: ParticleStore::permute uses it as its record and leaves it the identity; sort() again.)
+  std::uint32_t* all_members() { return members_.data(); }
   const std::uint32_t* members(std::size_t c) const { return slab_ ? members_.data() + offsets_[c] : nullptr; }
   std::uint32_t members_count(std::size_t c) const { return slab_ ? offsets_[c + 1] - offsets_[c] : total_; }
 
   // Moments of every cell (000 Eqs. 4.4-4.6) and of the whole system; in a slab the global
   // temperature is T-bar = sum_I N_I T_I / N (Eq. 4.8) and the global mean the mean of all.
+  // The sums run over fixed pieces (the layers of a slab, blocks of kMomentBlock particles of a
+  // homogeneous system) on the pool's threads and are added in piece order: the same bits for
+  // any thread count.
   void cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
-                    CellMoments& global) const;
+                    CellMoments& global, WorkPool* pool = nullptr) const;
   // The shared moments of a sampled step: peculiar velocities relative to each particle's cell
   // mean (computed fresh here), cumulants, pressure tensor, kinetic energy.
-  void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out) const;
+  void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool = nullptr) const;
+  static constexpr std::size_t kMomentBlock = 1u << 16;
 
  private:
   bool slab_ = false;
@@ -61,6 +70,16 @@ class CellGrid {
   std::vector<std::uint32_t> fill_;           // layers (scratch)
   std::vector<std::uint32_t> members_;        // particles
   mutable std::vector<double> scratch_mean_;  // 3 * layers (sampled_moments)
+  // One piece of the moment sums: a layer (slab) or a block of particles (homogeneous).
+  struct PieceSums {
+    double s[3] = {0, 0, 0};
+    double v2 = 0, c2 = 0;
+    PeculiarSums peculiar;
+  };
+  mutable std::vector<PieceSums> pieces_;
+  std::size_t piece_count() const;
+  // The particles of piece k: [begin, end) of members(cell) (or of every particle), and its cell.
+  void piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
 };
 
 }  // namespace gdsmc::host

@@ -9,12 +9,20 @@
 
 namespace gdsmc::host {
 
+std::size_t subpopulation_count(std::size_t particles, std::size_t size) {
+  if (size == 0 || particles <= size) return 1;
+  return (particles + size - 1) / size;
+}
+
 void CollisionStage::reset(std::size_t cells) {
   ratio_.assign(cells, kInitialMajorantRatio);
   remainder_.assign(cells, 0.0);
   energy_.assign(cells, 0.0);
   speed_.assign(cells, 0.0);
   estimate_.assign(cells, 0.0);
+  max_rate_.assign(cells, 0.0);
+  counts_.assign(3 * cells, 0);
+  groups_.assign(cells, Group{});
   cell_tallies_.assign(cells * tally_count_, 0.0);
 }
 
@@ -24,12 +32,48 @@ void CollisionStage::set_tally_count(std::size_t count) {
   step_tallies_.assign(count, 0.0);
 }
 
+void CollisionStage::make_groups(const CellGrid& grid, std::size_t particles, const StreamFactory& streams) {
+  const std::size_t n = groups_.size();
+  if (grid.is_slab() || n == 1) {
+    for (std::size_t c = 0; c < n; ++c)
+      groups_[c] = Group{grid.members(c), 0, grid.members_count(c), grid.cell_volume()};
+    return;
+  }
+  // Sub-populations: boundaries b_k = floor(k N / K), all rotated by r.
+  const std::uint64_t total = particles;
+  const std::uint64_t r = streams.rng(StreamPurpose::collisions, 1, 0).below(static_cast<std::uint32_t>(total));
+  const double all_pairs = pair_count(scheme_, static_cast<std::uint32_t>(total));
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint64_t b = k * total / n, e = (k + 1) * total / n;
+    Group& g = groups_[k];
+    g.count = static_cast<std::uint32_t>(e - b);
+    // The whole system's candidate rate per particle: P(N_c) / V_c = (N_c / N) P(N) / V.
+    g.volume = grid.cell_volume() * pair_count(scheme_, g.count) * static_cast<double>(total) /
+               (all_pairs * static_cast<double>(g.count));
+    const std::uint64_t from = r + b, to = r + e;  // [from, to) modulo N
+    if (to <= total || from >= total) {
+      g.members = nullptr;
+      g.first = static_cast<std::uint32_t>(from >= total ? from - total : from);
+    } else {
+      wrap_members_.clear();  // capacity: at most one group wraps, reserved below
+      for (std::uint64_t i = from; i < total; ++i) wrap_members_.push_back(static_cast<std::uint32_t>(i));
+      for (std::uint64_t i = 0; i < to - total; ++i) wrap_members_.push_back(static_cast<std::uint32_t>(i));
+      g.members = wrap_members_.data();
+      g.first = 0;
+    }
+  }
+}
+
 CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const ParticleSpan& particles, const CellGrid& grid,
                                            const CellMoments* cells, double temperature, double mass, double sigma,
                                            double dt, const StreamFactory& streams, bool reversed) {
-  const std::size_t n = grid.count();
-  if (ratio_.size() != n) reset(n);
-  // Every cell's majorant and hard-sphere candidate estimate first, so that a step whose work is
+  const std::size_t n = grid.is_slab() ? grid.count() : subpopulation_count(particles.count, subpopulation_);
+  if (ratio_.size() != n) {
+    reset(n);
+    if (!grid.is_slab() && n > 1) wrap_members_.reserve(particles.count / n + 1);
+  }
+  make_groups(grid, particles.count, streams);
+  // Every group's majorant and hard-sphere candidate estimate first, so that a step whose work is
   // not finite or is absurd is refused before any pair is tested (the rule would cast the count
   // to an integer and loop on it).
   double total = 0;
@@ -37,8 +81,8 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     const double t_ref = cells ? std::max(cells[c].temperature, temperature) : temperature;
     speed_[c] = std::sqrt(t_ref / mass);
     // pi times the rule's bound of its rate (the hard-sphere count; a general kernel draws up to 4x)
-    estimate_[c] = pair_count(scheme_, grid.members_count(c)) * sigma * sigma * M_PI * rule.rate_bound(ratio_[c] * speed_[c]) *
-                   dt / grid.cell_volume();
+    estimate_[c] = pair_count(scheme_, groups_[c].count) * sigma * sigma * M_PI *
+                   rule.rate_bound(ratio_[c] * speed_[c]) * dt / groups_[c].volume;
     total += estimate_[c];
   }
   const double per_particle = particles.count ? total / static_cast<double>(particles.count) : 0.0;
@@ -48,13 +92,13 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
                        total, per_particle, kMaxCandidatesPerStep, kMaxCandidatesPerParticle),
                    total);
 
-  Totals sum;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (k % 64 == 0) poll_interrupt(interrupt_);
+  // The groups are independent (own stream, majorant, remainder, results): any thread, any order.
+  for_pieces(pool_, n, [&](std::size_t k) {
+    poll_interrupt(interrupt_);
     const std::size_t c = reversed ? n - 1 - k : k;
     Rng rng = streams.rng(StreamPurpose::collisions, 0, c);
     const double majorant = ratio_[c] * speed_[c];
-    // Slices of dt for a large cell (4 x the estimate: a general kernel's solid angle is 4 pi);
+    // Slices of dt for a large group (4 x the estimate: a general kernel's solid angle is 4 pi);
     // one slice, the whole dt, otherwise.
     const double upper = 4.0 * estimate_[c];
     const double slices = upper > kCandidatesPerSlice ? std::ceil(upper / kCandidatesPerSlice) : 1.0;
@@ -63,16 +107,19 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     double* const tally = tally_count_ ? cell_tallies_.data() + c * tally_count_ : nullptr;
     if (tally) std::fill(tally, tally + tally_count_, 0.0);
     double max_rate = 0, energy = 0;
+    std::uint64_t* const counts = counts_.data() + 3 * c;
+    counts[0] = counts[1] = counts[2] = 0;
     for (double s = 0; s < slices; ++s) {
       if (s > 0) poll_interrupt(interrupt_);
       const double remainder = cell.remainder;
       cell = CellCollision{};
       cell.particles = particles;
-      cell.members = grid.members(c);
-      cell.count = grid.members_count(c);
+      cell.members = groups_[c].members;
+      cell.first = groups_[c].first;
+      cell.count = groups_[c].count;
       cell.pairs = pair_count(scheme_, cell.count);
       cell.index = static_cast<std::uint32_t>(c);
-      cell.volume = grid.cell_volume();
+      cell.volume = groups_[c].volume;
       cell.sigma = sigma;
       cell.dt = dt / slices;
       cell.majorant = majorant;
@@ -80,19 +127,27 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
       cell.rng = &rng;
       cell.tally = tally;  // summed over the slices
       rule.collide_cell(cell);
-      sum.candidates += cell.candidates;
-      sum.accepted += cell.accepted;
-      sum.majorant_exceeded += cell.majorant_exceeded;
+      counts[0] += cell.candidates;
+      counts[1] += cell.accepted;
+      counts[2] += cell.majorant_exceeded;
       max_rate = std::max(max_rate, cell.max_rate);
       energy += cell.energy_change;
     }
     remainder_[c] = cell.remainder;
     if (max_rate > majorant) ratio_[c] = kMajorantHeadroom * max_rate / speed_[c];
-    sum.max_rate = std::max(sum.max_rate, max_rate);
-    sum.finite_remainders = sum.finite_remainders && std::isfinite(cell.remainder);
+    max_rate_[c] = max_rate;
     energy_[c] = energy;
+  });
+  // The totals in group order.
+  Totals sum;
+  for (std::size_t c = 0; c < n; ++c) {
+    sum.candidates += counts_[3 * c];
+    sum.accepted += counts_[3 * c + 1];
+    sum.majorant_exceeded += counts_[3 * c + 2];
+    sum.max_rate = std::max(sum.max_rate, max_rate_[c]);
+    sum.finite_remainders = sum.finite_remainders && std::isfinite(remainder_[c]);
+    sum.energy_change += energy_[c];
   }
-  for (std::size_t c = 0; c < n; ++c) sum.energy_change += energy_[c];
   if (tally_count_) {
     std::fill(step_tallies_.begin(), step_tallies_.end(), 0.0);
     for (std::size_t c = 0; c < n; ++c)

@@ -12,6 +12,7 @@
 
 #include "engine/cells.hpp"
 #include "engine/streams.hpp"
+#include "engine/work_pool.hpp"
 
 namespace gdsmc::host {
 
@@ -25,10 +26,21 @@ inline double pair_count(PairCount scheme, std::uint32_t n) {
   return scheme == PairCount::squared ? 0.5 * d * d : 0.5 * d * (d - 1.0);
 }
 
+// The collision groups of a homogeneous system of N particles: K = ceil(N / size) sub-populations
+// of N/K particles each (size 0: one population). Every step they are contiguous ranges of storage
+// rotated by a random offset, so each group's pairs sit in a few hundred kilobytes of memory and
+// the groups are independent pieces of work whose number does not depend on the thread count.
+std::size_t subpopulation_count(std::size_t particles, std::size_t size);
+
 class CollisionStage {
  public:
   explicit CollisionStage(PairCount scheme = PairCount::distinct) : scheme_(scheme) {}
   void set_pair_count(PairCount scheme) { scheme_ = scheme; }
+  // Particles per sub-population of a homogeneous system (Pipeline::subpopulation; 0, the default
+  // here: one population).
+  void set_subpopulation(std::size_t size) { subpopulation_ = size; }
+  // The threads the groups are spread over (null: the caller alone).
+  void set_pool(WorkPool* pool) { pool_ = pool; }
   struct Totals {
     std::uint64_t candidates = 0, accepted = 0, majorant_exceeded = 0;
     double energy_change = 0;  // summed in cell order, whatever the processing order
@@ -49,10 +61,13 @@ class CollisionStage {
   // The flag run() polls (every 64 cells and between the slices of a large cell); Interrupted
   // (engine/interrupt.hpp) is thrown once it is set. Null: never interrupted.
   void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
-  // One step of collisions in every cell of `grid`. w_I = ratio_I sqrt(T_ref / m) with T_ref the
+  // One step of collisions in every group: the layers of a slab `grid`, the sub-populations of a
+  // homogeneous one (each with the candidate rate per particle of the whole system: volume
+  // V P(N_c) N / (P(N) N_c), P the pair count). w_I = ratio_I sqrt(T_ref / m) with T_ref the
   // larger of the cell's temperature and the mean one (`cells` null: the mean one), so a cold or
   // sparse layer keeps a safe bound; a candidate above w_I raises ratio_I (kMajorantHeadroom).
-  // The stream of cell c is streams.rng(collisions, 0, c) at the factory's current step.
+  // The stream of group c is streams.rng(collisions, 0, c) at the factory's current step; the
+  // rotation of the sub-populations is drawn from streams.rng(collisions, 1, 0).
   // Throws Overload if the step's work is unbounded or absurd; a cell with more candidates than
   // kCandidatesPerSlice is handed to the rule in slices of dt (its remainder and stream carried
   // from slice to slice), so that an interrupt is seen within milliseconds.
@@ -66,6 +81,18 @@ class CollisionStage {
   std::size_t tally_count_ = 0;
   std::vector<double> cell_tallies_, step_tallies_;  // [cell * tally_count_ + k], [k]
   std::vector<double> speed_, estimate_;  // this step's sqrt(T_ref/m) and candidate estimate per cell
+  std::vector<double> max_rate_;          // per group, this step
+  std::vector<std::uint64_t> counts_;     // per group: candidates, accepted, exceeded
+  struct Group {
+    const std::uint32_t* members = nullptr;
+    std::uint32_t first = 0, count = 0;
+    double volume = 0;
+  };
+  std::vector<Group> groups_;
+  std::vector<std::uint32_t> wrap_members_;  // the sub-population that wraps around the end of storage
+  std::size_t subpopulation_ = 0;
+  WorkPool* pool_ = nullptr;
+  void make_groups(const CellGrid& grid, std::size_t particles, const StreamFactory& streams);
   const std::atomic<bool>* interrupt_ = nullptr;
 };
 

@@ -24,12 +24,13 @@ std::string params_text(const PluginUse& u) {
 }
 }  // namespace
 
-Engine::Engine(const Pipeline& p, std::uint32_t realization) : Engine(p, realization, Setup::full) {}
+Engine::Engine(const Pipeline& p, std::uint32_t realization, unsigned threads)
+    : Engine(p, realization, Setup::full, threads) {}
 
-void Engine::check_setup(const Pipeline& p) { Engine check(p, 0, Setup::objects_only); }
+void Engine::check_setup(const Pipeline& p) { Engine check(p, 0, Setup::objects_only, 1); }
 
-Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
-    : pipeline_(p), streams_(p.seed, realization) {
+Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads)
+    : pipeline_(p), pool_(std::max(1u, threads)), streams_(p.seed, realization) {
   system_ = p.system_info(p.particles, realization);
   build_objects();
   std::vector<AttributeSpec> attributes;
@@ -46,6 +47,8 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup)
   collisions_.reset(cells);
   collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
   collisions_.set_tally_count(tallies_total_.size());
+  collisions_.set_subpopulation(p.subpopulation);
+  collisions_.set_pool(&pool_);
   cells_.assign(cells, CellMoments{});
   if (setup == Setup::full) {
     if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
@@ -156,7 +159,7 @@ void Engine::open_ledger() {
 
 // Particles (full setup only) and the attributes, then every object publishes its quantities.
 void Engine::publish(const std::vector<AttributeSpec>& attributes, Setup setup) {
-  if (setup == Setup::full) store_.allocate(pipeline_.particles, attributes);
+  if (setup == Setup::full) store_.allocate(pipeline_.particles, attributes, system_.geometry == Geometry::slab);
   else ParticleStore::check_attributes(attributes);
   for (const auto& o : objects_) o->publish(board_);
 }
@@ -179,13 +182,28 @@ void Engine::generate_initial_state() {
                                  " at (" + std::to_string(span.x[i]) + ", " + std::to_string(span.y[i]) + ", " +
                                  std::to_string(span.z[i]) + "), outside the slab [0, Lx) x [-Ly/2, Ly/2] x [0, Lz)");
   }
-  grid_.assign_and_sort(span.y, store_.cells(), span.count);
+  if (system_.geometry == Geometry::slab) grid_.assign_and_sort(span.y, store_.cells(), span.count);
+  else shuffle_subpopulations();
   update_moments();
-  grid_.sampled_moments(span, system_.number_density, sampled_);
+  grid_.sampled_moments(span, system_.number_density, sampled_, &pool_);
   initial_energy_ = sampled_.kinetic_energy;
   if (!(global_.temperature > 0) || !std::isfinite(global_.temperature))
     throw std::runtime_error(where_text(pipeline_.initial_state) + " produced a state with temperature " +
                              fmt("%.6g", global_.temperature) + "; a positive finite temperature is needed");
+}
+
+// The sub-populations of a homogeneous system are ranges of storage (CollisionStage): put the
+// particles in a random order first, so that no order the initial state made (say, hot particles
+// first) survives as a structure of the sub-populations. Fisher-Yates on the stored particles (no
+// scratch memory), identities travelling with them.
+void Engine::shuffle_subpopulations() {
+  const std::size_t n = store_.size();
+  if (subpopulation_count(n, pipeline_.subpopulation) < 2) return;
+  Rng rng = streams_.rng(StreamPurpose::initial_state, 1, 0);
+  for (std::size_t i = n - 1; i > 0; --i) {
+    const std::size_t j = rng.below(static_cast<std::uint32_t>(i + 1));
+    if (j != i) store_.swap(i, j);
+  }
 }
 
 void Engine::begin_diagnostics() {
@@ -206,7 +224,9 @@ void Engine::begin_diagnostics() {
   }
 }
 
-void Engine::update_moments() { grid_.cell_moments(store_.span(), system_.number_density, cells_, global_); }
+void Engine::update_moments() {
+  grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
+}
 
 // dt = c tau0, or c tau0 sqrt(T0/T) so that it follows the mean free time (000 Sec. IV.B; in a
 // slab T is T-bar, Eq. 4.8, as in Sec. IV.A).
@@ -272,7 +292,7 @@ void Engine::stream(double dt) {
   const double g2 = dot(acceleration_, acceleration_);
   if (mover_) {
     StreamingTally tally;
-    mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally);
+    mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally, &pool_);
     grid_.sort(store_.cells(), span.count);
     if (ctx_.step % kReorderEvery == 0) reorder_by_layer();
     for (int s = 0; s < 2; ++s) {
@@ -284,13 +304,21 @@ void Engine::stream(double dt) {
     }
     if (!accelerations_.empty()) ledger_[1 + accelerations_[0]].energy += tally.acceleration_energy;
   } else if (g2 > 0) {
+    // Blocks of the moment pieces' size, their energies added in block order.
+    const std::size_t block = CellGrid::kMomentBlock, blocks = (span.count + block - 1) / block;
+    kick_energy_.resize(blocks);
+    for_pieces(&pool_, blocks, [&](std::size_t k) {
+      double energy = 0;
+      for (std::size_t i = k * block, e = std::min(span.count, i + block); i < e; ++i) {
+        energy += (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
+        span.vx[i] += acceleration_.x * dt;
+        span.vy[i] += acceleration_.y * dt;
+        span.vz[i] += acceleration_.z * dt;
+      }
+      kick_energy_[k] = energy;
+    });
     double energy = 0;
-    for (std::size_t i = 0; i < span.count; ++i) {
-      energy += (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
-      span.vx[i] += acceleration_.x * dt;
-      span.vy[i] += acceleration_.y * dt;
-      span.vz[i] += acceleration_.z * dt;
-    }
+    for (const double e : kick_energy_) energy += e;
     ledger_[1 + accelerations_[0]].energy += energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count);
   }
 }
@@ -334,7 +362,7 @@ void Engine::sample_and_record(bool force_record) {
     if (slot.last_record_step == ctx_.step) continue;
     if (record || ctx_.step % slot.use->sample_every == 0) {
       if (!have_moments) {  // once per sampled step, shared by every diagnostic
-        grid_.sampled_moments(span, system_.number_density, sampled_);
+        grid_.sampled_moments(span, system_.number_density, sampled_, &pool_);
         have_moments = true;
       }
       const Streams streams = streams_.streams(StreamPurpose::diagnostic, static_cast<std::uint32_t>(k));
@@ -413,7 +441,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
 // The run's energy balance per particle in units of T0: E - E0 against the sum of what every
 // stage declared or the host tallied; the residual is round-off for plugins that tell the truth.
 void Engine::finish_energy_balance() {
-  grid_.sampled_moments(store_.span(), system_.number_density, sampled_);
+  grid_.sampled_moments(store_.span(), system_.number_density, sampled_, &pool_);
   const double per = 1.0 / (static_cast<double>(system_.particles) * system_.initial_temperature);
   double added = 0;
   std::string parts;

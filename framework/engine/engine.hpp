@@ -19,6 +19,7 @@
 #include "engine/particle_store.hpp"
 #include "engine/streaming.hpp"
 #include "engine/streams.hpp"
+#include "engine/work_pool.hpp"
 #include "output/diagnostic_output.hpp"
 #include "output/records.hpp"
 
@@ -40,7 +41,9 @@ class Engine {
  public:
   // Builds every plugin object, allocates and fills the particles, lets diagnostics declare
   // their output. Throws std::runtime_error naming the plugin on any failure.
-  explicit Engine(const Pipeline& pipeline, std::uint32_t realization = 0);
+  // `threads`: the threads this run's stages are spread over (1: the caller alone). The output
+  // does not depend on it.
+  explicit Engine(const Pipeline& pipeline, std::uint32_t realization = 0, unsigned threads = 1);
 
   // What `gdsmc validate` checks: every plugin object constructs, declares its attributes,
   // publishes its quantities and (diagnostics) begins, for the pipeline's system; no particle
@@ -81,11 +84,12 @@ class Engine {
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
   };
   enum class Setup { full, objects_only };
-  Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup);
+  Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads);
   // The stages of construction, in order.
   void build_objects();
   void publish(const std::vector<AttributeSpec>& attributes, Setup setup);
   void generate_initial_state();
+  void shuffle_subpopulations();
   void begin_diagnostics();
 
   void begin_collision_rule();
@@ -103,6 +107,7 @@ class Engine {
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
 
   const Pipeline& pipeline_;
+  WorkPool pool_;
   SystemInfo system_;
   ParticleStore store_;
   QuantityBoard board_;
@@ -130,6 +135,7 @@ class Engine {
   std::vector<DiagnosticOutput> outputs_;
   std::vector<std::string> summary_;
   CollisionStage collisions_;            // per-cell majorants, remainders and streams
+  std::vector<double> kick_energy_;      // per block: a homogeneous body acceleration's work this step
   double wall_seconds_ = 0;
   bool steady_ = false;
   bool cells_reversed_ = false;

@@ -7,8 +7,6 @@
 namespace gdsmc::host {
 
 namespace {
-constexpr std::size_t kBlock = 4096;  // tallies are summed per block, then blocks in order
-
 inline double wrap(double x, double length) {
   if (x >= length) x -= length;
   else if (x < 0) x += length;
@@ -49,13 +47,19 @@ Mover::Mover(const double box[3], const Vec3& g, std::array<Side, 2> sides)
     : lx_(box[0]), ly_(box[1]), lz_(box[2]), half_(0.5 * box[1]), g_(g), sides_(std::move(sides)) {}
 
 void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, double t0, double dt,
-                   const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally) const {
+                   const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally, WorkPool* pool) const {
   const bool accelerated = g_.x != 0 || g_.y != 0 || g_.z != 0;
-  for (std::size_t b = 0; b < p.count; b += kBlock) {
-    StreamingTally block;
-    const std::size_t e = std::min(p.count, b + kBlock);
+  const std::size_t blocks = (p.count + kBlock - 1) / kBlock;
+  if (blocks_.size() < blocks) blocks_.resize(blocks);
+  for_pieces(pool, blocks, [&](std::size_t k) {
+    StreamingTally& block = blocks_[k];
+    block = StreamingTally{};
+    const std::size_t b = k * kBlock, e = std::min(p.count, b + kBlock);
     if (accelerated) stream_block<true>(p, cell, grid, b, e, t0, dt, ctx, streams, block);
     else stream_block<false>(p, cell, grid, b, e, t0, dt, ctx, streams, block);
+  });
+  for (std::size_t k = 0; k < blocks; ++k) {  // tallies are summed per block, then blocks in order
+    const StreamingTally& block = blocks_[k];
     for (int s = 0; s < 2; ++s) add(tally.sides[s], block.sides[s]);
     tally.acceleration_energy += block.acceleration_energy;
   }

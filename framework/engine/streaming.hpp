@@ -10,8 +10,11 @@
 
 #include <gdsmc/plugin.hpp>
 
+#include <vector>
+
 #include "engine/cells.hpp"
 #include "engine/streams.hpp"
+#include "engine/work_pool.hpp"
 
 namespace gdsmc::host {
 
@@ -34,8 +37,12 @@ class Mover {
   // Streams every particle over dt from time t0, writes cell[] from the final y, and adds to
   // `tally`. ctx is what boundaries see (time, dt, system). Throws std::runtime_error naming the
   // boundary when a plugin returns an impossible state or a particle cannot leave the walls.
+  // Blocks of kBlock particles run on the pool's threads (boundaries' interact() concurrently);
+  // their tallies are added in block order.
   void stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, double t0, double dt,
-              const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally) const;
+              const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally,
+              WorkPool* pool = nullptr) const;
+  static constexpr std::size_t kBlock = 4096;
 
   static constexpr int max_hits_per_step = 100000;
 
@@ -50,6 +57,7 @@ class Mover {
   double lx_, ly_, lz_, half_;
   Vec3 g_;
   std::array<Side, 2> sides_;
+  mutable std::vector<StreamingTally> blocks_;  // per block, this step
 };
 
 // The first time t in (0, t_max] at which y0 + v t + g t^2/2 reaches `plane`, or a negative value

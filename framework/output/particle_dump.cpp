@@ -8,13 +8,15 @@ namespace gdsmc::host {
 
 std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const SystemInfo& system) {
   const double length = system.mean_free_path0, speed = std::sqrt(2.0 * system.initial_temperature / system.mass);
-  std::vector<ParticleColumn> out = {
-      {"x", "lambda0", "final position x", 1, s.x, s.count, length},
-      {"y", "lambda0", "final position y", 1, s.y, s.count, length},
-      {"z", "lambda0", "final position z", 1, s.z, s.count, length},
+  std::vector<ParticleColumn> out;
+  if (s.x)  // a homogeneous system keeps no positions
+    out = {{"x", "lambda0", "final position x", 1, s.x, s.count, length},
+           {"y", "lambda0", "final position y", 1, s.y, s.count, length},
+           {"z", "lambda0", "final position z", 1, s.z, s.count, length}};
+  out.insert(out.end(), {
       {"vx", "sqrt(2T0/m)", "final velocity x", 1, s.vx, s.count, speed},
       {"vy", "sqrt(2T0/m)", "final velocity y", 1, s.vy, s.count, speed},
-      {"vz", "sqrt(2T0/m)", "final velocity z", 1, s.vz, s.count, speed}};
+      {"vz", "sqrt(2T0/m)", "final velocity z", 1, s.vz, s.count, speed}});
   for (std::size_t a = 0; a < s.attribute_count; ++a) {
     const AttributeSpec& spec = s.attribute_specs[a];
     out.push_back({spec.name, spec.unit, spec.doc, spec.components, s.attribute_data[a], s.count, 1.0});

@@ -146,12 +146,19 @@ std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& p
   return cases;
 }
 
+std::uint32_t total_threads(const std::vector<StudyCase>& cases) {
+  const std::uint32_t threads = cases.front().pipeline.threads;
+  return threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : threads;
+}
+
 std::uint32_t study_threads(const std::vector<StudyCase>& cases) {
   std::size_t runs = 0;
   for (const auto& c : cases) runs += c.pipeline.realizations;
-  std::uint32_t threads = cases.front().pipeline.threads;
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  return static_cast<std::uint32_t>(std::max<std::size_t>(1, std::min<std::size_t>(threads, runs)));
+  return static_cast<std::uint32_t>(std::max<std::size_t>(1, std::min<std::size_t>(total_threads(cases), runs)));
+}
+
+std::uint32_t threads_per_run(const std::vector<StudyCase>& cases) {
+  return std::max(1u, total_threads(cases) / study_threads(cases));
 }
 
 MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress) {

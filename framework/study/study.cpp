@@ -76,9 +76,10 @@ class StudyClock {
   Clock::time_point last_report_ = start_;
 };
 
-void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index, const std::atomic<bool>* stop) {
+void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index, const std::atomic<bool>* stop,
+             unsigned threads) {
   const Pipeline& p = sc.pipeline;
-  Engine engine(p, run.realization);
+  Engine engine(p, run.realization, threads);
   std::function<void(const Progress&)> inner = [&](const Progress& pr) { clock.update(index, run.label, pr); };
   engine.run(inner, clock.interval(), stop);
   run.collisions = engine.context().collisions;
@@ -155,6 +156,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
 
   StudyClock clock(runs.size(), report, report_interval);
   const std::uint32_t workers = study_threads(cases);
+  const std::uint32_t per_run = threads_per_run(cases);
   std::mutex mutex;
   auto finish = [&](std::size_t index) {
     const std::size_t ci = runs[index].case_index;
@@ -170,7 +172,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
   if (workers == 1) {
     // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
     for (std::size_t index = 0; index < runs.size(); ++index) {
-      execute(cases[runs[index].case_index], runs[index], clock, index, interrupt);
+      execute(cases[runs[index].case_index], runs[index], clock, index, interrupt, per_run);
       finish(index);
     }
   } else {
@@ -188,7 +190,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
           index = next++;
         }
         try {
-          execute(cases[runs[index].case_index], runs[index], clock, index, &stop);
+          execute(cases[runs[index].case_index], runs[index], clock, index, &stop, per_run);
           finish(index);
         } catch (...) {
           runs[index].error = std::current_exception();

@@ -148,7 +148,7 @@ class Drag final : public gdsmc::Forcing {
     }
     double energy = 0;
     for (std::size_t i = 0; i < p.count; ++i) {
-      const std::uint32_t I = p.cell[i];
+      const std::uint32_t I = p.cell ? p.cell[i] : 0;  // homogeneous: one cell, no cell array
       if (factor_[I] != 1.0) energy += relax(p, i, ctx.cells[I].mean_velocity, factor_[I]);
     }
     return energy;

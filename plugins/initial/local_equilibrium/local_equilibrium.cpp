@@ -50,6 +50,11 @@ class LocalEquilibrium final : public gdsmc::InitialState {
   void generate(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& quantities, const gdsmc::ParticleSpan& p,
                 const gdsmc::Streams& streams) override {
     double a = shear_rate_;
+    if (laboratory_ && sys.geometry != gdsmc::Geometry::slab)
+      throw gdsmc::ParameterError("frame",
+                                  "local_equilibrium: frame: laboratory adds the profile a y x_hat, which needs positions: "
+                                  "use it in a slab (Lees-Edwards boundaries); a homogeneous system keeps no positions and "
+                                  "takes frame: lagrangian");
     if (laboratory_ && published_shear_rate_) {
       const double* published = quantities.find("shear_rate");
       if (!published)

@@ -158,6 +158,7 @@ class CollisionRuleAdapter final : public CollisionRule {
 
     const ParticleSpan& p = c.particles;
     const std::uint32_t* members = c.members;
+    const std::uint32_t first = c.first;
     const std::uint32_t count = c.count;
     // A local copy of the stream (written back below): its state then stays in registers instead
     // of being reloaded and stored through c.rng around every draw (~9% fewer instructions).
@@ -171,8 +172,8 @@ class CollisionRuleAdapter final : public CollisionRule {
       std::uint32_t a = rng.below(count);
       std::uint32_t b = rng.below(count - 1);
       b += (b >= a);
-      const std::uint32_t i = members ? members[a] : a;
-      const std::uint32_t j = members ? members[b] : b;
+      const std::uint32_t i = members ? members[a] : first + a;
+      const std::uint32_t j = members ? members[b] : first + b;
       Vec3 v1{vx[i], vy[i], vz[i]}, v2{vx[j], vy[j], vz[j]};
       const Vec3 g = v1 - v2;
       double rate;

@@ -23,6 +23,12 @@ struct PeculiarSums {
     v4 += c2 * c2;
     v6 += c2 * c2 * c2;
   }
+  // Add the sums of another set of particles (pieces summed apart, then in a fixed order).
+  void merge(const PeculiarSums& o) {
+    xx += o.xx; yy += o.yy; zz += o.zz;
+    xy += o.xy; xz += o.xz; yz += o.yz;
+    v4 += o.v4; v6 += o.v6;
+  }
   void finish(VelocityMoments& m, double inv) const {
     m.second[0][0] = xx * inv; m.second[1][1] = yy * inv; m.second[2][2] = zz * inv;
     m.second[0][1] = m.second[1][0] = xy * inv;
@@ -79,16 +85,22 @@ inline double relative_speed_cube_ratio(const ParticleSpan& p, double temperatur
   return sum / static_cast<double>(pairs) / (32.0 / std::sqrt(M_PI) * temperature * std::sqrt(temperature));
 }
 
-// Positions uniform in the box (slab convention: x in [0, Lx), y in [-Ly/2, Ly/2), z in [0, Lz))
+// Positions uniform in the box where the system has them (slab convention: x in [0, Lx), y in [-Ly/2, Ly/2), z in [0, Lz))
 // and velocities from a Maxwellian at `temperature` with zero mean (000 Eq. 2.14), each particle
 // from its own stream, so the state does not depend on storage order.
 inline void sample_maxwellian(const SystemInfo& sys, const ParticleSpan& p, double temperature, const Streams& streams) {
   const double sd = std::sqrt(temperature / sys.mass);
   for (std::size_t i = 0; i < p.count; ++i) {
     Rng rng = streams.for_particle(p.id[i]);
-    p.x[i] = sys.box[0] * rng.uniform();
-    p.y[i] = sys.box[1] * rng.uniform() - 0.5 * sys.box[1];
-    p.z[i] = sys.box[2] * rng.uniform();
+    // Drawn in every system, stored where particles have positions (a slab; nullptr otherwise),
+    // so a particle's velocity is the same draw in both.
+    const double x = sys.box[0] * rng.uniform(), y = sys.box[1] * rng.uniform() - 0.5 * sys.box[1],
+                 z = sys.box[2] * rng.uniform();
+    if (p.x) {
+      p.x[i] = x;
+      p.y[i] = y;
+      p.z[i] = z;
+    }
     p.vx[i] = sd * rng.normal();
     p.vy[i] = sd * rng.normal();
     p.vz[i] = sd * rng.normal();

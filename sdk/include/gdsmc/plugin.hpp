@@ -55,7 +55,9 @@ class GDSMC_API PluginObject {
 // One cell's collision stage, as the host hands it to a collision rule (000 Eqs. 4.13, 4.23).
 struct CellCollision {
   ParticleSpan particles;
-  const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: all of them
+  const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: the
+                                           // contiguous range first, ..., first + count - 1
+  std::uint32_t first = 0;                 // (members == nullptr) the cell's first particle
   std::uint32_t count = 0;                 // N_c
   double pairs = 0;                        // P_c, the pair count the candidate number is built on,
                                            // chosen by the host: N_c (N_c - 1) / 2 (distinct pairs,
