@@ -48,6 +48,7 @@
 #include <memory>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include <gdsmc/collision.hpp>
@@ -103,13 +104,30 @@ void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pa
   const double loss = -0.25 * (1.0 - alpha * alpha);
   std::uint64_t accepted = 0, exceeded = 0;
   double max_rate = st.max_rate, energy = 0;
-  for (std::uint64_t k = 0; k < candidates; ++k) {
-    const std::uint32_t i = rng.below(n);
-    std::uint32_t j = rng.below(n - 1);
-    j += (j >= i);
+  // Batches of 32 candidates: pairs and acceptance numbers drawn first and their velocities
+  // prefetched, then tested and collided in order (the SDK loop's order).
+  constexpr std::uint32_t kBatch = 32;
+  std::uint32_t bi[kBatch], bj[kBatch];
+  double bu[kBatch];
+  for (std::uint64_t k0 = 0; k0 < candidates; k0 += kBatch) {
+   const auto m = static_cast<std::uint32_t>(std::min<std::uint64_t>(kBatch, candidates - k0));
+   for (std::uint32_t q = 0; q < m; ++q) {
+    const std::uint32_t a = rng.below(n);
+    std::uint32_t b = rng.below(n - 1);
+    b += (b >= a);
+    bi[q] = a;
+    bj[q] = b;
+    bu[q] = rng.uniform32();
+    for (const double* v : {vx, vy, vz}) {
+      __builtin_prefetch(v + a, 1, 3);
+      __builtin_prefetch(v + b, 1, 3);
+    }
+   }
+   for (std::uint32_t q = 0; q < m; ++q) {
+    const std::uint32_t i = bi[q], j = bj[q];
     const double gx = vx[i] - vx[j], gy = vy[i] - vy[j], gz = vz[i] - vz[j];
     const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
-    const double u = rng.uniform32();
+    const double u = bu[q];
     if (g > w) {  // majorant exceeded: accept with probability 1, report the rate seen
       ++exceeded;
       max_rate = std::max(max_rate, g);
@@ -141,6 +159,7 @@ void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pa
     vx[j] += f * sx; vy[j] += f * sy; vz[j] += f * sz;
     energy += loss * gs * gs;
     ++accepted;
+   }
   }
   st.candidates += candidates;
   st.accepted += accepted;
@@ -296,7 +315,12 @@ template <class T>
 T& cached(const std::string& name, std::int64_t n, std::int64_t alpha_pct) {
   static std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::unique_ptr<T>> cache;
   auto& slot = cache[{name, n, alpha_pct}];
-  if (!slot) slot = std::make_unique<T>(static_cast<std::uint32_t>(n));
+  if (!slot) {
+    if constexpr (std::is_constructible_v<T, std::uint32_t, std::int64_t>)
+      slot = std::make_unique<T>(static_cast<std::uint32_t>(n), alpha_pct);  // second key: threads
+    else
+      slot = std::make_unique<T>(static_cast<std::uint32_t>(n));
+  }
   return *slot;
 }
 
@@ -379,31 +403,40 @@ BENCHMARK(BM_HandLoop)->Apply(cell_args);
 
 struct EngineRun {
   host::Pipeline pipeline;
+  unsigned threads = 1;
   std::unique_ptr<host::Engine> engine;
-  explicit EngineRun(std::uint32_t n) {
+  // The cache's second key is the thread count here.
+  EngineRun(std::uint32_t n, std::int64_t threads_arg) : threads(static_cast<unsigned>(threads_arg)) {
     // dt = c tau0 sqrt(T0/T); a particle collides 2/sqrt(pi) times per tau0 in a Maxwellian, so
     // c = 0.02 sqrt(pi) / 2 gives ~N/100 collisions per step.
     const double c = 2.0 * kCollisionFractionPerCall * std::sqrt(M_PI) / 2.0;
     pipeline = host::load_pipeline(pipeline_file(),
                                    {"run.particles=" + std::to_string(n), "run.time_step.value=" + std::to_string(c)},
                                    {plugin_dir()});
-    engine = std::make_unique<host::Engine>(pipeline);
+    engine = std::make_unique<host::Engine>(pipeline, 0, threads);
   }
+  void restart() { engine = std::make_unique<host::Engine>(pipeline, 0, threads); }
 };
 
-void BM_EngineStep(benchmark::State& state) {
-  EngineRun* run;
+template <class T>
+T* cached_or_skip(benchmark::State& state, const std::string& name) {
   try {
-    run = &cached<EngineRun>("engine", state.range(0), 90);
+    return &cached<T>(name, state.range(0), state.range(1));
   } catch (const host::PipelineError& e) {
     std::string m;
     for (const auto& s : e.messages()) m += s + "; ";
     state.SkipWithError(m.c_str());
-    return;
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
-    return;
   }
+  return nullptr;
+}
+
+// Engine::step of the HCS pipeline (N, threads): collisions in sub-populations of 32768, moments
+// every 4 steps, the five diagnostics of configs/hcs.yaml sampled every step. Real time (threads).
+void BM_EngineStep(benchmark::State& state) {
+  EngineRun* run = cached_or_skip<EngineRun>(state, "engine");
+  if (!run) return;
   // The HCS cools without bound (T/T0 ~ 1e-23 after a few seconds at N = 1e4); the engine is
   // rebuilt (untimed) when T/T0 < 1e-3, long before velocities could reach subnormal numbers.
   std::uint64_t acc_n = 0, cand_n = 0;
@@ -415,7 +448,7 @@ void BM_EngineStep(benchmark::State& state) {
       state.PauseTiming();
       acc_n += e.context().collisions - c0;
       cand_n += e.context().candidates - k0;
-      run->engine = std::make_unique<host::Engine>(run->pipeline);
+      run->restart();
       c0 = run->engine->context().collisions;
       k0 = run->engine->context().candidates;
       state.ResumeTiming();
@@ -431,7 +464,77 @@ void BM_EngineStep(benchmark::State& state) {
   state.counters["coll/call"] = benchmark::Counter(acc, benchmark::Counter::kAvgIterations);
   state.counters["T/T0"] = engine.context().global->temperature / engine.system().initial_temperature;
 }
-BENCHMARK(BM_EngineStep)->ArgName("N")->Arg(10000)->Arg(100000)->Arg(1000000);
+
+void engine_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"N", "threads"})->UseRealTime();
+  for (std::int64_t threads : {1, 2})
+    for (std::int64_t n : {10000, 100000, 1000000, 10000000}) b->Args({n, threads});
+}
+BENCHMARK(BM_EngineStep)->Apply(engine_args);
+
+// The bare collision stage of the same homogeneous system, as Engine::collide drives it (the
+// sub-populations, their majorants, the pool), without streaming, moments or diagnostics: the
+// denominator of the engine's overhead. IHS alpha = 0.9, velocities rescaled (untimed) below 0.8 T0.
+struct StageRun {
+  EngineRun run;
+  std::unique_ptr<host::WorkPool> pool;
+  host::CellGrid grid;
+  host::CollisionStage stage;
+  host::StreamFactory streams{kSeed, 0};
+  std::shared_ptr<PluginObject> rule_object;
+  CollisionRule* rule = nullptr;
+  std::uint64_t step = 0;
+  StageRun(std::uint32_t n, std::int64_t threads) : run(n, threads) {
+    const host::Pipeline& p = run.pipeline;
+    rule_object = host::create_object(*p.collision.plugin, p.collision.params);
+    rule = static_cast<CollisionRule*>(rule_object.get());
+    rule->bind(run.engine->particles());
+    pool = std::make_unique<host::WorkPool>(static_cast<unsigned>(threads));
+    grid.homogeneous(n, run.engine->system().volume);
+    stage.set_subpopulation(run.pipeline.subpopulation);
+    stage.set_pool(pool.get());
+  }
+};
+
+void BM_HomogeneousStage(benchmark::State& state) {
+  StageRun* s = cached_or_skip<StageRun>(state, "stage");
+  if (!s) return;
+  host::Engine& e = *s->run.engine;
+  const ParticleSpan span = e.particles();
+  const SystemInfo& sys = e.system();
+  const double dt = 2.0 * kCollisionFractionPerCall * std::sqrt(M_PI) / 2.0 * sys.time_unit0;
+  // The temperature from the declared energy changes (m = 1: E = 3/2 N T of the peculiar velocities).
+  double temperature = velocity_moments(span).temperature;
+  double energy = 1.5 * static_cast<double>(span.count) * temperature;
+  std::uint64_t acc = 0, cand = 0;
+  for (auto _ : state) {
+    s->streams.set_step(s->step++);
+    const host::CollisionStage::Totals t = s->stage.run(*s->rule, span, s->grid, nullptr, temperature,
+                                                        1.0, sys.sigma, dt * std::sqrt(kT0 / temperature), s->streams);
+    acc += t.accepted;
+    cand += t.candidates;
+    energy += t.energy_change;
+    temperature = energy / (1.5 * static_cast<double>(span.count));
+    if (temperature < kRescaleBelow * kT0) {  // as Cell::rescale: zero mean, exactly T0
+      state.PauseTiming();
+      const VelocityMoments m = velocity_moments(span);
+      const double f = std::sqrt(kT0 / m.temperature);
+      for (std::size_t i = 0; i < span.count; ++i) {
+        span.vx[i] = (span.vx[i] - m.mean[0]) * f;
+        span.vy[i] = (span.vy[i] - m.mean[1]) * f;
+        span.vz[i] = (span.vz[i] - m.mean[2]) * f;
+      }
+      energy = 1.5 * static_cast<double>(span.count) * kT0;
+      temperature = kT0;
+      state.ResumeTiming();
+    }
+  }
+  state.counters["collisions/s"] = benchmark::Counter(static_cast<double>(acc), benchmark::Counter::kIsRate);
+  state.counters["candidates/s"] = benchmark::Counter(static_cast<double>(cand), benchmark::Counter::kIsRate);
+  state.counters["accept"] = cand > 0 ? static_cast<double>(acc) / static_cast<double>(cand) : 0.0;
+  state.counters["coll/call"] = benchmark::Counter(static_cast<double>(acc), benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_HomogeneousStage)->Apply(engine_args);
 
 // ---------------------------------------------------------------------------------------------
 // Slab benchmarks (layers along y, walls, the mover): reserved for the slab pipelines. They go
@@ -457,7 +560,7 @@ struct SlabRun {
   std::filesystem::path file;
   host::Pipeline pipeline;
   std::unique_ptr<host::Engine> engine;
-  explicit SlabRun(std::uint32_t n) {
+  explicit SlabRun(std::uint32_t n, std::int64_t threads = 1) {
     file = std::filesystem::temp_directory_path() / ("gdsmc_bench_slab_" + std::to_string(n) + ".yaml");
     std::FILE* f = std::fopen(file.c_str(), "w");
     const std::string text = slab_yaml(n);
@@ -465,7 +568,7 @@ struct SlabRun {
     std::fclose(f);
     pipeline = host::load_pipeline(file, {}, {plugin_dir()});
     std::filesystem::remove(file);
-    engine = std::make_unique<host::Engine>(pipeline);
+    engine = std::make_unique<host::Engine>(pipeline, 0, static_cast<unsigned>(threads));
   }
 };
 
@@ -571,14 +674,10 @@ void BM_SlabCollideLayers(benchmark::State& state) {
 BENCHMARK(BM_SlabCollideLayers)->ArgName("N")->Arg(100000)->Arg(1000000);
 
 // Engine::step of the slab pipeline: forcings (none), flight and walls, sort, collisions, moments.
+// (N, threads), real time.
 void BM_SlabEngineStep(benchmark::State& state) {
-  SlabRun* run;
-  try {
-    run = &cached<SlabRun>("slab_engine", state.range(0), 100);
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
+  SlabRun* run = cached_or_skip<SlabRun>(state, "slab_engine");
+  if (!run) return;
   const std::uint64_t c0 = run->engine->context().collisions;
   for (auto _ : state) run->engine->step();
   const double n = static_cast<double>(run->engine->system().particles);
@@ -586,7 +685,12 @@ void BM_SlabEngineStep(benchmark::State& state) {
   state.counters["collisions/s"] =
       benchmark::Counter(static_cast<double>(run->engine->context().collisions - c0), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_SlabEngineStep)->ArgName("N")->Arg(100000)->Arg(1000000);
+void slab_engine_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"N", "threads"})->UseRealTime();
+  for (std::int64_t threads : {1, 2})
+    for (std::int64_t n : {10000, 100000, 1000000, 10000000}) b->Args({n, threads});
+}
+BENCHMARK(BM_SlabEngineStep)->Apply(slab_engine_args);
 
 // ---------------------------------------------------------------------------------------------
 // The random-number primitives (per call; items/s = calls per second).
@@ -691,7 +795,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       const double hand = rate("BM_HandLoop", a), plugin = rate("BM_PluginCollideCell", a),
                    stat = rate("BM_StaticAdapter", a);
       const bool hcs = a.find("alpha_pct:90") != std::string::npos;
-      const double engine = hcs ? rate("BM_EngineStep", a.substr(0, a.find('/'))) : 0.0;
+      const double engine = hcs ? rate("BM_EngineStep", a.substr(0, a.find('/')) + "/threads:1") : 0.0;
       auto ratio = [&](double x) { return x > 0 ? hand / x : 0.0; };
       std::printf("%-24s %12.4g %12.4g %12.4g %12.4g %10.3f %10.3f %10.3f\n", a.c_str(), hand, plugin, stat, engine,
                   ratio(plugin), ratio(stat), ratio(engine));

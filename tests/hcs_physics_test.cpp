@@ -27,6 +27,9 @@ struct Hcs {
   int every = 1;  // sample_every = record_every
   double average_after = -1;  // run.average_after in collisions per particle (none if < 0)
   std::string diagnostics = "  - {plugin: temperature}\n";
+  // Sub-populations of 256 (run.subpopulation): the physics checks below run on the engine as it
+  // runs large systems, split into groups, and (check_haff, check_a2) on two threads.
+  int subpopulation = 256;
 };
 
 std::string hcs_yaml(const Hcs& h) {
@@ -43,6 +46,7 @@ std::string hcs_yaml(const Hcs& h) {
                 "  stop: {collisions_per_particle: %g}\n"
                 "  sample_every: %d\n"
                 "  record_every: %d\n"
+                "  subpopulation: %d\n"
                 "%s"
                 "system:\n"
                 "  density: 1.0e-3\n"
@@ -51,7 +55,7 @@ std::string hcs_yaml(const Hcs& h) {
                 "collision: {plugin: inelastic_hard_spheres, alpha: %.17g}\n"
                 "diagnostics:\n%s"
                 "output: {file: hcs.h5}\n",
-                static_cast<unsigned long long>(h.seed), h.particles, h.stop_s, h.every, h.every, average_after, h.alpha,
+                static_cast<unsigned long long>(h.seed), h.particles, h.stop_s, h.every, h.every, h.subpopulation, average_after, h.alpha,
                 h.diagnostics.c_str());
   return buf;
 }
@@ -217,7 +221,7 @@ void check_haff(double alpha, double stop_s, int realizations, int particles, do
     h.stop_s = stop_s;
     h.every = 10;
     const Pipeline p = load_yaml(dir, hcs_yaml(h));
-    Engine e(p);
+    Engine e(p, 0, 2);  // 16 sub-populations on two threads
     e.run();
     const auto& d = diagnostic(e, "temperature");
     const auto& T = series(e, "temperature", "temperature");
@@ -262,7 +266,7 @@ void check_a2(double alpha) {
     h.average_after = 5;
     h.diagnostics = "  - {plugin: hcs_theory}\n";
     const Pipeline p = load_yaml(dir, hcs_yaml(h));
-    Engine e(p);
+    Engine e(p, 0, 2);  // 20 sub-populations on two threads
     e.run();
     means.push_back(scalar(e, "hcs_theory", "a2_mean"));
     plugin_errors.push_back(scalar(e, "hcs_theory", "a2_standard_error"));

@@ -2,7 +2,8 @@
 // workers, and the output does not depend on how many. Each run is a pure function of (case,
 // realization) and the outputs are gathered in case order, so every dataset and every attribute
 // but the wall times must be the same bytes for 1, 2 and 3 threads: a homogeneous sweep with
-// realizations, a slab between walls, and Lees-Edwards boundaries. A failing run ends the study
+// realizations, a slab between walls, and Lees-Edwards boundaries. A single run uses the threads
+// itself (collision groups, mover blocks, moment sums), with the same bits. A failing run ends the study
 // with its own error, naming its case, and nothing is written.
 #include <gtest/gtest.h>
 
@@ -118,6 +119,47 @@ TEST(Threads, LeesEdwardsSlabWithRealizationsIsTheSameBitsForOneTwoAndThreeThrea
   expect_same_bits_for_any_thread_count(
       "run:\n  seed: 2001\n  particles: 2000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
       "  stop: {collisions_per_particle: 3}\n  record_every: 40\n  realizations: 3\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"
+      "diagnostics: [slab_averages, shear_rheology]\noutput: {file: out.h5}\n",
+      10);
+}
+
+// Threads inside one run: a single run with --threads 2 or 3 spreads its collision groups, the
+// mover's blocks of 4096 particles and the moment sums over the threads, and must give the bits
+// of one thread. A homogeneous run in 12 sub-populations (with the particles written, and a
+// shear forcing), a slab of 5 mover blocks between walls with a body force, a Lees-Edwards slab.
+TEST(Threads, OneHomogeneousRunInSubpopulationsIsTheSameBitsForOneTwoAndThreeThreads) {
+  expect_same_bits_for_any_thread_count(
+      "run:\n  seed: 17\n  particles: 6000\n  subpopulation: 500\n"
+      "  time_step: {value: 0.004, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 4}\n  record_every: 20\n"
+      "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: local_equilibrium\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
+      "forcings: [{plugin: uniform_shear, shear_rate: 2}]\n"
+      "diagnostics: [temperature, cumulants, pressure_tensor, collision_count]\n"
+      "output: {file: out.h5, particles: true}\n",
+      15);
+}
+
+TEST(Threads, OneSlabRunBetweenWallsIsTheSameBitsForOneTwoAndThreeThreads) {
+  expect_same_bits_for_any_thread_count(
+      "run:\n  seed: 12\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 3}\n"
+      "  record_every: 20\nsystem:\n  mean_free_path: 186\n  temperature: 1.0\n  domain: slab\n"
+      "  box: {y: {value: 1860, unit: sigma}}\n  layers: 40\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 5.0e-4, unit: reduced}}\n"
+      "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n"
+      "diagnostics: [slab_averages, energy_balance, profiles]\n"
+      "output: {file: out.h5, particles: true}\n",
+      20);
+}
+
+TEST(Threads, OneLeesEdwardsRunIsTheSameBitsForOneTwoAndThreeThreads) {
+  expect_same_bits_for_any_thread_count(
+      "run:\n  seed: 2002\n  particles: 9000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 2}\n  record_every: 40\n"
       "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
       "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
       "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"

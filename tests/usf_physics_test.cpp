@@ -63,7 +63,7 @@ std::string usf_yaml(const std::string& model, double alpha, double a_tau0, int 
   return "run:\n  seed: 11\n  particles: " + std::to_string(particles) +
          "\n  time_step: {value: " + std::to_string(dt) + ", unit: tau0, follow_temperature: true}\n"
          "  stop: {collisions_per_particle: " + std::to_string(stop_s) + "}\n"
-         "  sample_every: 4\n  record_every: 40\n"
+         "  sample_every: 4\n  record_every: 40\n  subpopulation: 256\n"
          "  average_after: {collisions_per_particle: " + aa + "}\n"
          "system: {density: 1.0e-3, temperature: 1.0, domain: homogeneous}\n"
          "initial_state: {plugin: local_equilibrium, shear_rate: " + std::to_string(std::max(a_tau0, 0.0)) + "}\n"
@@ -304,7 +304,7 @@ SteadyRun run_steady(const std::string& model, double alpha, double a_tau0, int 
   t::TempDir dir;
   host::Pipeline p = t::load_yaml(dir, usf_yaml(model, alpha, a_tau0, particles, stop_s, after, 0.002,
                                                  "  - {plugin: relative_speed_cube, pairs: 2000}\n"));
-  host::Engine e(p);
+  host::Engine e(p, 0, 2);  // sub-populations of 256 on two threads
   e.run();
   SteadyRun r;
   r.v12 = t::scalar(e, "relative_speed_cube", "ratio_mean");

@@ -27,9 +27,9 @@ inline double pair_count(PairCount scheme, std::uint32_t n) {
 }
 
 // The collision groups of a homogeneous system of N particles: K = ceil(N / size) sub-populations
-// of N/K particles each (size 0: one population). Every step they are contiguous ranges of storage
-// rotated by a random offset, so each group's pairs sit in a few hundred kilobytes of memory and
-// the groups are independent pieces of work whose number does not depend on the thread count.
+// of N/K particles each (size 0: one population), drawn afresh every step as strided subsets of
+// storage (CollisionStage::make_groups): independent pieces of work whose number does not depend on
+// the thread count.
 std::size_t subpopulation_count(std::size_t particles, std::size_t size);
 
 class CollisionStage {
@@ -85,11 +85,12 @@ class CollisionStage {
   std::vector<std::uint64_t> counts_;     // per group: candidates, accepted, exceeded
   struct Group {
     const std::uint32_t* members = nullptr;
-    std::uint32_t first = 0, count = 0;
+    std::uint32_t first = 0;
+    std::uint64_t stride = 1;
+    std::uint32_t count = 0;
     double volume = 0;
   };
   std::vector<Group> groups_;
-  std::vector<std::uint32_t> wrap_members_;  // the sub-population that wraps around the end of storage
   std::size_t subpopulation_ = 0;
   WorkPool* pool_ = nullptr;
   void make_groups(const CellGrid& grid, std::size_t particles, const StreamFactory& streams);

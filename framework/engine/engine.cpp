@@ -192,9 +192,9 @@ void Engine::generate_initial_state() {
                              fmt("%.6g", global_.temperature) + "; a positive finite temperature is needed");
 }
 
-// The sub-populations of a homogeneous system are ranges of storage (CollisionStage): put the
-// particles in a random order first, so that no order the initial state made (say, hot particles
-// first) survives as a structure of the sub-populations. Fisher-Yates on the stored particles (no
+// The sub-populations of a homogeneous system are strided subsets of storage (CollisionStage): put
+// the particles in a random order first, so that no order the initial state made (say, hot
+// particles first, or alternating) can line up with a stride. Fisher-Yates on the stored particles (no
 // scratch memory), identities travelling with them.
 void Engine::shuffle_subpopulations() {
   const std::size_t n = store_.size();

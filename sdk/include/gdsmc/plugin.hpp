@@ -55,9 +55,12 @@ class GDSMC_API PluginObject {
 // One cell's collision stage, as the host hands it to a collision rule (000 Eqs. 4.13, 4.23).
 struct CellCollision {
   ParticleSpan particles;
-  const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: the
-                                           // contiguous range first, ..., first + count - 1
-  std::uint32_t first = 0;                 // (members == nullptr) the cell's first particle
+  const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: particle a
+                                           // (a = 0 .. count - 1) of the cell is
+                                           // (first + a * stride) mod particles.count
+                                           // (CellCollision::particle)
+  std::uint32_t first = 0;
+  std::uint64_t stride = 1;                // 1: the contiguous range first .. first + count - 1
   std::uint32_t count = 0;                 // N_c
   double pairs = 0;                        // P_c, the pair count the candidate number is built on,
                                            // chosen by the host: N_c (N_c - 1) / 2 (distinct pairs,
@@ -80,6 +83,17 @@ struct CellCollision {
   double energy_change = 0;                // sum over accepted collisions of the declared change of
                                            // kinetic energy (m = 1)
 };
+
+// Particle a of a cell without a member list: (first + a * stride) mod n, by a Barrett reduction
+// (barrett = floor((2^64 - 1) / n), computed once per cell), so no division per candidate.
+inline std::uint32_t strided_particle(std::uint64_t first, std::uint64_t stride, std::uint32_t a, std::uint64_t n,
+                                      std::uint64_t barrett) {
+  const std::uint64_t x = first + static_cast<std::uint64_t>(a) * stride;
+  const auto q = static_cast<std::uint64_t>((static_cast<unsigned __int128>(x) * barrett) >> 64);
+  std::uint64_t r = x - q * n;
+  while (r >= n) r -= n;
+  return static_cast<std::uint32_t>(r);
+}
 
 class GDSMC_API CollisionRule : public PluginObject {
  public:
