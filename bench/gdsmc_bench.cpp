@@ -12,20 +12,25 @@
 //                         executable with a copy of the IHS rule: separates "SDK loop" from
 //                         "loaded through a .so".
 //   BM_HandLoop           one plain function of the same physics and the same algorithm (same
-//                         candidate count, pair selection, acceptance |g|/w, impact direction
+//                         candidate count, pair selection in prefetched batches of 32,
+//                         acceptance |g|/w, impact direction
 //                         normalize(g_hat + u), Eq. 2.8 update) and the same generator
 //                         (gdsmc::Rng, Philox4x32-10, from the host's StreamFactory) drawn in the
 //                         same order. Started from the same state with the same streams it
 //                         produces bit-identical velocities (checked at start-up; see
 //                         verify_same_trajectory).
-//   BM_EngineStep         Engine::step() of the HCS pipeline configs/hcs.yaml (collisions, moment
-//                         updates every 4 steps, five diagnostics), dt set for ~N/100 collisions.
+//   BM_EngineStep         Engine::step() of the HCS pipeline configs/hcs.yaml (collisions in
+//                         sub-populations, moment updates every 4 steps, five diagnostics), dt
+//                         set for ~N/100 collisions; (N, threads), real time.
+//   BM_HomogeneousStage   the engine's collision stage alone on the same system (sub-populations,
+//                         majorants, the thread pool): the denominator of Engine::step's overhead.
 //   BM_SlabStreamSort     the slab mover (free flight, diffuse walls at both planes, layer index)
 //                         plus the counting sort into 100 layers: particle moves per second.
 //   BM_SlabCollideLayers  the collision stage of the same slab, layer by layer as Engine::collide
 //                         drives it, elastic, ~N/100 collisions per call: compare with
 //                         BM_PluginCollideCell/N/100 (one homogeneous cell, same rule).
-//   BM_SlabEngineStep     Engine::step of that slab pipeline (flight, walls, sort, collisions).
+//   BM_SlabEngineStep     Engine::step of that slab pipeline (flight, walls, sort, collisions);
+//                         (N, threads), real time.
 //   BM_Rng*               the random-number primitives the loop uses.
 //
 // The cell benchmarks take N (particles) and alpha_pct (restitution x 100). With alpha < 1 the gas
@@ -517,13 +522,7 @@ void BM_HomogeneousStage(benchmark::State& state) {
     temperature = energy / (1.5 * static_cast<double>(span.count));
     if (temperature < kRescaleBelow * kT0) {  // as Cell::rescale: zero mean, exactly T0
       state.PauseTiming();
-      const VelocityMoments m = velocity_moments(span);
-      const double f = std::sqrt(kT0 / m.temperature);
-      for (std::size_t i = 0; i < span.count; ++i) {
-        span.vx[i] = (span.vx[i] - m.mean[0]) * f;
-        span.vy[i] = (span.vy[i] - m.mean[1]) * f;
-        span.vz[i] = (span.vz[i] - m.mean[2]) * f;
-      }
+      impose_exact_moments(span, kT0);
       energy = 1.5 * static_cast<double>(span.count) * kT0;
       temperature = kT0;
       state.ResumeTiming();

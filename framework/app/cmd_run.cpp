@@ -37,10 +37,11 @@ Options:
   -o, --output FILE      write to FILE instead of output.file
   -q, --quiet            no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
-  --threads N            runs (sweep cases x realizations) at once; default run.threads, else
-                         every core; 1 runs them one after another. The output is the same bits
-                         for any N (each run is independent; results are gathered in case order);
-                         memory grows with N (each running run holds its particles)
+  --threads N            threads; default run.threads, else every core; 1 is serial. Runs
+                         (sweep cases x realizations) go at once, and threads left over work
+                         inside each run (slab layers, sub-populations of a homogeneous system,
+                         blocks of particles). The output is the same bits for any N; memory
+                         grows with the runs at once (each holds its particles)
   -h, --help             this text
 
 With output.plots: true the finished file is then drawn by `gdsmc plot` (PNGs in

@@ -78,6 +78,9 @@ class CellGrid {
   };
   mutable std::vector<PieceSums> pieces_;
   std::size_t piece_count() const;
+  template <class Run>
+  void homogeneous_moments(const ParticleSpan& p, double mean_density, CellMoments& cell, CellMoments& global,
+                           Run&& run) const;
   // The particles of piece k: [begin, end) of members(cell) (or of every particle), and its cell.
   void piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
 };

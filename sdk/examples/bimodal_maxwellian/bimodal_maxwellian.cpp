@@ -55,15 +55,7 @@ class BimodalMaxwellian final : public gdsmc::InitialState {
     for (std::size_t i = 0; i < p.count; ++i) {
       gdsmc::Rng rng = streams.for_particle(p.id[i]);
       const double sd = rng.uniform() < fraction_ ? sd_hot : sd_cold;
-      // Drawn in every system, stored where particles have positions (a slab; nullptr otherwise),
-      // so a particle's velocity is the same draw in both.
-      const double x = sys.box[0] * rng.uniform(), y = sys.box[1] * rng.uniform() - 0.5 * sys.box[1],
-                   z = sys.box[2] * rng.uniform();
-      if (p.x) {
-        p.x[i] = x;
-        p.y[i] = y;
-        p.z[i] = z;
-      }
+      gdsmc::place_uniformly(sys, p, i, rng);
       p.vx[i] = sd * rng.normal();
       p.vy[i] = sd * rng.normal();
       p.vz[i] = sd * rng.normal();

@@ -85,22 +85,27 @@ inline double relative_speed_cube_ratio(const ParticleSpan& p, double temperatur
   return sum / static_cast<double>(pairs) / (32.0 / std::sqrt(M_PI) * temperature * std::sqrt(temperature));
 }
 
-// Positions uniform in the box where the system has them (slab convention: x in [0, Lx), y in [-Ly/2, Ly/2), z in [0, Lz))
-// and velocities from a Maxwellian at `temperature` with zero mean (000 Eq. 2.14), each particle
-// from its own stream, so the state does not depend on storage order.
+// A position uniform in the box (slab convention: x in [0, Lx), y in [-Ly/2, Ly/2), z in [0, Lz))
+// for particle i: drawn in every system, stored where particles have positions (a slab; nullptr in
+// a homogeneous system), so the draws that follow are the same in both.
+inline void place_uniformly(const SystemInfo& sys, const ParticleSpan& p, std::size_t i, Rng& rng) {
+  const double x = sys.box[0] * rng.uniform(), y = sys.box[1] * rng.uniform() - 0.5 * sys.box[1],
+               z = sys.box[2] * rng.uniform();
+  if (p.x) {
+    p.x[i] = x;
+    p.y[i] = y;
+    p.z[i] = z;
+  }
+}
+
+// Positions uniform in the box (place_uniformly) and velocities from a Maxwellian at `temperature`
+// with zero mean (000 Eq. 2.14), each particle from its own stream, so the state does not depend
+// on storage order.
 inline void sample_maxwellian(const SystemInfo& sys, const ParticleSpan& p, double temperature, const Streams& streams) {
   const double sd = std::sqrt(temperature / sys.mass);
   for (std::size_t i = 0; i < p.count; ++i) {
     Rng rng = streams.for_particle(p.id[i]);
-    // Drawn in every system, stored where particles have positions (a slab; nullptr otherwise),
-    // so a particle's velocity is the same draw in both.
-    const double x = sys.box[0] * rng.uniform(), y = sys.box[1] * rng.uniform() - 0.5 * sys.box[1],
-                 z = sys.box[2] * rng.uniform();
-    if (p.x) {
-      p.x[i] = x;
-      p.y[i] = y;
-      p.z[i] = z;
-    }
+    place_uniformly(sys, p, i, rng);
     p.vx[i] = sd * rng.normal();
     p.vy[i] = sd * rng.normal();
     p.vz[i] = sd * rng.normal();
