@@ -44,8 +44,7 @@ class CellGrid {
   // Every particle, layer after layer (members of layer 0, then layer 1, ...): the order that makes
   // each layer a contiguous range of storage (ParticleStore::permute), after which assign_and_sort
   // lists each layer as 0..N_0-1, N_0.., and so on.
-  // (Writable: ParticleStore::permute uses it as its record and leaves it the identity; sort() again.)
-  std::uint32_t* all_members() { return members_.data(); }
+  const std::uint32_t* all_members() const { return members_.data(); }
   const std::uint32_t* members(std::size_t c) const { return slab_ ? members_.data() + offsets_[c] : nullptr; }
   std::uint32_t members_count(std::size_t c) const { return slab_ ? offsets_[c + 1] - offsets_[c] : total_; }
 

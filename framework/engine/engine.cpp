@@ -327,7 +327,7 @@ void Engine::reorder_by_layer() {
   if (!grid_.is_slab()) return;
   const ParticleSpan span = store_.span();
   grid_.assign_and_sort(span.y, store_.cells(), span.count);  // from the positions as they are now
-  store_.permute(grid_.all_members());
+  store_.permute(grid_.all_members(), &pool_);
   grid_.sort(store_.cells(), span.count);
 }
 

@@ -1,12 +1,16 @@
 // The host's particle storage: structure of arrays, plus the extra attributes plugins declare.
 #pragma once
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <gdsmc/particles.hpp>
+
+#include "engine/work_pool.hpp"
 
 namespace gdsmc::host {
 
@@ -34,9 +38,6 @@ class ParticleStore {
       data_[a].assign(n * static_cast<std::size_t>(specs_[a].components), 0.0);
       pointers_[a] = data_[a].data();
     }
-    std::size_t components = 0;
-    for (const auto& a : specs_) components += static_cast<std::size_t>(a.components);
-    held_attributes_.reserve(components);  // permute() then never allocates
   }
   // Throws unless every attribute has components and the names are unique.
   static void check_attributes(const std::vector<AttributeSpec>& specs) {
@@ -63,26 +64,35 @@ class ParticleStore {
   }
   std::size_t size() const { return n_; }
   // Put the particles in the order `order` (a permutation: new position k holds old order[k]),
-  // every array and attribute alike, in place by following the permutation's cycles (no scratch
-  // array: the memory of a run is its particles), so pointers plugins took in bind() stay valid.
-  // Identities travel with their particles. `order` is used as the record of what has moved and
-  // is left as the identity permutation.
-  void permute(std::uint32_t* order) {
-    for (std::size_t start = 0; start < n_; ++start) {
-      if (order[start] == start) continue;
-      // The cycle start <- order[start] <- order[order[start]] ... : hold particle `start`, pull
-      // each source into its destination, and drop the held particle into the last hole.
-      hold(start);
-      std::size_t to = start;
-      for (;;) {
-        const std::size_t from = order[to];
-        order[to] = static_cast<std::uint32_t>(to);
-        if (from == start) break;
-        move(from, to);
-        to = from;
-      }
-      put(to);
-    }
+  // every array and attribute alike, array by array through one scratch array of 8 bytes per
+  // particle (a gather in blocks, on the pool's threads: independent reads, so the memory system
+  // overlaps them) and back into the same storage, so pointers plugins took in bind() stay valid. Identities travel with their
+  // particles. Following the permutation's cycles in place instead (no scratch) costs 158 ms per
+  // reordering of 1e6 slab particles after 15 steps of flight, against a few ms here: each step of
+  // a cycle waits for the previous one.
+  void permute(const std::uint32_t* order, WorkPool* pool = nullptr) {
+    scratch_.resize(n_ * sizeof(double));
+    constexpr std::size_t kBlock = 1u << 16;
+    const std::size_t blocks = (n_ + kBlock - 1) / kBlock;
+    auto apply = [&](auto* data) {
+      using T = std::remove_pointer_t<decltype(data)>;
+      static_assert(sizeof(T) <= sizeof(double));
+      T* scratch = reinterpret_cast<T*>(scratch_.data());  // bytes from operator new: aligned, and
+                                                            // objects of T are created in them (C++20)
+      for_pieces(pool, blocks, [&](std::size_t b) {
+        for (std::size_t k = b * kBlock, e = std::min(n_, k + kBlock); k < e; ++k) scratch[k] = data[order[k]];
+      });
+      for_pieces(pool, blocks, [&](std::size_t b) {
+        const std::size_t k = b * kBlock, e = std::min(n_, k + kBlock);
+        std::copy(scratch + k, scratch + e, data + k);
+      });
+    };
+    for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
+      if (!v->empty()) apply(v->data());
+    apply(id_.data());
+    if (!cell_.empty()) apply(cell_.data());
+    for (std::size_t a = 0; a < specs_.size(); ++a)
+      for (int c = 0; c < specs_[a].components; ++c) apply(data_[a].data() + c * n_);
   }
   // Exchange particles i and j in every array.
   void swap(std::size_t i, std::size_t j) {
@@ -109,39 +119,7 @@ class ParticleStore {
   std::vector<AttributeSpec> specs_;
   std::vector<std::vector<double>> data_;
   std::vector<double*> pointers_;
-  // One particle held aside while a permutation cycle is followed.
-  double held_[6] = {0, 0, 0, 0, 0, 0};
-  std::uint64_t held_id_ = 0;
-  std::uint32_t held_cell_ = 0;
-  std::vector<double> held_attributes_;
-  void hold(std::size_t i) {
-    std::vector<double>* arrays[6] = {&x_, &y_, &z_, &vx_, &vy_, &vz_};
-    for (int k = 0; k < 6; ++k)
-      if (!arrays[k]->empty()) held_[k] = (*arrays[k])[i];
-    held_id_ = id_[i];
-    if (!cell_.empty()) held_cell_ = cell_[i];
-    held_attributes_.clear();
-    for (std::size_t a = 0; a < specs_.size(); ++a)
-      for (int c = 0; c < specs_[a].components; ++c) held_attributes_.push_back(data_[a][c * n_ + i]);
-  }
-  void put(std::size_t i) {
-    std::vector<double>* arrays[6] = {&x_, &y_, &z_, &vx_, &vy_, &vz_};
-    for (int k = 0; k < 6; ++k)
-      if (!arrays[k]->empty()) (*arrays[k])[i] = held_[k];
-    id_[i] = held_id_;
-    if (!cell_.empty()) cell_[i] = held_cell_;
-    std::size_t h = 0;
-    for (std::size_t a = 0; a < specs_.size(); ++a)
-      for (int c = 0; c < specs_[a].components; ++c) data_[a][c * n_ + i] = held_attributes_[h++];
-  }
-  void move(std::size_t from, std::size_t to) {
-    for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
-      if (!v->empty()) (*v)[to] = (*v)[from];
-    id_[to] = id_[from];
-    if (!cell_.empty()) cell_[to] = cell_[from];
-    for (std::size_t a = 0; a < specs_.size(); ++a)
-      for (int c = 0; c < specs_[a].components; ++c) data_[a][c * n_ + to] = data_[a][c * n_ + from];
-  }
+  std::vector<std::byte> scratch_;  // permute(): 8 bytes per particle, allocated at the first reordering (a slab only)
 };
 
 }  // namespace gdsmc::host
