@@ -26,21 +26,38 @@ void CellGrid::slab(std::size_t particles, std::size_t layers, double height, do
   height_ = height;
   cell_volume_ = cross_section * height / static_cast<double>(layers);
   offsets_.assign(layers + 1, 0);
-  fill_.assign(layers, 0);
+  fill_.clear();
   members_.assign(particles, 0);
   scratch_mean_.assign(3 * layers, 0.0);
 }
 
-void CellGrid::sort(const std::uint32_t* cell, std::size_t n) {
+// A stable counting sort in blocks of kSortBlock particles: each block counts its layers, the
+// blocks' starts follow layer by layer and block by block, and each block then places its own
+// particles, so every layer lists its members in increasing index whatever the thread count.
+void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
   if (!slab_) return;
-  std::fill(fill_.begin(), fill_.end(), 0u);
-  for (std::size_t i = 0; i < n; ++i) ++fill_[cell[i]];
-  offsets_[0] = 0;
+  const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
+  if (fill_.size() != blocks * layers_) fill_.resize(blocks * layers_);
+  for_pieces(pool, blocks, [&](std::size_t b) {
+    std::uint32_t* count = fill_.data() + b * layers_;
+    std::fill(count, count + layers_, 0u);
+    for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i) ++count[cell[i]];
+  });
+  std::uint32_t start = 0;
   for (std::size_t c = 0; c < layers_; ++c) {
-    offsets_[c + 1] = offsets_[c] + fill_[c];
-    fill_[c] = offsets_[c];
+    offsets_[c] = start;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::uint32_t k = fill_[b * layers_ + c];
+      fill_[b * layers_ + c] = start;
+      start += k;
+    }
   }
-  for (std::size_t i = 0; i < n; ++i) members_[fill_[cell[i]]++] = static_cast<std::uint32_t>(i);
+  offsets_[layers_] = start;
+  for_pieces(pool, blocks, [&](std::size_t b) {
+    std::uint32_t* next = fill_.data() + b * layers_;
+    for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i)
+      members_[next[cell[i]]++] = static_cast<std::uint32_t>(i);
+  });
 }
 
 void CellGrid::assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n) {

@@ -35,8 +35,9 @@ class CellGrid {
   }
 
   // Counting sort of the particles by the layer index already stored in cell[] (the mover writes
-  // it); fills the member lists. No allocation.
-  void sort(const std::uint32_t* cell, std::size_t n);
+  // it); fills the member lists, on the pool's threads. No allocation after the first call.
+  void sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool = nullptr);
+  static constexpr std::size_t kSortBlock = 1u << 16;
   // Recompute cell[] from y, then sort (after the initial state, or in tests); nothing in a
   // homogeneous system.
   void assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n);
@@ -66,7 +67,7 @@ class CellGrid {
   std::uint32_t total_ = 0;
   double height_ = 1, cell_volume_ = 0;
   std::vector<std::uint32_t> offsets_;        // layers + 1
-  std::vector<std::uint32_t> fill_;           // layers (scratch)
+  std::vector<std::uint32_t> fill_;           // blocks x layers: counts, then next places (sort)
   std::vector<std::uint32_t> members_;        // particles
   mutable std::vector<double> scratch_mean_;  // 3 * layers (sampled_moments)
   // One piece of the moment sums: a layer (slab) or a block of particles (homogeneous).

@@ -293,7 +293,7 @@ void Engine::stream(double dt) {
   if (mover_) {
     StreamingTally tally;
     mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally, &pool_);
-    grid_.sort(store_.cells(), span.count);
+    grid_.sort(store_.cells(), span.count, &pool_);
     if (ctx_.step % kReorderEvery == 0) reorder_by_layer();
     for (int s = 0; s < 2; ++s) {
       BoundaryTally& t = tallies_[s];
@@ -328,7 +328,7 @@ void Engine::reorder_by_layer() {
   const ParticleSpan span = store_.span();
   grid_.assign_and_sort(span.y, store_.cells(), span.count);  // from the positions as they are now
   store_.permute(grid_.all_members(), &pool_);
-  grid_.sort(store_.cells(), span.count);
+  grid_.sort(store_.cells(), span.count, &pool_);
 }
 
 // Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows the larger of its
