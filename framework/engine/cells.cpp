@@ -124,73 +124,45 @@ void CellGrid::homogeneous_moments(const ParticleSpan& p, double mean_density, C
 void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
                             CellMoments& global, WorkPool* pool) const {
   cells.resize(layers_);
-  const std::size_t pieces = piece_count();
-  pieces_.resize(pieces);
+  pieces_.resize(piece_count());
   auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
   if (!slab_) {
     homogeneous_moments(p, mean_density, cells[0], global, run);
     return;
   }
-  // Pass 1: velocity sums of every piece.
-  run(pieces, [&](std::size_t k) {
-    std::size_t c, b, e;
-    piece_range(k, c, b, e);
+  // Every layer on its own (a piece of the pool): its mean, then its temperature, while its
+  // particles are in cache.
+  run(layers_, [&](std::size_t c) {
     const std::uint32_t* m = members(c);
-    PieceSums& ps = pieces_[k];
-    ps = PieceSums{};
-    for (std::size_t q = b; q < e; ++q) {
-      const std::uint32_t i = m ? m[q] : static_cast<std::uint32_t>(q);
-      ps.s[0] += p.vx[i];
-      ps.s[1] += p.vy[i];
-      ps.s[2] += p.vz[i];
+    const std::uint32_t n = members_count(c);
+    CellMoments& cm = cells[c];
+    cm = CellMoments{};
+    cm.count = n;
+    cm.number_density = n / cell_volume_;  // n_I = N_I / (A delta y), Eq. 4.4
+    double* s = pieces_[c].s;
+    s[0] = s[1] = s[2] = 0;
+    if (n == 0) return;
+    for (std::uint32_t k = 0; k < n; ++k) {
+      s[0] += p.vx[m[k]];
+      s[1] += p.vy[m[k]];
+      s[2] += p.vz[m[k]];
     }
-  });
-  double gsum[3] = {0, 0, 0};
-  for (std::size_t c = 0; c < layers_; ++c) {
-    cells[c] = CellMoments{};
-    cells[c].count = members_count(c);
-    cells[c].number_density = slab_ ? members_count(c) / cell_volume_ : mean_density;  // n_I = N_I / (A delta y), Eq. 4.4
-  }
-  for (std::size_t k = 0; k < pieces; ++k) {
-    std::size_t c, b, e;
-    piece_range(k, c, b, e);
-    for (int a = 0; a < 3; ++a) {
-      cells[c].mean_velocity[a] += pieces_[k].s[a];
-      gsum[a] += pieces_[k].s[a];
-    }
-  }
-  for (std::size_t c = 0; c < layers_; ++c) {
-    const double n = cells[c].count;
-    if (n > 0)
-      for (int a = 0; a < 3; ++a) cells[c].mean_velocity[a] /= n;  // u_I, Eq. 4.5
-  }
-  // Pass 2: sums of the squared peculiar velocities.
-  run(pieces, [&](std::size_t k) {
-    std::size_t c, b, e;
-    piece_range(k, c, b, e);
-    const std::uint32_t* m = members(c);
-    const double* u = cells[c].mean_velocity;
+    for (int a = 0; a < 3; ++a) cm.mean_velocity[a] = s[a] / n;  // u_I, Eq. 4.5
+    if (n < 2) return;
+    const double* u = cm.mean_velocity;
     double c2 = 0;
-    for (std::size_t q = b; q < e; ++q) {
-      const std::uint32_t i = m ? m[q] : static_cast<std::uint32_t>(q);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const std::uint32_t i = m[k];
       const double cx = p.vx[i] - u[0], cy = p.vy[i] - u[1], cz = p.vz[i] - u[2];
       c2 += cx * cx + cy * cy + cz * cz;
     }
-    pieces_[k].c2 = c2;
+    cm.temperature = c2 / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
   });
-  std::vector<double>& c2 = scratch_mean_;  // 3 * layers >= layers
-  std::fill(c2.begin(), c2.begin() + static_cast<std::ptrdiff_t>(layers_), 0.0);
-  for (std::size_t k = 0; k < pieces; ++k) {
-    std::size_t c, b, e;
-    piece_range(k, c, b, e);
-    c2[c] += pieces_[k].c2;
-  }
-  double weighted_t = 0;
+  // The whole system, in layer order.
+  double gsum[3] = {0, 0, 0}, weighted_t = 0;
   for (std::size_t c = 0; c < layers_; ++c) {
-    const double n = cells[c].count;
-    if (n < 2) continue;
-    cells[c].temperature = c2[c] / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
-    weighted_t += n * cells[c].temperature;
+    for (int a = 0; a < 3; ++a) gsum[a] += pieces_[c].s[a];
+    weighted_t += cells[c].count * cells[c].temperature;
   }
   global = CellMoments{};
   global.count = p.count;
