@@ -11,6 +11,7 @@
 #include "gdsmc/plugin.hpp"
 #include "gdsmc/random.hpp"
 #include "gdsmc/series.hpp"
+#include "gdsmc/state.hpp"
 #include "gdsmc/vec3.hpp"
 #include "gdsmc/version.hpp"
 #include "gdsmc/walls.hpp"

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "gdsmc/collision.hpp"
 #include "gdsmc/context.hpp"
 #include "gdsmc/random.hpp"
+#include "gdsmc/state.hpp"
 #include "gdsmc/vec3.hpp"
 
 namespace gdsmc {
@@ -36,6 +38,26 @@ class HcsReservoir {
   bool started() const { return !cx_.empty(); }
   std::size_t size() const { return cx_.size(); }
   Vec3 velocity(std::size_t k) const { return {cx_[k], cy_[k], cz_[k]}; }
+  // Checkpoints: the whole reservoir (its velocities, majorant and owed collisions), under `prefix`.
+  void save(StateWriter& out, const std::string& prefix) const {
+    out.write(prefix + ".cx", cx_);
+    out.write(prefix + ".cy", cy_);
+    out.write(prefix + ".cz", cz_);
+    const double scalars[3] = {half_one_plus_alpha_, majorant_, owed_};
+    out.write(prefix + ".scalars", scalars, 3);
+  }
+  void load(StateReader& in, const std::string& prefix) {
+    in.read(prefix + ".cx", cx_);
+    in.read(prefix + ".cy", cy_);
+    in.read(prefix + ".cz", cz_);
+    if (cy_.size() != cx_.size() || cz_.size() != cx_.size())
+      throw StateError("checkpoint entry '" + prefix + "': velocity components of different lengths");
+    double scalars[3];
+    in.read(prefix + ".scalars", scalars, 3);
+    half_one_plus_alpha_ = scalars[0];
+    majorant_ = scalars[1];
+    owed_ = scalars[2];
+  }
   // A velocity drawn uniformly from the reservoir.
   Vec3 draw(Rng& rng) const { return velocity(rng.below(static_cast<std::uint32_t>(cx_.size()))); }
 
@@ -110,6 +132,21 @@ class StepCooling {
     collisions_per_particle =
         particles ? static_cast<double>(ctx.collisions - last_collisions_) / static_cast<double>(particles) : 0.0;
     last_collisions_ = ctx.collisions;
+  }
+  // Checkpoints: the running totals the next step's differences are taken from.
+  void save(StateWriter& out, const std::string& prefix) const {
+    out.write(prefix + ".last_dissipated", last_dissipated_);
+    out.write(prefix + ".last_collisions", last_collisions_);
+    const double current[2] = {dissipated_energy, collisions_per_particle};
+    out.write(prefix + ".current", current, 2);
+  }
+  void load(StateReader& in, const std::string& prefix) {
+    in.read(prefix + ".last_dissipated", last_dissipated_);
+    in.read(prefix + ".last_collisions", last_collisions_);
+    double current[2];
+    in.read(prefix + ".current", current, 2);
+    dissipated_energy = current[0];
+    collisions_per_particle = current[1];
   }
   // (zeta dt / 2) N = dE / (3 T) (zeta dt = dE / ((3/2) N T), m = 1): the expected number of the
   // step's events of rate zeta/2 per particle, stochastically rounded with one draw of `rng`.

@@ -14,6 +14,7 @@
 #include "gdsmc/params.hpp"
 #include "gdsmc/particles.hpp"
 #include "gdsmc/random.hpp"
+#include "gdsmc/state.hpp"
 #include "gdsmc/vec3.hpp"
 #include "gdsmc/version.hpp"
 
@@ -50,6 +51,14 @@ class GDSMC_API PluginObject {
   virtual std::vector<AttributeSpec> attributes() const { return {}; }
   // [setup] Publish named model quantities (e.g. "restitution") before the run starts.
   virtual void publish(QuantityBoard&) const {}
+  // [step] Checkpoints: write every member that changes during the run and that the rest of the
+  // run depends on (accumulators, sample counts, adaptive parameters, a reservoir), in a fixed
+  // order; load_state reads them back in the same order into an object that was constructed
+  // from the same parameters and set up again (begin, bind) but never stepped. Members fixed at
+  // setup need not be saved. A plugin with no such members keeps the defaults; `gdsmc
+  // conformance` (check `checkpoint`) finds one that forgot a member: its resumed run differs.
+  virtual void save_state(StateWriter& out) const { (void)out; }
+  virtual void load_state(StateReader& in) { (void)in; }
 };
 
 // One cell's collision stage, as the host hands it to a collision rule (000 Eqs. 4.13, 4.23).
@@ -233,7 +242,7 @@ struct PluginDescriptor {
 // The interfaces a plugin is compiled against, as text: any change to a virtual signature above
 // must be written here too, so that the fingerprint changes with it.
 inline constexpr const char abi_interfaces[] =
-    "PluginObject{attributes,publish};"
+    "PluginObject{attributes,publish,save_state(StateWriter&)const,load_state(StateReader&)};"
     "CollisionRule{begin(SystemInfo,QuantityBoard&),tallies,bind(ParticleSpan),collide_cell(CellCollision&)const,"
     "pair_rate(Vec3,Vec3),rate_bound(double)const,collide_pair(ParticleSpan,u32,u32,Vec3,double,Rng&)const};"
     "Forcing{stage,acceleration(Vec3&),apply(StepContext,ParticleSpan)->double,conserves,order,"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gdsmc/output.hpp"
+#include "gdsmc/state.hpp"
 
 namespace gdsmc {
 
@@ -26,6 +27,21 @@ class WindowAverage {
   void add(const std::vector<double>& values) {
     for (std::size_t k = 0; k < sums_.size() && k < values.size(); ++k) sums_[k] += values[k];
     ++samples_;
+  }
+  // Checkpoints: the open window (the columns are declared again by begin()), under `prefix`.
+  void save(StateWriter& out, const std::string& prefix = "window") const {
+    out.write(prefix + ".sums", sums_);
+    out.write(prefix + ".samples", static_cast<std::uint64_t>(samples_));
+  }
+  void load(StateReader& in, const std::string& prefix = "window") {
+    const std::size_t columns = sums_.size();
+    in.read(prefix + ".sums", sums_);
+    if (sums_.size() != columns)
+      throw StateError("checkpoint entry '" + prefix + ".sums': " + std::to_string(sums_.size()) + " columns where " +
+                       std::to_string(columns) + " are declared");
+    std::uint64_t samples = 0;
+    in.read(prefix + ".samples", samples);
+    samples_ = static_cast<std::size_t>(samples);
   }
   // Append the window means (NaN for an empty window) and start a new window.
   void commit(OutputSink& out) {
@@ -64,6 +80,29 @@ class BatchMeans {
   }
   std::size_t count() const { return count_; }
   std::size_t batches() const { return batches_; }
+  // Checkpoints: every batch and the open one, under `prefix`.
+  void save(StateWriter& out, const std::string& prefix) const {
+    out.write(prefix + ".batch", batch_, max_batches);
+    const std::uint64_t counts[4] = {batches_, batch_length_, in_current_, count_};
+    out.write(prefix + ".counts", counts, 4);
+    const double sums[2] = {current_, sum_};
+    out.write(prefix + ".sums", sums, 2);
+  }
+  void load(StateReader& in, const std::string& prefix) {
+    in.read(prefix + ".batch", batch_, max_batches);
+    std::uint64_t counts[4];
+    in.read(prefix + ".counts", counts, 4);
+    if (counts[0] > max_batches || counts[1] == 0 || counts[2] >= counts[1])
+      throw StateError("checkpoint entry '" + prefix + ".counts': not a batch-means state");
+    batches_ = counts[0];
+    batch_length_ = counts[1];
+    in_current_ = counts[2];
+    count_ = counts[3];
+    double sums[2];
+    in.read(prefix + ".sums", sums, 2);
+    current_ = sums[0];
+    sum_ = sums[1];
+  }
   double mean() const { return count_ ? sum_ / static_cast<double>(count_) : std::nan(""); }
   // Standard error of the mean from the spread of the batch means; NaN with fewer than 4 batches.
   double standard_error() const {

@@ -6,7 +6,7 @@
 // ABI major: bump on any change to a struct layout or virtual interface in sdk/include/gdsmc.
 // ABI minor: bump when something is added that older plugins can ignore (a new optional virtual
 // at the end of an interface is NOT such a change: it is a major bump).
-#define GDSMC_SDK_ABI_MAJOR 4
+#define GDSMC_SDK_ABI_MAJOR 5
 #define GDSMC_SDK_ABI_MINOR 0
 
 #if defined(_WIN32)
