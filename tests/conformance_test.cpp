@@ -137,6 +137,11 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
        "parameter_interior",
        {"conformance_elastic_loss", "random point 1 of 3", "alpha = ", "elastic_below = ",
         "energy change differs from the declared one"}},
+      // A diagnostic whose running mean is not in its checkpoint (no save_state).
+      {"conformance_forgetful",
+       "checkpoint",
+       {"conformance_forgetful", "resumed differs from the run uninterrupted", "running_mean_temperature",
+        "save_state must write every member"}},
       // A white-noise thermostat declaring half its heating rate.
       {"conformance_white_noise_half",
        "forcing.expected_energy",

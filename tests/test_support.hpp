@@ -480,6 +480,55 @@ inline std::vector<std::string> members(hid_t loc, const std::string& group) {
   return out;
 }
 
+// The raw bytes of a dataset or attribute (variable-length strings as their characters).
+inline std::string value_bytes(hid_t object, hid_t type, hid_t space, bool attribute) {
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (H5Tis_variable_str(type) > 0) {
+    std::vector<char*> strings(static_cast<std::size_t>(n), nullptr);
+    h5::Handle mem(H5Tcopy(type), H5Tclose);  // the file's own string type (its character set)
+    const herr_t r = attribute ? H5Aread(object, mem, strings.data())
+                               : H5Dread(object, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, strings.data());
+    if (r < 0) throw std::runtime_error("cannot read a string value");
+    std::string out;
+    for (char* s : strings) out += std::string(s ? s : "") + '\0';
+    H5Dvlen_reclaim(mem, space, H5P_DEFAULT, strings.data());
+    return out;
+  }
+  std::string out(static_cast<std::size_t>(n) * H5Tget_size(type), '\0');
+  const herr_t r = attribute ? H5Aread(object, type, out.data())
+                             : H5Dread(object, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  if (r < 0) throw std::runtime_error("cannot read a value");
+  return out;
+}
+
+// Every dataset (path -> bytes) and every attribute (path@name -> bytes) of a file, but the wall
+// times (the only values that may differ between two runs of the same pipeline).
+inline std::map<std::string, std::string> contents(const fs::path& file) {
+  h5::File f(file);
+  std::map<std::string, std::string> out;
+  auto attributes = [&](hid_t object, const std::string& path) {
+    H5O_info_t info;
+    H5Oget_info(object, &info);
+    for (hsize_t k = 0; k < info.num_attrs; ++k) {
+      h5::Handle a(H5Aopen_by_idx(object, ".", H5_INDEX_NAME, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+      char name[256];
+      H5Aget_name(a, sizeof name, name);
+      if (std::string(name) == "wall_seconds") continue;
+      h5::Handle type(H5Aget_type(a), H5Tclose), space(H5Aget_space(a), H5Sclose);
+      out[path + "@" + name] = value_bytes(a, type, space, true);
+    }
+  };
+  attributes(f.id(), "/");
+  for (const auto& [path, kind] : h5::objects(f.id())) {
+    h5::Handle o(H5Oopen(f.id(), path.c_str(), H5P_DEFAULT), H5Oclose);
+    attributes(o, path);
+    if (kind != H5O_TYPE_DATASET) continue;
+    h5::Handle type(H5Dget_type(o), H5Tclose), space(H5Dget_space(o), H5Sclose);
+    out[path] = value_bytes(o, type, space, false);
+  }
+  return out;
+}
+
 }  // namespace h5
 
 // ---------------------------------------------------------------------------------------------

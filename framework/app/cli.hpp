@@ -39,6 +39,7 @@ struct Options {
   std::vector<std::filesystem::path> plugin_paths;
   std::string output;
   bool quiet = false, help = false;
+  bool resume = false;  // --resume: continue from the output's checkpoint (run only)
   int threads = -1;  // --threads N (0: every core); -1: not given (run.threads decides)
 };
 // Parse the options of `command` (run, validate or plugins: command_options(command)).

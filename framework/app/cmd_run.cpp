@@ -11,6 +11,7 @@
 #include "app/commands.hpp"
 #include "app/progress.hpp"
 #include "output/hdf5_file.hpp"
+#include "study/checkpoint.hpp"
 #include "study/study.hpp"
 #include "util/text.hpp"
 
@@ -37,6 +38,7 @@ Options:
   -o, --output FILE      write to FILE instead of output.file
   -q, --quiet            no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
+  --resume               continue from the checkpoint beside the output (<output>.checkpoint/)
   --threads N            threads; default run.threads, else every core; 1 is serial. Runs
                          (sweep cases x realizations) go at once, and threads left over work
                          inside each run (slab layers, sub-populations of a homogeneous system,
@@ -46,6 +48,19 @@ Options:
 
 With output.plots: true the finished file is then drawn by `gdsmc plot` (PNGs in
 <output>_plots/); a plot that fails is a warning, not a failed run.
+
+Checkpoints: with run.checkpoint in the pipeline, e.g.
+    run: {checkpoint: {every: 30 min}}     (or {every: {collisions_per_particle: 50}}, or both
+                                            in a list: {every: [30 min, {collisions_per_particle: 50}]})
+every run writes its whole state into <output>.checkpoint/ at those intervals, at SIGINT/SIGTERM
+(the step under way is finished first) and when it finishes; each write replaces the previous
+one atomically, so a run killed at any moment (SIGKILL, a crash, a lost node) loses at most one
+interval. `gdsmc run PIPELINE.yaml --resume` (same --set and -o) continues every unfinished run
+where its state was saved and gives the output of the uninterrupted run, to the bit; run.threads
+and run.checkpoint may change, nothing else: a checkpoint of another pipeline text, another gdsmc
+or plugin version is refused with what differs. The directory is removed once the output is
+written; a fresh run refuses to start over an existing one. A state holds every particle (about
+N x 32 bytes homogeneous, N x 72 slab, per run under way).
 
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
@@ -77,6 +92,8 @@ Options (those of `run`, so that a run's command line can be checked by changing
   -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            as for run: the runs at once that the memory estimate assumes
+  --resume               also check that the checkpoint beside the output belongs to this
+                         pipeline, gdsmc and plugins (and say how many runs it holds)
   -h, --help             this text
 )";
 
@@ -193,7 +210,21 @@ int cmd_run(const Options& o, bool run_it) {
   MemoryEstimate memory;
   if (const int status = prepare(o, run_it, p, cases, target, memory)) return status;
   const std::string notice = target.replacement_notice(run_it);
+  // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
+  std::optional<CheckpointStore> checkpoints;
+  const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
+  if (o.resume || (run_it && p.checkpoint)) {
+    try {
+      checkpoints.emplace(checkpoint_dir, cases, o.resume);
+    } catch (const std::exception& e) {
+      print_errors({p.file.string() + ": " + e.what()});
+      return 1;
+    }
+  }
   if (!run_it) {
+    if (checkpoints)
+      std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->runs_saved()
+                << " runs saved)\n";
     if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
     std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
               << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
@@ -228,14 +259,28 @@ int cmd_run(const Options& o, bool run_it) {
     return 1;
   }
   if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
+  std::string resume_command = "gdsmc run " + p.file.string() + " --resume";
+  for (const auto& set : o.sets) resume_command += " --set '" + set + "'";
+  if (!o.output.empty()) resume_command += " -o " + o.output;
+  const std::string resume_hint = "continue with `" + resume_command + "`";
   auto interrupted = [&](const std::string& when) {
     end_line();
-    std::cerr << "gdsmc: interrupted" << when << "; no output written\n";
+    std::cerr << "gdsmc: interrupted" << when << "; no output written";
+    if (checkpoints) std::cerr << "; every started run saved its state in " << checkpoint_dir.string() << ": " << resume_hint;
+    std::cerr << "\n";
     return 130;
   };
+  if (checkpoints && o.resume && !o.quiet)
+    std::cerr << "gdsmc: resuming from " << checkpoint_dir.string() << " (" << checkpoints->runs_saved() << " of "
+              << [&] {
+                   std::size_t runs = 0;
+                   for (const auto& c : cases) runs += c.pipeline.realizations;
+                   return runs;
+                 }()
+              << " runs saved; the others start afresh)\n";
   StudyResult result;
   try {
-    result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted);
+    result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
     end_line();
   } catch (const Engine::Interrupted&) {
     return interrupted("");
@@ -246,7 +291,9 @@ int cmd_run(const Options& o, bool run_it) {
   } catch (const std::exception& e) {
     end_line();
     std::cerr << "error: " << p.file.string() << ": " << failure_text(e, &memory)
-              << "\ngdsmc: the run failed; nothing was written\n";
+              << "\ngdsmc: the run failed; nothing was written";
+    if (checkpoints) std::cerr << " (the checkpoint in " << checkpoint_dir.string() << " is kept)";
+    std::cerr << "\n";
     return 1;
   }
   try {
@@ -254,8 +301,16 @@ int cmd_run(const Options& o, bool run_it) {
   } catch (const OutputInterrupted&) {
     return interrupted(" while writing " + p.output_file.string());
   } catch (const std::exception& e) {
+    if (checkpoints) {  // the finished runs are in the checkpoint: nothing is lost
+      end_line();
+      std::cerr << "gdsmc: error: cannot write " << p.output_file.string() << ": " << e.what()
+                << "; every run's results are kept in " << checkpoint_dir.string() << ": once that is fixed, "
+                << resume_hint << " (it only writes the file)\n";
+      return 1;
+    }
     return lost(e);
   }
+  if (checkpoints) checkpoints->remove();  // the output is complete: the checkpoint has served
   if (!o.quiet) print_summary(p, cases.size(), result);
   if (p.output_plots) {
     std::string why;

@@ -29,6 +29,8 @@ gdsmc run PIPELINE.yaml [options]
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            runs (cases x realizations) at once (default: every core); the output
                          is the same bits for any N
+  --resume               continue the run from its checkpoint (<output>.checkpoint/, written
+                         when the pipeline sets run.checkpoint); the output is the same bits
   -h, --help             the help of `run`
 
 gdsmc validate PIPELINE.yaml [options]
@@ -40,6 +42,7 @@ gdsmc validate PIPELINE.yaml [options]
   -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            the runs at once the memory estimate assumes
+  --resume               accepted (and ignored) so that a run's command line can be checked
   -h, --help             the help of `validate`
 
 gdsmc plugins [NAME | FILE.so]... [options]

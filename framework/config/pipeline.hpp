@@ -70,6 +70,11 @@ struct Pipeline {
   // go at once, and the threads left over when there are fewer runs than threads work inside each
   // run (layers, sub-populations, blocks of particles). Results do not depend on it.
   std::uint32_t threads = 0;
+  // run.checkpoint: write each run's state every so many wall-clock seconds and/or collisions per
+  // particle (0: not by that clock), at SIGINT/SIGTERM and when it finishes (study/checkpoint.hpp).
+  bool checkpoint = false;
+  double checkpoint_every_seconds = 0;
+  double checkpoint_every_collisions_per_particle = 0;
   // run.subpopulation: particles per collision sub-population of a homogeneous system (0: one
   // population of all N). See CollisionStage; the default keeps each group's pairs in cache.
   std::size_t subpopulation = 32768;

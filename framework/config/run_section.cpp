@@ -1,8 +1,10 @@
 // The `run:` section: seed, particles, time step, stop conditions, sampling, realizations.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "config/sections.hpp"
 #include "engine/majorant.hpp"
@@ -44,6 +46,53 @@ void parse_average_after(Checker& c, const YAML::Node& aa, Pipeline& p) {
     if (aa["collisions_per_particle"] && aa["time"])
       c.error("run.average_after", aa, "give collisions_per_particle or time, not both");
   }
+}
+
+// run.checkpoint: {every: 10 min} (wall time: s, min, h), {every: {collisions_per_particle: S}},
+// or both clocks in a list.
+void parse_checkpoint(Checker& c, const YAML::Node& cp, Pipeline& p) {
+  const char* valid = "expected {every: WALL_TIME} (e.g. 600 s, 10 min, 2 h), {every: {collisions_per_particle: S}}, "
+                      "or both in a list: {every: [30 min, {collisions_per_particle: 100}]}";
+  if (!cp.IsMap() || !cp["every"]) {
+    c.error("run.checkpoint", cp, valid);
+    return;
+  }
+  c.check_keys(cp, "run.checkpoint", {"every"});
+  const YAML::Node every = cp["every"];
+  std::vector<YAML::Node> items;
+  if (every.IsSequence())
+    for (const auto& e : every) items.push_back(e);
+  else
+    items.push_back(every);
+  bool ok = !items.empty();
+  for (const auto& e : items) {
+    if (e.IsMap()) {
+      c.check_keys(e, "run.checkpoint.every", {"collisions_per_particle"});
+      if (!e["collisions_per_particle"]) {
+        ok = false;
+        c.error("run.checkpoint.every", e, valid);
+      } else if (auto v = c.real(e["collisions_per_particle"], "run.checkpoint.every.collisions_per_particle")) {
+        if (!(*v > 0)) c.error("run.checkpoint.every.collisions_per_particle", e["collisions_per_particle"], "must be > 0");
+        else p.checkpoint_every_collisions_per_particle = *v;
+      }
+      continue;
+    }
+    // "10 min": a number and a unit of wall time.
+    double value = 0;
+    char unit[8] = "";
+    const std::string text = e.IsScalar() ? e.Scalar() : "";
+    const int fields = std::sscanf(text.c_str(), "%lf %7s", &value, unit);
+    const std::string u = fields == 2 ? unit : "";
+    const double seconds = u == "s" ? 1 : u == "min" ? 60 : u == "h" ? 3600 : 0;
+    if (fields != 2 || seconds == 0 || !(value > 0)) {
+      ok = false;
+      c.error("run.checkpoint.every", e,
+              "'" + text + "' is not a wall time: write a number > 0 and one of s, min, h (e.g. 10 min)");
+      continue;
+    }
+    p.checkpoint_every_seconds = value * seconds;
+  }
+  p.checkpoint = ok;
 }
 
 void parse_time_step(Checker& c, const YAML::Node& run, Pipeline& p) {
@@ -226,7 +275,9 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
     c.error("run", run, "expected a mapping");
   } else {
     c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
-                              "realizations", "average_after", "candidate_pairs", "threads", "subpopulation"});
+                              "realizations", "average_after", "candidate_pairs", "threads", "subpopulation",
+                              "checkpoint"});
+    if (const YAML::Node cp = run["checkpoint"]) parse_checkpoint(c, cp, p);
     if (const YAML::Node cp = run["candidate_pairs"]) {
       if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;
       else if (!(cp.IsScalar() && cp.Scalar() == "distinct"))

@@ -563,4 +563,53 @@ Result check_threads(const Subject& s) {
                   s.kind() == PluginKind::diagnostic ? " (particles and output)" : ""));
 }
 
+// Checkpoints (PluginObject::save_state / load_state): a run saved between two records, restored
+// into freshly set-up plugin objects and continued to its stop (finish() included) must give the
+// bits of the run uninterrupted. A member the plugin forgot to save shows up as a difference.
+Result check_checkpoint(const Subject& s) {
+  const Assignment a = base_assignment(s);
+  constexpr std::size_t kParticles = 1000;
+  constexpr std::uint64_t kRecordEvery = 7;  // records fall between checkpoints: open windows are saved too
+  auto prepare = [&] {
+    auto p = load_test_pipeline(s, a, kParticles);
+    p->stop_collisions_per_particle = 2.0;
+    for (auto& d : p->diagnostics) d.record_every = kRecordEvery;
+    return p;
+  };
+  auto p0 = prepare(), p1 = prepare();
+  Engine alone(*p0);
+  alone.run();
+  const std::uint64_t steps = alone.context().step;
+  if (steps < 2) return skip(fmt("the test run ends after %llu step(s): nothing to resume", static_cast<unsigned long long>(steps)));
+  std::uint64_t save_at = steps / 2;
+  if (save_at % kRecordEvery == 0) ++save_at;
+  Engine first(*p1);
+  for (std::uint64_t k = 0; k < save_at; ++k) first.step();
+  BufferStateWriter saved;
+  first.save(saved);
+  BufferStateReader reader(saved.bytes());
+  std::unique_ptr<Engine> resumed;
+  try {
+    resumed = std::make_unique<Engine>(*p1, 0, 1, reader);
+  } catch (const std::exception& e) {
+    return fail(fmt("a checkpoint saved at step %llu could not be restored: ", static_cast<unsigned long long>(save_at)) +
+                e.what());
+  }
+  resumed->run();
+  std::string d = compare_engines(s, alone, *resumed);
+  if (d.empty() && alone.context().step != resumed->context().step)
+    d = fmt("%llu steps against %llu", static_cast<unsigned long long>(alone.context().step),
+            static_cast<unsigned long long>(resumed->context().step));
+  if (!d.empty())
+    return fail(fmt("a run saved at step %llu of %llu and resumed differs from the run uninterrupted: ",
+                    static_cast<unsigned long long>(save_at), static_cast<unsigned long long>(steps)) +
+                d + "; save_state must write every member that changes during the run (accumulators, sample counts, "
+                    "values remembered from an earlier step, a reservoir) and load_state read them back");
+  return pass(fmt("a %zu-particle run saved at step %llu (records every %llu steps), its state %zu bytes, restored into "
+                  "fresh objects and run to its stop (%llu steps, finish() included): the bits%s of the run uninterrupted",
+                  kParticles, static_cast<unsigned long long>(save_at), static_cast<unsigned long long>(kRecordEvery),
+                  saved.bytes().size(), static_cast<unsigned long long>(steps),
+                  s.kind() == PluginKind::diagnostic ? " (particles and output)" : ""));
+}
+
 }  // namespace gdsmc::host::conformance

@@ -138,6 +138,7 @@ std::string compare_outputs(const DiagnosticOutput& a, const DiagnosticOutput& b
 std::string compare_particles(const ParticleSpan& a, const ParticleSpan& b);
 Result check_determinism(const Subject& s);
 Result check_threads(const Subject& s);
+Result check_checkpoint(const Subject& s);
 Vec3 gaussian(Rng& rng, double scale);
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
                       std::size_t random_pairs);

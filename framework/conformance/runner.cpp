@@ -29,7 +29,10 @@ Checks (by kind):
                refused with a message), parameter_interior (one parameter at a time at 1/4,
                1/2 and 3/4 of its range, and 3 random points of all the ranges together, drawn
                from the seed: construct or are refused; collision rules must also pass the pair
-               checks there), out_of_range_rejected, wrong_type_rejected, determinism
+               checks there), out_of_range_rejected, wrong_type_rejected, determinism,
+               threads, checkpoint (a run saved between two records, restored into fresh
+               plugin objects and run to its stop gives the bits of the run uninterrupted:
+               save_state / load_state keep every member that changes)
   collision    collision.finite, collision.mass, collision.momentum, collision.energy,
                collision.rate (finite, >= 0 and within rate_bound(|g|); on random pairs and
                edge cases: zero relative velocity, grazing, huge and tiny speeds),
@@ -83,7 +86,8 @@ std::vector<Check> checks_for(PluginKind kind) {
                           {"out_of_range_rejected", check_out_of_range},
                           {"wrong_type_rejected", check_wrong_type},
                           {"determinism", check_determinism},
-                          {"threads", check_threads}};
+                          {"threads", check_threads},
+                          {"checkpoint", check_checkpoint}};
   switch (kind) {
     case PluginKind::collision_rule:
       c.insert(c.end(), {{"collision.finite", check_collision_finite},

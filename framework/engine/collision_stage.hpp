@@ -56,6 +56,22 @@ class CollisionStage {
   };
   // Majorant ratios back to their initial value and remainders to 0, for `cells` cells.
   void reset(std::size_t cells);
+  // Checkpoints: each group's majorant ratio and candidate remainder.
+  void save(StateWriter& out) const {
+    out.write("collisions.majorant_ratio", ratio_);
+    out.write("collisions.remainder", remainder_);
+  }
+  void load(StateReader& in) {
+    std::vector<double> ratio, remainder;
+    in.read("collisions.majorant_ratio", ratio);
+    in.read("collisions.remainder", remainder);
+    if (remainder.size() != ratio.size() || ratio.empty())
+      throw StateError("checkpoint entry 'collisions.remainder': " + std::to_string(remainder.size()) +
+                       " groups where the majorants have " + std::to_string(ratio.size()));
+    reset(ratio.size());
+    ratio_ = std::move(ratio);
+    remainder_ = std::move(remainder);
+  }
   // The number of tallies the rule keeps (CollisionRule::tallies().size()); allocates their buffers.
   void set_tally_count(std::size_t count);
   // The flag run() polls (every 64 cells and between the slices of a large cell); Interrupted

@@ -27,16 +27,19 @@ std::string params_text(const PluginUse& u) {
 Engine::Engine(const Pipeline& p, std::uint32_t realization, unsigned threads)
     : Engine(p, realization, Setup::full, threads) {}
 
+Engine::Engine(const Pipeline& p, std::uint32_t realization, unsigned threads, StateReader& state)
+    : Engine(p, realization, Setup::restore, threads, &state) {}
+
 void Engine::check_setup(const Pipeline& p) { Engine check(p, 0, Setup::objects_only, 1); }
 
-Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads)
+Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
     : pipeline_(p), pool_(std::max(1u, threads)), streams_(p.seed, realization) {
   system_ = p.system_info(p.particles, realization);
   build_objects();
   std::vector<AttributeSpec> attributes;
   for (const auto& o : objects_)
     for (auto& a : o->attributes()) attributes.push_back(std::move(a));
-  publish(attributes, setup);
+  publish(attributes, setup == Setup::objects_only ? Setup::objects_only : Setup::full);
   begin_collision_rule();
   ctx_.system = &system_;
   ctx_.quantities = &board_;
@@ -50,11 +53,11 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   collisions_.set_subpopulation(p.subpopulation);
   collisions_.set_pool(&pool_);
   cells_.assign(cells, CellMoments{});
-  if (setup == Setup::full) {
+  if (setup != Setup::objects_only) {
     if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
     else grid_.homogeneous(system_.particles, system_.volume);
     collision_->bind(store_.span());
-    generate_initial_state();
+    if (setup == Setup::full) generate_initial_state();
   }
   ctx_.cells = cells_.data();
   ctx_.cell_count = cells_.size();
@@ -68,6 +71,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   begin_diagnostics();
   report_layout(attributes, outputs_);  // what the memory estimate counts (validate)
   if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
+  if (setup == Setup::restore) load(*state);
 }
 
 void Engine::build_objects() {
@@ -75,6 +79,7 @@ void Engine::build_objects() {
   auto make = [&](const PluginUse& u) -> PluginObject* {
     try {
       objects_.push_back(create_object(*u.plugin, u.params));
+      object_uses_.push_back(&u);
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(u) + " failed to construct: " + e.what());
     }
@@ -400,12 +405,37 @@ Progress Engine::progress(double elapsed) const {
   return pr;
 }
 
-void Engine::run(const std::function<void(const Progress&)>& report, double interval, const std::atomic<bool>* interrupt) {
+void Engine::run(const std::function<void(const Progress&)>& report, double interval, const std::atomic<bool>* interrupt,
+                 const CheckpointSchedule* checkpoints) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
+  const double earlier_seconds = wall_seconds_;  // of the segments before a resume
   auto last_report = start;
-  collisions_.set_interrupt(interrupt);
+  if (finished_) {  // restored after it finished: nothing left to do
+    if (report) {
+      Progress last = progress(wall_seconds_);
+      last.final = true;
+      report(last);
+    }
+    return;
+  }
+  const bool checkpointing = checkpoints && checkpoints->write;
+  auto last_checkpoint = start;
+  double next_checkpoint_s = checkpointing && checkpoints->every_collisions_per_particle > 0
+                                 ? ctx_.collisions_per_particle() + checkpoints->every_collisions_per_particle
+                                 : -1;
+  auto write_checkpoint = [&] {
+    wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();
+    checkpoints->write(*this);
+    last_checkpoint = clock::now();
+  };
+  // With checkpoints a step is never left half done: the interrupt is seen between steps.
+  collisions_.set_interrupt(checkpointing ? nullptr : interrupt);
   while (!finished(pipeline_, ctx_, steady_)) {
+    if (checkpointing && interrupt && interrupt->load()) {
+      write_checkpoint();
+      throw Interrupted();
+    }
     poll_interrupt(interrupt);
     step();
     if (!std::isfinite(global_.temperature) || global_.temperature <= 0)
@@ -419,6 +449,14 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
         report(progress(std::chrono::duration<double>(now - start).count()));
       }
     }
+    if (checkpointing) {
+      const bool by_time = checkpoints->every_seconds > 0 &&
+                           std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= checkpoints->every_seconds;
+      const bool by_s = next_checkpoint_s >= 0 && ctx_.collisions_per_particle() >= next_checkpoint_s;
+      if (by_s)
+        while (next_checkpoint_s <= ctx_.collisions_per_particle()) next_checkpoint_s += checkpoints->every_collisions_per_particle;
+      if (by_time || by_s) write_checkpoint();
+    }
   }
   sample_and_record(true);
   for (std::size_t k = 0; k < slots_.size(); ++k) {
@@ -430,7 +468,9 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   }
   finish_energy_balance();
   collisions_.set_interrupt(nullptr);
-  wall_seconds_ = std::chrono::duration<double>(clock::now() - start).count();
+  finished_ = true;
+  wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();
+  if (checkpointing) checkpoints->write(*this);
   if (report) {
     Progress last = progress(wall_seconds_);
     last.final = true;
@@ -452,6 +492,162 @@ void Engine::finish_energy_balance() {
   const double change = sampled_.kinetic_energy - initial_energy_;
   summary_.push_back("energy per particle [T0]: E - E0 = " + fmt("%.6g", change * per) + " = " + parts +
                      " (residual " + fmt("%.2g", (change - added) * per) + ")");
+}
+
+// The order of entries is the checkpoint format: load() reads exactly what save() writes.
+void Engine::save(StateWriter& out) const {
+  out.write("engine.finished", static_cast<std::uint8_t>(finished_));
+  out.write("engine.step", ctx_.step);
+  const double clocks[4] = {ctx_.time, ctx_.dt, ctx_.collision_energy_change, initial_energy_};
+  out.write("engine.clocks", clocks, 4);
+  const std::uint64_t counts[4] = {ctx_.collisions, ctx_.candidates, ctx_.majorant_exceeded, streams_.step()};
+  out.write("engine.counts", counts, 4);
+  const std::uint8_t flags[2] = {ctx_.in_average_window, steady_};
+  out.write("engine.flags", flags, 2);
+  out.write("engine.wall_seconds", wall_seconds_);
+  // A finished run keeps its particles only when they are part of the output.
+  const std::uint8_t particles = !finished_ || pipeline_.output_particles;
+  out.write("engine.has_particles", particles);
+  if (particles) store_.save(out);
+  std::vector<std::uint64_t> cell_counts;
+  std::vector<double> cell_values;
+  for (std::size_t k = 0; k <= cells_.size(); ++k) {
+    const CellMoments& c = k == cells_.size() ? global_ : cells_[k];  // the cells, then the global moments
+    cell_counts.push_back(c.count);
+    cell_values.insert(cell_values.end(), {c.number_density, c.mean_velocity[0], c.mean_velocity[1], c.mean_velocity[2],
+                                           c.temperature});
+  }
+  out.write("moments.count", cell_counts);
+  out.write("moments.values", cell_values);
+  out.write("moments.kinetic_energy", sampled_.kinetic_energy);
+  for (const BoundaryTally& t : tallies_) {
+    out.write("boundary.hits", t.hits);
+    const double v[4] = {t.momentum[0], t.momentum[1], t.momentum[2], t.energy};
+    out.write("boundary.values", v, 4);
+  }
+  std::vector<double> values;
+  for (const auto& t : tallies_total_) values.push_back(t.value);
+  out.write("collision_tallies", values);
+  values.clear();
+  for (const auto& e : ledger_) values.push_back(e.energy);
+  out.write("energy_ledger", values);
+  collisions_.save(out);
+  for (const DiagnosticSlot& slot : slots_) {
+    const double sums[2] = {slot.time_sum, slot.s_sum};
+    out.write("sampling.sums", sums, 2);
+    const std::uint64_t steps[2] = {slot.samples, slot.last_record_step};
+    out.write("sampling.steps", steps, 2);
+  }
+  for (const DiagnosticOutput& o : outputs_) o.save(out);
+  out.write("summary.lines", static_cast<std::uint64_t>(summary_.size()));
+  for (const auto& line : summary_) out.write("summary.line", line);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    BufferStateWriter plugin;
+    try {
+      objects_[k]->save_state(plugin);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(where_text(*object_uses_[k]) + ": save_state failed: " + e.what());
+    }
+    out.write("plugin." + object_uses_[k]->path, plugin.bytes());
+  }
+}
+
+void Engine::load(StateReader& in) {
+  std::uint8_t finished = 0;
+  in.read("engine.finished", finished);
+  finished_ = finished != 0;
+  in.read("engine.step", ctx_.step);
+  double clocks[4];
+  in.read("engine.clocks", clocks, 4);
+  ctx_.time = clocks[0];
+  ctx_.dt = clocks[1];
+  ctx_.collision_energy_change = clocks[2];
+  initial_energy_ = clocks[3];
+  std::uint64_t counts[4];
+  in.read("engine.counts", counts, 4);
+  ctx_.collisions = counts[0];
+  ctx_.candidates = counts[1];
+  ctx_.majorant_exceeded = counts[2];
+  streams_.set_step(counts[3]);
+  std::uint8_t flags[2];
+  in.read("engine.flags", flags, 2);
+  ctx_.in_average_window = flags[0] != 0;
+  steady_ = flags[1] != 0;
+  in.read("engine.wall_seconds", wall_seconds_);
+  std::uint8_t particles = 0;
+  in.read("engine.has_particles", particles);
+  if (particles) {
+    store_.load(in);
+    if (grid_.is_slab()) grid_.sort(store_.cells(), store_.size(), &pool_);  // the layers' member lists
+  } else if (!finished_) {
+    throw StateError("checkpoint: an unfinished run without its particles");
+  }
+  std::vector<std::uint64_t> cell_counts;
+  std::vector<double> cell_values;
+  in.read("moments.count", cell_counts);
+  in.read("moments.values", cell_values);
+  if (cell_counts.size() != cells_.size() + 1 || cell_values.size() != 5 * cell_counts.size())
+    throw StateError("checkpoint entry 'moments': " + std::to_string(cell_counts.size()) + " cells where the system has " +
+                     std::to_string(cells_.size()) + " (and the global moments)");
+  for (std::size_t k = 0; k < cell_counts.size(); ++k) {
+    CellMoments& c = k == cells_.size() ? global_ : cells_[k];
+    c.count = cell_counts[k];
+    const double* v = cell_values.data() + 5 * k;
+    c.number_density = v[0];
+    for (int a = 0; a < 3; ++a) c.mean_velocity[a] = v[1 + a];
+    c.temperature = v[4];
+  }
+  in.read("moments.kinetic_energy", sampled_.kinetic_energy);
+  for (BoundaryTally& t : tallies_) {
+    in.read("boundary.hits", t.hits);
+    double v[4];
+    in.read("boundary.values", v, 4);
+    for (int a = 0; a < 3; ++a) t.momentum[a] = v[a];
+    t.energy = v[3];
+  }
+  std::vector<double> values(tallies_total_.size());
+  in.read("collision_tallies", values.data(), values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) tallies_total_[k].value = values[k];
+  values.assign(ledger_.size(), 0.0);
+  in.read("energy_ledger", values.data(), values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) ledger_[k].energy = values[k];
+  collisions_.load(in);
+  for (DiagnosticSlot& slot : slots_) {
+    double sums[2];
+    in.read("sampling.sums", sums, 2);
+    slot.time_sum = sums[0];
+    slot.s_sum = sums[1];
+    std::uint64_t steps[2];
+    in.read("sampling.steps", steps, 2);
+    slot.samples = steps[0];
+    slot.last_record_step = steps[1];
+  }
+  for (std::size_t k = 0; k < outputs_.size(); ++k) {
+    try {
+      outputs_[k].load(in);
+    } catch (const StateError& e) {
+      throw StateError(where_text(*slots_[k].use) + ": " + e.what());
+    }
+  }
+  std::uint64_t lines = 0;
+  in.read("summary.lines", lines);
+  if (lines > in.remaining()) throw StateError("checkpoint entry 'summary.lines': a damaged count");
+  summary_.assign(static_cast<std::size_t>(lines), std::string());
+  for (auto& line : summary_) in.read("summary.line", line);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    std::vector<unsigned char> bytes;
+    in.read("plugin." + object_uses_[k]->path, bytes);
+    BufferStateReader plugin(bytes);
+    try {
+      objects_[k]->load_state(plugin);
+    } catch (const std::exception& e) {
+      throw StateError(where_text(*object_uses_[k]) + ": load_state failed: " + e.what());
+    }
+    if (!plugin.at_end())
+      throw StateError(where_text(*object_uses_[k]) + ": load_state read " + std::to_string(bytes.size() - plugin.remaining()) +
+                       " of the " + std::to_string(bytes.size()) + " bytes its save_state wrote (next entry '" +
+                       plugin.peek_name() + "')");
+  }
 }
 
 CaseOutput Engine::output() {

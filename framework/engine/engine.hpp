@@ -37,6 +37,17 @@ struct Progress {
   bool final = false;             // the report after the last step of the run
 };
 
+class Engine;
+
+// When a run writes its state (Engine::save) through `write`: every `every_seconds` of wall time
+// and every `every_collisions_per_particle`, at a step boundary (0: not by that clock); at an
+// interrupt, before Interrupted is thrown; and once finished.
+struct CheckpointSchedule {
+  double every_seconds = 0;
+  double every_collisions_per_particle = 0;
+  std::function<void(const Engine&)> write;
+};
+
 class Engine {
  public:
   // Builds every plugin object, allocates and fills the particles, lets diagnostics declare
@@ -49,11 +60,20 @@ class Engine {
   // publishes its quantities and (diagnostics) begins, for the pipeline's system; no particle
   // is allocated and no initial state is generated. Throws like the constructor.
   static void check_setup(const Pipeline& pipeline);
+  // A run continued from a checkpoint: set up as the constructor above, but with the state that
+  // save() wrote instead of the initial state. Throws StateError on a state that does not fit.
+  Engine(const Pipeline& pipeline, std::uint32_t realization, unsigned threads, StateReader& state);
+  // Everything the rest of the run depends on (particles, clocks, majorants, tallies, records,
+  // every plugin's save_state): an engine restored from it continues with the same bits.
+  void save(StateWriter& out) const;
 
   // Steps until the stop condition (or until *interrupt becomes true, then throws Interrupted: the
   // flag is also polled inside the collision stage, so a step of any size stops promptly).
+  // With `checkpoints`, the state is written as the schedule says, and an interrupt is only
+  // honoured between steps (after writing it). A finished run (restored) returns at once.
   void run(const std::function<void(const Progress&)>& report = {}, double report_interval_seconds = 1.0,
-           const std::atomic<bool>* interrupt = nullptr);
+           const std::atomic<bool>* interrupt = nullptr, const CheckpointSchedule* checkpoints = nullptr);
+  bool is_finished() const { return finished_; }
   // One step (exposed for tests and benchmarks).
   void step();
   // Reorder the particles in storage layer by layer (slab; done every kReorderEvery steps): each
@@ -83,8 +103,10 @@ class Engine {
     std::uint64_t samples = 0;
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
   };
-  enum class Setup { full, objects_only };
-  Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads);
+  enum class Setup { full, objects_only, restore };
+  Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads,
+         StateReader* state = nullptr);
+  void load(StateReader& in);
   // The stages of construction, in order.
   void build_objects();
   void publish(const std::vector<AttributeSpec>& attributes, Setup setup);
@@ -118,6 +140,7 @@ class Engine {
   CellMoments global_;
   SampledMoments sampled_;
   std::vector<std::shared_ptr<PluginObject>> objects_;  // keeps every plugin object (and library) alive
+  std::vector<const PluginUse*> object_uses_;           // what made each of objects_
   InitialState* initial_state_ = nullptr;
   CollisionRule* collision_ = nullptr;
   std::vector<std::pair<Forcing*, std::uint32_t>> forcings_before_, forcings_after_;
@@ -138,6 +161,7 @@ class Engine {
   std::vector<double> kick_energy_;      // per block: a homogeneous body acceleration's work this step
   double wall_seconds_ = 0;
   bool steady_ = false;
+  bool finished_ = false;  // run() completed: finish() called, nothing left to step
   bool cells_reversed_ = false;
   int steady_slot_ = -1;
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <gdsmc/particles.hpp>
+#include <gdsmc/state.hpp>
 
 #include "engine/work_pool.hpp"
 
@@ -103,6 +104,28 @@ class ParticleStore {
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c)
         std::swap(data_[a][c * n_ + i], data_[a][c * n_ + j]);
+  }
+  // Checkpoints: every array of the allocated store (identities, layers, positions where they
+  // exist, velocities, attributes by name), read back into a store allocated alike.
+  void save(StateWriter& out) const {
+    out.write("particles.id", id_);
+    out.write("particles.cell", cell_);
+    out.write("particles.x", x_);
+    out.write("particles.y", y_);
+    out.write("particles.z", z_);
+    out.write("particles.vx", vx_);
+    out.write("particles.vy", vy_);
+    out.write("particles.vz", vz_);
+    for (std::size_t a = 0; a < specs_.size(); ++a) out.write("particles.attribute." + specs_[a].name, data_[a]);
+  }
+  void load(StateReader& in) {
+    in.read("particles.id", id_.data(), id_.size());
+    in.read("particles.cell", cell_.data(), cell_.size());
+    for (auto [name, v] : {std::pair{"particles.x", &x_}, std::pair{"particles.y", &y_}, std::pair{"particles.z", &z_},
+                           std::pair{"particles.vx", &vx_}, std::pair{"particles.vy", &vy_}, std::pair{"particles.vz", &vz_}})
+      in.read(name, v->data(), v->size());
+    for (std::size_t a = 0; a < specs_.size(); ++a)
+      in.read("particles.attribute." + specs_[a].name, data_[a].data(), data_[a].size());
   }
   // The layer of every particle, written by the mover (the span shows it read-only to plugins).
   std::uint32_t* cells() { return cell_.data(); }

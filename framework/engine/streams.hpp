@@ -15,7 +15,11 @@ class StreamFactory {
   StreamFactory(std::uint64_t seed, std::uint32_t realization) : run_key_(stream_key(seed, realization)) { set_step(0); }
 
   // Called once at the start of every step: one Philox block mixes the step into the key.
-  void set_step(std::uint64_t step) { step_key_ = step_stream_key(run_key_, step); }
+  void set_step(std::uint64_t step) {
+    step_ = step;
+    step_key_ = step_stream_key(run_key_, step);
+  }
+  std::uint64_t step() const { return step_; }
 
   Streams streams(StreamPurpose purpose, std::uint32_t instance) const { return Streams(step_key_, purpose, instance); }
   Rng rng(StreamPurpose purpose, std::uint32_t instance, std::uint64_t unit) const {
@@ -34,6 +38,7 @@ class StreamFactory {
  private:
   PhiloxKey run_key_{0u, 0u};
   PhiloxKey step_key_{0u, 0u};
+  std::uint64_t step_ = 0;
 };
 
 }  // namespace gdsmc::host

@@ -87,4 +87,120 @@ std::vector<double> bin_centres_lambda0(const SystemInfo& system) {
   return centres;
 }
 
+namespace {
+// A list's length, checked against what is left of the checkpoint.
+std::size_t read_count(StateReader& in, const std::string& name) {
+  std::uint64_t n = 0;
+  in.read(name, n);
+  if (n > in.remaining()) throw StateError("checkpoint entry '" + name + "': a damaged length " + std::to_string(n));
+  return static_cast<std::size_t>(n);
+}
+void write_text3(StateWriter& out, const std::string& prefix, const std::string& a, const std::string& b,
+                 const std::string& c) {
+  out.write(prefix + ".name", a);
+  out.write(prefix + ".unit", b);
+  out.write(prefix + ".doc", c);
+}
+void read_text3(StateReader& in, const std::string& prefix, std::string& a, std::string& b, std::string& c) {
+  in.read(prefix + ".name", a);
+  in.read(prefix + ".unit", b);
+  in.read(prefix + ".doc", c);
+}
+}  // namespace
+
+void DiagnosticOutput::save(StateWriter& out) const {
+  out.write("time", time);
+  out.write("collisions_per_particle", collisions_per_particle);
+  out.write("bin_centres", bin_centres);
+  out.write("columns", static_cast<std::uint64_t>(columns.size()));
+  for (const auto& c : columns) {
+    write_text3(out, "column", c.name, c.unit, c.doc);
+    out.write("column.values", c.values);
+  }
+  out.write("profiles", static_cast<std::uint64_t>(profiles.size()));
+  for (const auto& p : profiles) {
+    write_text3(out, "profile", p.name, p.unit, p.doc);
+    out.write("profile.values", p.values);
+  }
+  out.write("arrays", static_cast<std::uint64_t>(arrays.size()));
+  for (const auto& a : arrays) {
+    write_text3(out, "array", a.name, a.unit, a.doc);
+    out.write("array.data", a.data);
+    std::vector<std::uint64_t> shape(a.shape.begin(), a.shape.end());
+    out.write("array.shape", shape);
+  }
+  out.write("histograms", static_cast<std::uint64_t>(histograms.size()));
+  for (const auto& h : histograms) {
+    write_text3(out, "histogram", h.name, h.edge_unit, h.value_unit);
+    out.write("histogram.doc", h.doc);
+    out.write("histogram.edges", h.edges);
+    out.write("histogram.values", h.values);
+  }
+  out.write("scalars", static_cast<std::uint64_t>(scalars.size()));
+  for (const auto& v : scalars) {
+    write_text3(out, "scalar", v.name, v.unit, v.doc);
+    out.write("scalar.value", v.value);
+  }
+  out.write("attributes", static_cast<std::uint64_t>(attributes.size()));
+  for (const auto& [k, v] : attributes) {
+    out.write("attribute.name", k);
+    out.write("attribute.value", v);
+  }
+}
+
+void DiagnosticOutput::load(StateReader& in) {
+  // What begin() declared must be what the checkpoint holds.
+  auto names = [](const auto& list) {
+    std::string t;
+    for (const auto& e : list) t += (t.empty() ? "" : ", ") + e.name;
+    return t;
+  };
+  const std::string declared_columns = names(columns), declared_profiles = names(profiles);
+  in.read("time", time);
+  in.read("collisions_per_particle", collisions_per_particle);
+  in.read("bin_centres", bin_centres);
+  columns.assign(read_count(in, "columns"), Column{});
+  for (auto& c : columns) {
+    read_text3(in, "column", c.name, c.unit, c.doc);
+    in.read("column.values", c.values);
+  }
+  profiles.assign(read_count(in, "profiles"), Profile{});
+  for (auto& p : profiles) {
+    read_text3(in, "profile", p.name, p.unit, p.doc);
+    in.read("profile.values", p.values);
+  }
+  arrays.assign(read_count(in, "arrays"), Array{});
+  for (auto& a : arrays) {
+    read_text3(in, "array", a.name, a.unit, a.doc);
+    in.read("array.data", a.data);
+    std::vector<std::uint64_t> shape;
+    in.read("array.shape", shape);
+    a.shape.assign(shape.begin(), shape.end());
+  }
+  histograms.assign(read_count(in, "histograms"), Histogram{});
+  for (auto& h : histograms) {
+    read_text3(in, "histogram", h.name, h.edge_unit, h.value_unit);
+    in.read("histogram.doc", h.doc);
+    in.read("histogram.edges", h.edges);
+    in.read("histogram.values", h.values);
+  }
+  scalars.assign(read_count(in, "scalars"), Scalar{});
+  for (auto& v : scalars) {
+    read_text3(in, "scalar", v.name, v.unit, v.doc);
+    in.read("scalar.value", v.value);
+  }
+  if (names(columns) != declared_columns || names(profiles) != declared_profiles)
+    throw StateError("checkpoint of diagnostic '" + group_ + "': it holds the series [" + names(columns) +
+                     "] and profiles [" + names(profiles) + "], the diagnostic declares [" + declared_columns + "] and [" +
+                     declared_profiles + "]");
+  attributes.clear();
+  const std::size_t n = read_count(in, "attributes");
+  for (std::size_t k = 0; k < n; ++k) {
+    std::string key, value;
+    in.read("attribute.name", key);
+    in.read("attribute.value", value);
+    attributes[key] = value;
+  }
+}
+
 }  // namespace gdsmc::host

@@ -6,6 +6,7 @@
 
 #include <gdsmc/context.hpp>
 #include <gdsmc/output.hpp>
+#include <gdsmc/state.hpp>
 
 namespace gdsmc::host {
 
@@ -58,6 +59,11 @@ class DiagnosticOutput final : public OutputSink {
   void begin_record(double time_tau0, double s);
   // Throws if a record left a series or a profile with other than one append per record.
   void check_record(const std::string& plugin) const;
+
+  // Checkpoints: everything written so far (not the realizations, which exist only in a study's
+  // averages), replaced wholesale on load.
+  void save(StateWriter& out) const;
+  void load(StateReader& in);
 
   const std::string& group() const { return group_; }
   std::vector<double> time, collisions_per_particle;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <exception>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -77,11 +78,29 @@ class StudyClock {
 };
 
 void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index, const std::atomic<bool>* stop,
-             unsigned threads) {
+             unsigned threads, const CheckpointStore* checkpoints) {
   const Pipeline& p = sc.pipeline;
-  Engine engine(p, run.realization, threads);
+  std::unique_ptr<Engine> restored;
+  if (checkpoints && checkpoints->has_run(index)) restored = checkpoints->restore(index, sc, run.realization, threads);
+  std::optional<Engine> fresh;
+  if (!restored) fresh.emplace(p, run.realization, threads);
+  Engine& engine = restored ? *restored : *fresh;
   std::function<void(const Progress&)> inner = [&](const Progress& pr) { clock.update(index, run.label, pr); };
-  engine.run(inner, clock.interval(), stop);
+  CheckpointSchedule schedule;
+  if (checkpoints) {
+    schedule.every_seconds = p.checkpoint_every_seconds;
+    schedule.every_collisions_per_particle = p.checkpoint_every_collisions_per_particle;
+    // A checkpoint that cannot be written (disk full) does not stop the run: the previous one stays.
+    schedule.write = [&](const Engine& e) {
+      try {
+        checkpoints->write(index, sc, run.realization, e);
+      } catch (const std::exception& error) {
+        std::cerr << "gdsmc: warning: " << (run.label.empty() ? "" : run.label + ": ") << error.what()
+                  << "; the run goes on, its previous checkpoint (if any) is kept\n";
+      }
+    };
+  }
+  engine.run(inner, clock.interval(), stop, checkpoints ? &schedule : nullptr);
   run.collisions = engine.context().collisions;
   run.steps = engine.context().step;
   run.wall_seconds = engine.wall_seconds();
@@ -126,7 +145,7 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
 }  // namespace
 
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
-                      double report_interval, const std::atomic<bool>* interrupt) {
+                      double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints) {
   StudyResult result;
   describe_provenance(cases.front().pipeline, result.output);
   const bool sweep = cases.size() > 1 || !cases.front().label.empty();
@@ -172,7 +191,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
   if (workers == 1) {
     // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
     for (std::size_t index = 0; index < runs.size(); ++index) {
-      execute(cases[runs[index].case_index], runs[index], clock, index, interrupt, per_run);
+      execute(cases[runs[index].case_index], runs[index], clock, index, interrupt, per_run, checkpoints);
       finish(index);
     }
   } else {
@@ -190,7 +209,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
           index = next++;
         }
         try {
-          execute(cases[runs[index].case_index], runs[index], clock, index, &stop, per_run);
+          execute(cases[runs[index].case_index], runs[index], clock, index, &stop, per_run, checkpoints);
           finish(index);
         } catch (...) {
           runs[index].error = std::current_exception();

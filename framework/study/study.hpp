@@ -10,6 +10,7 @@
 #include "output/provenance.hpp"
 #include "output/records.hpp"
 #include "study/cases.hpp"
+#include "study/checkpoint.hpp"
 #include "study/statistics.hpp"
 
 namespace gdsmc::host {
@@ -35,7 +36,10 @@ struct StudyResult {
 // Runs every case and realization, study_threads() at a time; the output (every dataset and value,
 // the summary lines) is the same for any number of threads. The first run that fails (in study
 // order) is rethrown once the others have stopped; an interrupt throws Engine::Interrupted.
+// With `checkpoints`, every run resumes from its saved state where there is one and saves its
+// state as its pipeline's run.checkpoint says (at an interrupt and when it finishes in any case).
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
-                      double report_interval, const std::atomic<bool>* interrupt);
+                      double report_interval, const std::atomic<bool>* interrupt,
+                      const CheckpointStore* checkpoints = nullptr);
 
 }  // namespace gdsmc::host

@@ -2,6 +2,7 @@
 // 000, written beside the measured values. The derivation is in docs/bgk-usf.md.
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -41,7 +42,7 @@ struct BgkSteady {
 class BgkUsfTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "bgk_usf_theory";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "BGK-like kinetic model of USF (refs. [4, 7] of paper 000): steady a*, stresses, a2, a3 and the transient";
   static constexpr const char* documentation =
@@ -209,6 +210,24 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
                     measured_[k].standard_error());
       out.summary(buf);
     }
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("started", started_);
+    out.write("bgk_state", y_.data(), y_.size());
+    out.write("bgk_time", bgk_time_);
+    out.write("sums", sums_, kSeries);
+    out.write("samples", static_cast<std::uint64_t>(samples_));
+    for (int k = 0; k < kMeasured; ++k) measured_[k].save(out, "measured" + std::to_string(k));
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("started", started_);
+    in.read("bgk_state", y_.data(), y_.size());
+    in.read("bgk_time", bgk_time_);
+    in.read("sums", sums_, kSeries);
+    std::uint64_t samples = 0;
+    in.read("samples", samples);
+    samples_ = static_cast<std::size_t>(samples);
+    for (int k = 0; k < kMeasured; ++k) measured_[k].load(in, "measured" + std::to_string(k));
   }
 
  private:

@@ -1,5 +1,6 @@
 // Collisional cooling rate zeta measured from the energy lost in collisions, beside zeta0 (000 Eqs. 2.9, 2.16).
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 #include <gdsmc/gdsmc.hpp>
@@ -9,7 +10,7 @@ namespace {
 class CoolingRate final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cooling_rate";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Cooling rate zeta from the collisional energy loss, beside zeta0 (Eqs. 2.9, 2.16)";
   static constexpr const char* documentation =
       "Between consecutive records the host's running sum of the kinetic-energy change declared by\n"
@@ -86,6 +87,30 @@ class CoolingRate final : public gdsmc::Diagnostic {
                   "cooling_rate: in the averaging window (%zu windows): zeta tau = %.5f +- %.5f, zeta0 tau = %.5f, zeta/zeta0 = %.4f (alpha = %g)",
                   per_window_.count(), zt, per_window_.standard_error(), zeta0_tau_, zt / zeta0_tau_, alpha_);
     out.summary(buf);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("T_sum", T_sum_);
+    out.write("T_count", static_cast<std::uint64_t>(T_count_));
+    out.write("have_last", have_last_);
+    out.write("last_in_window", last_in_window_);
+    out.write("last_energy", last_energy_);
+    out.write("last_time", last_time_);
+    out.write("loss", loss_);
+    out.write("weight", weight_);
+    per_window_.save(out, "per_window");
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("T_sum", T_sum_);
+    std::uint64_t count = 0;
+    in.read("T_count", count);
+    T_count_ = static_cast<std::size_t>(count);
+    in.read("have_last", have_last_);
+    in.read("last_in_window", last_in_window_);
+    in.read("last_energy", last_energy_);
+    in.read("last_time", last_time_);
+    in.read("loss", loss_);
+    in.read("weight", weight_);
+    per_window_.load(in, "per_window");
   }
 
  private:

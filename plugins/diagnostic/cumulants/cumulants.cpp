@@ -6,7 +6,7 @@ namespace {
 class Cumulants final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cumulants";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Cumulants a2 and a3 of the velocity distribution";
   static constexpr const char* documentation =
       "a2 = (m^2 / 15 T^2) <V^4> - 1 and a3 = -(m^3 / 105 T^3) <V^6> + 1 + 3 a2\n"
@@ -26,6 +26,8 @@ class Cumulants final : public gdsmc::Diagnostic {
     window_.add({m.a2(), m.a3()});
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
+  void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
+  void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
  private:
   gdsmc::WindowAverage window_;

@@ -13,7 +13,7 @@ namespace {
 class EnergyBalance final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "energy_balance";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Kinetic energy E(t) per particle and its balance E - E0 = sum of the energy ledger [T0]";
   static constexpr const char* documentation =
@@ -83,6 +83,21 @@ class EnergyBalance final : public gdsmc::Diagnostic {
     out.scalar("final_E_change", change * per_, "T0", "E - E0 at the end, per particle");
     out.scalar("final_residual", residual * per_, "T0", "(E - E0) - ledger_total at the end, per particle");
     out.scalar("final_relative_residual", residual / last_e_, "1", "residual / E at the end");
+  }
+  // values_ is scratch, rewritten by every sample before use: not saved.
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("have_e0", have_e0_);
+    out.write("e0", e0_);
+    out.write("last_e", last_e_);
+    out.write("last_step", last_step_);
+    window_.save(out);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("have_e0", have_e0_);
+    in.read("e0", e0_);
+    in.read("last_e", last_e_);
+    in.read("last_step", last_step_);
+    window_.load(in);
   }
 
  private:

@@ -3,6 +3,7 @@
 // theory of Eqs. 16-18 and the long-time plateau.
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -52,6 +53,22 @@ class PlateauFit {
     const double s2 = rss / static_cast<double>(count_ - 2);
     return {beta(0), std::sqrt(s2 * inverse(0, 0)), beta(1), std::sqrt(s2 * inverse(1, 1))};
   }
+  // Checkpoints: the streamed sums {normal (column-major), rhs, yy} and the count, under `prefix`.
+  void save(gdsmc::StateWriter& out, const std::string& prefix) const {
+    const double sums[7] = {normal_(0, 0), normal_(1, 0), normal_(0, 1), normal_(1, 1), rhs_(0), rhs_(1), yy_};
+    out.write(prefix + ".sums", sums, 7);
+    out.write(prefix + ".count", static_cast<std::uint64_t>(count_));
+  }
+  void load(gdsmc::StateReader& in, const std::string& prefix) {
+    double sums[7];
+    in.read(prefix + ".sums", sums, 7);
+    normal_ << sums[0], sums[2], sums[1], sums[3];
+    rhs_ << sums[4], sums[5];
+    yy_ = sums[6];
+    std::uint64_t count = 0;
+    in.read(prefix + ".count", count);
+    count_ = static_cast<std::size_t>(count);
+  }
 
  private:
   Eigen::Matrix2d normal_ = Eigen::Matrix2d::Zero();
@@ -63,7 +80,7 @@ class PlateauFit {
 class EnskogShearViscosity final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "enskog_shear_viscosity";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Modified USF (002): kinetic + collisional P_ij, eta(t) = -P_xy/a, Kn(t), c(t)/c0, first-Sonine eta and the NS plateau";
   static constexpr const char* documentation =
@@ -238,6 +255,30 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
     line += " (first Sonine: " + number(sonine_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_) + ", " +
             number(sonine_viscosity(alpha_, phi_, chi_) / elastic_) + "; " + std::to_string(fits_[0].count()) + " records)";
     out.summary(line);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("sums", sums_, kColumns);
+    out.write("samples", static_cast<std::uint64_t>(samples_));
+    out.write("last_time", last_time_);
+    out.write("last_dissipated", last_dissipated_);
+    out.write("last_transfer", last_transfer_, 9);
+    for (int k = 0; k < kFitted; ++k) {
+      fits_[k].save(out, "fit" + std::to_string(k));
+      means_[k].save(out, "mean" + std::to_string(k));
+    }
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("sums", sums_, kColumns);
+    std::uint64_t samples = 0;
+    in.read("samples", samples);
+    samples_ = static_cast<std::size_t>(samples);
+    in.read("last_time", last_time_);
+    in.read("last_dissipated", last_dissipated_);
+    in.read("last_transfer", last_transfer_, 9);
+    for (int k = 0; k < kFitted; ++k) {
+      fits_[k].load(in, "fit" + std::to_string(k));
+      means_[k].load(in, "mean" + std::to_string(k));
+    }
   }
 
  private:

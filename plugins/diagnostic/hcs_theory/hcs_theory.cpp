@@ -17,7 +17,7 @@ double sonine_a2(double alpha) {
 class HcsTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "hcs_theory";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Haff's law and first-Sonine a2 of the HCS beside the measured T and a2";
   static constexpr const char* documentation =
       "For a freely cooling gas of inelastic hard spheres (restitution alpha, read from the\n"
@@ -87,6 +87,26 @@ class HcsTheory final : public gdsmc::Diagnostic {
     std::snprintf(buf, sizeof buf, "hcs_theory: a2 in the averaging window (%zu samples): %.5f +- %.5f; first Sonine, 001 Eq. (2.16): %.5f (alpha = %g)",
                   a2_avg_.count(), a2_avg_.mean(), a2_avg_.standard_error(), a2_theory_, alpha_);
     out.summary(buf);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("have_first", have_first_);
+    out.write("T1", t1_);
+    out.write("time1", time1_);
+    out.write("last_T", last_T_);
+    out.write("last_time", last_time_);
+    out.write("last_s", last_s_);
+    a2_avg_.save(out, "a2_avg");
+    window_.save(out);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("have_first", have_first_);
+    in.read("T1", t1_);
+    in.read("time1", time1_);
+    in.read("last_T", last_T_);
+    in.read("last_time", last_time_);
+    in.read("last_s", last_s_);
+    a2_avg_.load(in, "a2_avg");
+    window_.load(in);
   }
 
  private:

@@ -4,6 +4,7 @@
 // (Eq. 4.5), beta1(X) of Eq. 4.6, and the first-Sonine theory of Sec. II (d = 3).
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -63,7 +64,7 @@ double sonine_prefactor(int k, double a) {
 class HeatFlux final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "heat_flux";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Heat-flux state of paper 001: q_x, kappa'/kappa0 (or kappa/kappa0), b_k (Eqs. 3.10, 3.12), g1, phi, beta1 and first-Sonine theory";
   static constexpr const char* documentation =
@@ -359,6 +360,34 @@ class HeatFlux final : public gdsmc::Diagnostic {
                   route_ ? "kappa" : "kappa'", eps_star_, alpha_, route_ ? "kappa" : "kappa'", steady_[kConductivity].mean(),
                   steady_[kConductivity].standard_error(), theory_, b_steady[0], b_steady[1], b_steady[2], beta6, window_samples_);
     out.summary(buf);
+  }
+  // counts_ and beta_bins_ are sized by the constructor (bins); the exact-count reads check them.
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("sums", sums_, kColumns);
+    out.write("samples", static_cast<std::uint64_t>(samples_));
+    for (int k = 0; k < kColumns; ++k) steady_[k].save(out, "steady." + names_[k]);
+    out.write("histogram", counts_);
+    out.write("beta_bins", beta_bins_);
+    const double window[4] = {outside_, beta_outside_, beta_six_, total_};
+    out.write("window_sums", window, 4);
+    out.write("window_samples", static_cast<std::uint64_t>(window_samples_));
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("sums", sums_, kColumns);
+    std::uint64_t count = 0;
+    in.read("samples", count);
+    samples_ = static_cast<std::size_t>(count);
+    for (int k = 0; k < kColumns; ++k) steady_[k].load(in, "steady." + names_[k]);
+    in.read("histogram", counts_.data(), counts_.size());
+    in.read("beta_bins", beta_bins_.data(), beta_bins_.size());
+    double window[4];
+    in.read("window_sums", window, 4);
+    outside_ = window[0];
+    beta_outside_ = window[1];
+    beta_six_ = window[2];
+    total_ = window[3];
+    in.read("window_samples", count);
+    window_samples_ = static_cast<std::size_t>(count);
   }
 
  private:

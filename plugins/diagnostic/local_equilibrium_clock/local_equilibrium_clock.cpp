@@ -9,7 +9,7 @@ namespace {
 class LocalEquilibriumClock final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "local_equilibrium_clock";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "s0(t) = (beta/sqrt(pi)) int dt/tau(T) (Eq. 3.13; layer sum of Eq. 3.11 in a slab) beside the measured s(t), and s/s0";
   static constexpr const char* documentation =
@@ -82,6 +82,20 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
     std::snprintf(buf, sizeof buf, "local_equilibrium_clock: s = %.4g, s0 = %.4g, s/s0 = %.4f (beta = %g)",
                   ctx.collisions_per_particle(), s0_, ctx.collisions_per_particle() / s0_, beta_);
     out.summary(buf);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("have_prev", have_prev_);
+    out.write("prev_rate", prev_rate_);
+    out.write("prev_time", prev_time_);
+    out.write("s0", s0_);
+    window_.save(out);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("have_prev", have_prev_);
+    in.read("prev_rate", prev_rate_);
+    in.read("prev_time", prev_time_);
+    in.read("s0", s0_);
+    window_.load(in);
   }
 
  private:

@@ -105,7 +105,7 @@ constexpr std::size_t kPieces = 8;  // pieces of a steady-test window (batch mea
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -353,6 +353,56 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
                   whole.scalars[momentum_balance_max], whole.scalars[wall_momentum_ratio],
                   whole.scalars[energy_balance_closure]);
     out.summary(line);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("batches", batches_);
+    const std::uint64_t counts[3] = {filled_, batch_records_, records_in_batch_};
+    out.write("batch_counts", counts, 3);
+    out.write("steady", steady_);
+    out.write("steady_from", steady_from_);
+    out.write("window_start", window_start_);
+    out.write("previous_window_mean", previous_window_mean_);
+    out.write("previous_window_error", previous_window_error_);
+    std::uint64_t piece_samples[kPieces];
+    std::copy(piece_samples_.begin(), piece_samples_.end(), piece_samples);
+    out.write("piece_sum", piece_sum_.data(), kPieces);
+    out.write("piece_samples", piece_samples, kPieces);
+    out.write("record_samples", static_cast<std::uint64_t>(record_samples_));
+    out.write("record_e", record_e_);
+    out.write("record_vx", record_vx_);
+    out.write("accel", accel_);  // set by the first sample; a_hat() needs it
+    out.write("have_last", have_last_);
+    const double last[5] = {last_.time, last_.wall_momentum, last_.wall_energy, last_.collisions, last_.forcings};
+    out.write("last", last, 5);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("batches", batches_.data(), batches_.size());  // kMaxBatches x stride, as begin() sized it
+    std::uint64_t counts[3];
+    in.read("batch_counts", counts, 3);
+    if (counts[0] > kMaxBatches || counts[1] == 0 || counts[2] >= counts[1])
+      throw gdsmc::StateError("checkpoint entry 'batch_counts': not a batch state of poiseuille_channel");
+    filled_ = static_cast<std::size_t>(counts[0]);
+    batch_records_ = static_cast<std::size_t>(counts[1]);
+    records_in_batch_ = static_cast<std::size_t>(counts[2]);
+    in.read("steady", steady_);
+    in.read("steady_from", steady_from_);
+    in.read("window_start", window_start_);
+    in.read("previous_window_mean", previous_window_mean_);
+    in.read("previous_window_error", previous_window_error_);
+    std::uint64_t piece_samples[kPieces];
+    in.read("piece_sum", piece_sum_.data(), kPieces);
+    in.read("piece_samples", piece_samples, kPieces);
+    for (std::size_t k = 0; k < kPieces; ++k) piece_samples_[k] = static_cast<std::size_t>(piece_samples[k]);
+    std::uint64_t record_samples = 0;
+    in.read("record_samples", record_samples);
+    record_samples_ = static_cast<std::size_t>(record_samples);
+    in.read("record_e", record_e_);
+    in.read("record_vx", record_vx_);
+    in.read("accel", accel_);
+    in.read("have_last", have_last_);
+    double last[5];
+    in.read("last", last, 5);
+    last_ = {last[0], last[1], last[2], last[3], last[4]};
   }
 
  private:

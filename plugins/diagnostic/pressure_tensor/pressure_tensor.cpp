@@ -6,7 +6,7 @@ namespace {
 class PressureTensor final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "pressure_tensor";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n T0) of the whole system";
   static constexpr const char* documentation =
       "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
@@ -40,6 +40,8 @@ class PressureTensor final : public gdsmc::Diagnostic {
                  s[0][1] / T, (s[0][0] - s[1][1]) / T, (s[2][2] - s[1][1]) / T});
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
+  void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
+  void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
  private:
   gdsmc::WindowAverage window_;

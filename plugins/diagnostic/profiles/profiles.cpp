@@ -43,7 +43,7 @@ constexpr ProfileColumn kColumns[kProf] = {
 class Profiles final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "profiles";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Profiles along y per sampling bin: n, u, T, P_ij, q_x, q_y, N1, N2, Kn (window averages)";
   static constexpr const char* documentation =
@@ -104,6 +104,16 @@ class Profiles final : public gdsmc::Diagnostic {
     for (std::size_t k = 0; k < kProf; ++k) out.append_profile(ids_[k], &values_[k * bins_]);
     acc_.assign(acc_.size(), 0.0);
     samples_ = 0;
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("acc", acc_);
+    out.write("samples", static_cast<std::uint64_t>(samples_));
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("acc", acc_.data(), acc_.size());  // bins x kAcc, as begin() sized it
+    std::uint64_t samples = 0;
+    in.read("samples", samples);
+    samples_ = static_cast<std::size_t>(samples);
   }
 
  private:

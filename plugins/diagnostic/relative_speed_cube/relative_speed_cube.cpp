@@ -10,7 +10,7 @@ namespace {
 class RelativeSpeedCube final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "relative_speed_cube";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "<V12^3>/<V12^3>_0 from N_p random pairs (Eq. 4.20), i.e. zeta/zeta0 of IHS";
   static constexpr const char* documentation =
       "At each sample, N_p = `pairs` pairs i != j are drawn at random (with replacement) from the\n"
@@ -64,6 +64,16 @@ class RelativeSpeedCube final : public gdsmc::Diagnostic {
                   ratio_avg_.count(), ratio_avg_.mean(), ratio_avg_.standard_error(), a2_avg_.mean(),
                   a2_avg_.standard_error(), slope);
     out.summary(buf);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    window_.save(out);
+    ratio_avg_.save(out, "ratio_avg");
+    a2_avg_.save(out, "a2_avg");
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    window_.load(in);
+    ratio_avg_.load(in, "ratio_avg");
+    a2_avg_.load(in, "a2_avg");
   }
 
  private:

@@ -10,7 +10,7 @@ namespace {
 class ShearRheology final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "shear_rheology";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "USF rheology: a* = a tau_eta, -P_xy/nT, normal stress differences, eta*, Psi_1, Psi_2";
   static constexpr const char* documentation =
       "Uses the shear rate a published as 'shear_rate' (uniform_shear forcing, or a lees_edwards\n"
@@ -86,6 +86,14 @@ class ShearRheology final : public gdsmc::Diagnostic {
                   avg_[2].standard_error(), avg_[3].mean(), avg_[3].standard_error(), avg_[4].mean(), avg_[4].standard_error(),
                   avg_[5].mean(), avg_[6].mean(), avg_[7].mean());
     out.summary(buf);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    window_.save(out);
+    for (int k = 0; k < kColumns; ++k) avg_[k].save(out, "avg." + names_[k]);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    window_.load(in);
+    for (int k = 0; k < kColumns; ++k) avg_[k].load(in, "avg." + names_[k]);
   }
 
  private:

@@ -16,7 +16,7 @@ enum Sum : std::size_t { kN, kSx, kSy, kSz, kS2, kSums };
 class SlabAverages final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "slab_averages";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "T_bar/T0, reduced mean pressure tensor, and u_x, n, T of the central and top layers (000 Figs. 3-4)";
   static constexpr const char* documentation =
@@ -119,6 +119,9 @@ class SlabAverages final : public gdsmc::Diagnostic {
   }
 
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
+  // sums_ and values_ are scratch of one sample.
+  void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
+  void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
  private:
   enum Group : int { kCentre = 0, kTop = 1 };

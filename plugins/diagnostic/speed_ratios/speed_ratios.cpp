@@ -11,7 +11,7 @@ namespace {
 class SpeedRatios final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "speed_ratios";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "R_0..R_3: speed-shell populations over local equilibrium (Eqs. 3.15, 4.19)";
   static constexpr const char* documentation =
       "R_l = [fraction of particles with W_l < V < W_{l+1}] / [P(C_{l+1}) - P(C_l)] (paper 000, Eq. 4.19),\n"
@@ -80,6 +80,14 @@ class SpeedRatios final : public gdsmc::Diagnostic {
       line += buf;
     }
     out.summary(line + " (paper, alpha = 0.5: 1.18, 0.81, 1.39, 15)");
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    window_.save(out);
+    for (int l = 0; l < 4; ++l) avg_[l].save(out, "avg.R" + std::to_string(l));
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    window_.load(in);
+    for (int l = 0; l < 4; ++l) avg_[l].load(in, "avg.R" + std::to_string(l));
   }
 
  private:

@@ -6,7 +6,7 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
@@ -30,6 +30,8 @@ class Temperature final : public gdsmc::Diagnostic {
     window_.add({m.temperature / t0_, m.mean[0] / v0_, m.mean[1] / v0_, m.mean[2] / v0_});
   }
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
+  void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
+  void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
  private:
   gdsmc::WindowAverage window_;

@@ -11,7 +11,7 @@ namespace {
 class VelocityMarginals final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "velocity_marginals";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Steady marginals g_x^(+-)(C_x), g_y^(+-)(C_y), F(C) as histograms (Eqs. 3.18-3.20)";
   static constexpr const char* documentation =
       "Reduced velocities C = V / sqrt(2T/m) at the current T (paper 000, Eqs. 3.16, 5.2), with f* normalized\n"
@@ -121,6 +121,32 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
     std::snprintf(buf, sizeof buf, "velocity_marginals: %zu samples in the averaging window; symmetry defect (3.21) %.3g",
                   samples_, defect);
     out.summary(buf);
+  }
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("g_x_plus", gxp_);
+    out.write("g_x_minus", gxm_);
+    out.write("g_y_plus", gyp_);
+    out.write("g_y_minus", gym_);
+    out.write("F", F_);
+    out.write("outside_x", outside_x_);
+    out.write("outside_y", outside_y_);
+    out.write("outside_c", outside_c_);
+    out.write("total", total_);
+    out.write("samples", static_cast<std::uint64_t>(samples_));
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("g_x_plus", gxp_.data(), bins_);
+    in.read("g_x_minus", gxm_.data(), bins_);
+    in.read("g_y_plus", gyp_.data(), bins_);
+    in.read("g_y_minus", gym_.data(), bins_);
+    in.read("F", F_.data(), bins_);
+    in.read("outside_x", outside_x_);
+    in.read("outside_y", outside_y_);
+    in.read("outside_c", outside_c_);
+    in.read("total", total_);
+    std::uint64_t samples = 0;
+    in.read("samples", samples);
+    samples_ = static_cast<std::size_t>(samples);
   }
 
  private:

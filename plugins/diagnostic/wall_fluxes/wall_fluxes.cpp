@@ -12,7 +12,7 @@ namespace {
 class WallFluxes final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "wall_fluxes";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Hit rate, momentum flux and energy flux given to the gas by each boundary, per unit area and time";
   static constexpr const char* documentation =
@@ -87,8 +87,45 @@ class WallFluxes final : public gdsmc::Diagnostic {
     }
     previous_time_ = current_time_;
   }
+  void save_state(gdsmc::StateWriter& out) const override {
+    save_tallies(out, "previous", previous_);
+    save_tallies(out, "current", current_);
+    out.write("previous_time", previous_time_);
+    out.write("current_time", current_time_);
+    out.write("checked", checked_);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    load_tallies(in, "previous", previous_);
+    load_tallies(in, "current", current_);
+    in.read("previous_time", previous_time_);
+    in.read("current_time", current_time_);
+    in.read("checked", checked_);
+  }
 
  private:
+  // The two walls' tallies as three arrays (hits, momentum x/y/z, energy), y_min first.
+  static void save_tallies(gdsmc::StateWriter& out, const std::string& prefix, const gdsmc::BoundaryTally (&t)[2]) {
+    const std::uint64_t hits[2] = {t[0].hits, t[1].hits};
+    const double momentum[6] = {t[0].momentum[0], t[0].momentum[1], t[0].momentum[2],
+                                t[1].momentum[0], t[1].momentum[1], t[1].momentum[2]};
+    const double energy[2] = {t[0].energy, t[1].energy};
+    out.write(prefix + ".hits", hits, 2);
+    out.write(prefix + ".momentum", momentum, 6);
+    out.write(prefix + ".energy", energy, 2);
+  }
+  static void load_tallies(gdsmc::StateReader& in, const std::string& prefix, gdsmc::BoundaryTally (&t)[2]) {
+    std::uint64_t hits[2];
+    double momentum[6], energy[2];
+    in.read(prefix + ".hits", hits, 2);
+    in.read(prefix + ".momentum", momentum, 6);
+    in.read(prefix + ".energy", energy, 2);
+    for (int w = 0; w < 2; ++w) {
+      t[w].hits = hits[w];
+      for (int a = 0; a < 3; ++a) t[w].momentum[a] = momentum[3 * w + a];
+      t[w].energy = energy[w];
+    }
+  }
+
   double area_ = 1, rate_unit_ = 1, momentum_unit_ = 1, energy_unit_ = 1;
   std::size_t ids_[2][5] = {};
   gdsmc::BoundaryTally previous_[2], current_[2];

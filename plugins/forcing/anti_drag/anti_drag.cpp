@@ -9,7 +9,7 @@ namespace {
 class AntiDrag final : public gdsmc::Forcing {
  public:
   static constexpr const char* name = "anti_drag";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Anti-drag F = (1/2) zeta m V compensating the collisional cooling, zeta measured every step (002 Eq. 15)";
   static constexpr const char* documentation =
@@ -56,6 +56,9 @@ class AntiDrag final : public gdsmc::Forcing {
     }
     return (factor * factor - 1.0) * energy;
   }
+  // Checkpoints: the running totals this step's dissipation is the difference from.
+  void save_state(gdsmc::StateWriter& out) const override { cooling_.save(out, "cooling"); }
+  void load_state(gdsmc::StateReader& in) override { cooling_.load(in, "cooling"); }
 
  private:
   gdsmc::StepCooling cooling_;  // what this step's collisions dissipated

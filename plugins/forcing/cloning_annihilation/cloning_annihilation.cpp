@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
@@ -91,7 +92,7 @@ class VelocityGrid {
 class CloningAnnihilation final : public gdsmc::Forcing {
  public:
   static constexpr const char* name = "cloning_annihilation";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Clones at rate zeta/2 and annihilates at rate (zeta/2) f0/f, f0 from an HCS reservoir (001 Eq. 3.17)";
   static constexpr const char* documentation =
@@ -138,6 +139,8 @@ class CloningAnnihilation final : public gdsmc::Forcing {
                                  "must publish 'restitution' (inelastic_hard_spheres does)");
       gdsmc::Rng start = ctx.streams->for_unit(2);
       reservoir_.start(size_, *alpha, relaxation_, start);
+    }
+    if (usable_.size() != p.count) {  // the first apply, also after a resume (scratch, not saved)
       usable_.assign(p.count, 1);
       touched_.reserve(p.count / 2);  // at most N/2 events per step: no allocation in the step loop
     }
@@ -185,13 +188,23 @@ class CloningAnnihilation final : public gdsmc::Forcing {
     for (std::uint32_t b : touched_) usable_[b] = 1;
     return energy;
   }
+  // Checkpoints: the reservoir (empty before the first apply, which starts it) and the running
+  // totals of the collisions. The grid and usable_/touched_ are scratch of one step.
+  void save_state(gdsmc::StateWriter& out) const override {
+    reservoir_.save(out, "reservoir");
+    cooling_.save(out, "cooling");
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    reservoir_.load(in, "reservoir", size_);
+    cooling_.load(in, "cooling");
+  }
 
  private:
   std::size_t size_;
   double relaxation_;
   gdsmc::HcsReservoir reservoir_;  // f0 at unit temperature
-  VelocityGrid grid_;
-  std::vector<std::uint8_t> usable_;    // 0: annihilated already in this step
+  VelocityGrid grid_;                   // rebuilt by each step that has events
+  std::vector<std::uint8_t> usable_;    // 0: annihilated already in this step (all 1 between steps)
   std::vector<std::uint32_t> touched_;  // the particles annihilated in this step
   gdsmc::StepCooling cooling_;  // what this step's collisions dissipated
 };

@@ -11,7 +11,7 @@ namespace {
 class Drag final : public gdsmc::Forcing {
  public:
   static constexpr const char* name = "drag";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Drag F = -m gamma V with gamma = zeta0(T)/2 (EHS, Eq. 4.22; per layer in a slab, Eq. 4.12) or the refined gamma";
   static constexpr const char* documentation =
@@ -76,6 +76,20 @@ class Drag final : public gdsmc::Forcing {
   }
   gdsmc::Conservation conserves() const override { return {true, false}; }
   int order() const override { return 1; }
+  // Checkpoints: alpha, resolved at the first apply, and the <V12^3> ratio held between
+  // recomputations (refined, ratio_every > 1). factor_ is recomputed at every apply.
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("have_alpha", have_alpha_);
+    out.write("alpha", alpha_);
+    out.write("have_ratio", have_ratio_);
+    out.write("ratio", ratio_);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("have_alpha", have_alpha_);
+    in.read("alpha", alpha_);
+    in.read("have_ratio", have_ratio_);
+    in.read("ratio", ratio_);
+  }
 
  private:
   void resolve_alpha(const gdsmc::StepContext& ctx) {

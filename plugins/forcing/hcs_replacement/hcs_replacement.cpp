@@ -2,6 +2,7 @@
 // from a homogeneous cooling state kept alongside (002 Sec. 3).
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
@@ -11,7 +12,7 @@ namespace {
 class HcsReplacement final : public gdsmc::Forcing {
  public:
   static constexpr const char* name = "hcs_replacement";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Replaces a fraction zeta dt/2 of the velocities by sqrt(T) C, C from an HCS reservoir at unit temperature (002 Eq. 15)";
   static constexpr const char* documentation =
@@ -79,6 +80,16 @@ class HcsReplacement final : public gdsmc::Forcing {
       p.vz[i] = nz;
     }
     return energy;
+  }
+  // Checkpoints: the reservoir (empty before the first apply, which starts it) and the running
+  // totals of the collisions.
+  void save_state(gdsmc::StateWriter& out) const override {
+    reservoir_.save(out, "reservoir");
+    cooling_.save(out, "cooling");
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    reservoir_.load(in, "reservoir", size_);
+    cooling_.load(in, "cooling");
   }
 
  private:

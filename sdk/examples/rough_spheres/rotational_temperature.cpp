@@ -10,7 +10,7 @@ namespace {
 class RotationalTemperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "rotational_temperature";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Rotational temperature T_rot = (I/3)<w^2> of rough spheres, and T_rot/T_tr";
   static constexpr const char* documentation =
       "Reads the per-particle attribute 'angular_velocity' (declared by a rough-sphere rule such\n"
@@ -56,6 +56,16 @@ class RotationalTemperature final : public gdsmc::Diagnostic {
     char buf[160];
     std::snprintf(buf, sizeof buf, "rotational_temperature: T_rot / T_tr = %.5f at the end of the run", last_ratio_);
     out.summary(buf);
+  }
+  // Checkpoints: what sample() changes (inertia_ and t0_ are set again by begin(); the angular
+  // velocities are the host's, saved with the particles).
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("last_ratio", last_ratio_);
+    window_.save(out);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("last_ratio", last_ratio_);
+    window_.load(in);
   }
 
  private:

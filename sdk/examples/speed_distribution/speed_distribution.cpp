@@ -2,6 +2,7 @@
 // as a series, a histogram with its bin edges, an array and scalars. The diagnostic never sees
 // HDF5: the host writes whatever it hands to the sink into its group of the output file.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -12,7 +13,7 @@ namespace {
 class SpeedDistribution final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "speed_distribution";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Histogram of the reduced speed c = |V|/sqrt(2T/m) against the Maxwellian";
   static constexpr const char* documentation =
       "At every sample, the reduced speeds c = |v - u| / sqrt(2T/m) of all particles are binned on\n"
@@ -81,6 +82,24 @@ class SpeedDistribution final : public gdsmc::Diagnostic {
     char buf[160];
     std::snprintf(buf, sizeof buf, "speed_distribution: %zu samples in %zu bins on [0, %g)", samples_, bins_, c_max_);
     out.summary(buf);
+  }
+  // Checkpoints: everything sample() accumulates, in a fixed order; load_state reads it back into
+  // an object that begin() has set up again (counts_ sized to bins_, the series declared).
+  void save_state(gdsmc::StateWriter& out) const override {
+    out.write("counts", counts_);
+    out.write("overflow", overflow_);
+    out.write("total", total_);
+    out.write("samples", static_cast<std::uint64_t>(samples_));
+    window_.save(out);
+  }
+  void load_state(gdsmc::StateReader& in) override {
+    in.read("counts", counts_.data(), counts_.size());  // exactly `bins` values, else a StateError
+    in.read("overflow", overflow_);
+    in.read("total", total_);
+    std::uint64_t samples = 0;
+    in.read("samples", samples);
+    samples_ = static_cast<std::size_t>(samples);
+    window_.load(in);
   }
 
  private:

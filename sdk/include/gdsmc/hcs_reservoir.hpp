@@ -46,12 +46,17 @@ class HcsReservoir {
     const double scalars[3] = {half_one_plus_alpha_, majorant_, owed_};
     out.write(prefix + ".scalars", scalars, 3);
   }
-  void load(StateReader& in, const std::string& prefix) {
+  // `size`: the reservoir's size as the plugin's parameters set it (a started reservoir of
+  // another size is refused).
+  void load(StateReader& in, const std::string& prefix, std::size_t size) {
     in.read(prefix + ".cx", cx_);
     in.read(prefix + ".cy", cy_);
     in.read(prefix + ".cz", cz_);
     if (cy_.size() != cx_.size() || cz_.size() != cx_.size())
       throw StateError("checkpoint entry '" + prefix + "': velocity components of different lengths");
+    if (!cx_.empty() && cx_.size() != size)
+      throw StateError("checkpoint entry '" + prefix + ".cx': " + std::to_string(cx_.size()) +
+                       " reservoir particles where the plugin's parameters give " + std::to_string(size));
     double scalars[3];
     in.read(prefix + ".scalars", scalars, 3);
     half_one_plus_alpha_ = scalars[0];

@@ -1,0 +1,231 @@
+// Checkpoints (run.checkpoint, `gdsmc run --resume`): a run killed with SIGKILL at any moment and
+// resumed, as many times as it takes, writes the file the uninterrupted run writes: every dataset
+// and attribute the same bytes but the wall times. Three random kill points per pipeline (a
+// homogeneous run in sub-populations, a slab between walls with a body force and the particles
+// written, a Lees-Edwards sweep with realizations on two runs at once); the kill times are drawn
+// afresh each time and printed with a failure. A SIGINT saves the state and says how to resume;
+// a checkpoint of another pipeline, gdsmc or plugin version is refused naming what differs, and a
+// fresh run refuses to start over an existing checkpoint.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "test_support.hpp"
+
+namespace {
+
+using namespace gdsmc::test;
+using Clock = std::chrono::steady_clock;
+
+bool has_checkpoint(const TempDir& dir) { return fs::exists(dir / "out.h5.checkpoint" / "study"); }
+
+// Runs `yaml` once uninterrupted (out_ref.h5) and once killed with SIGKILL at three random moments,
+// resumed after each kill (with --resume when a checkpoint exists, as a user would), and compares.
+void expect_kill_and_resume_gives_the_same_bits(const std::string& yaml, const std::vector<std::string>& extra,
+                                                std::size_t min_entries) {
+  TempDir dir;
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  auto args = [&](const std::string& out, bool resume) {
+    std::vector<std::string> a{"run", pipeline.string(), "--quiet", "-o", out};
+    a.insert(a.end(), extra.begin(), extra.end());
+    if (resume) a.push_back("--resume");
+    return a;
+  };
+  const auto start = Clock::now();
+  const ProcessResult ref = run_gdsmc(args("out_ref.h5", false), dir.path(), 300);
+  ASSERT_EQ(ref.exit_code, 0) << ref.describe();
+  const double duration = std::chrono::duration<double>(Clock::now() - start).count();
+  EXPECT_FALSE(fs::exists(dir / "out_ref.h5.checkpoint")) << "the checkpoint is removed once the output is written";
+
+  std::mt19937_64 rng(std::random_device{}());
+  std::ostringstream trace;
+  trace << "uninterrupted run " << duration << " s; kills at";
+  int kills = 0, resumed_from_state = 0;
+  bool done = false;
+  for (int k = 0; k < 3 && !done; ++k) {
+    // The first kill within the middle half of the run (so that some state has been saved), the
+    // others anywhere in a run's duration: before the first checkpoint, during a write, during the
+    // final write of the output.
+    const double at = k == 0 ? std::uniform_real_distribution<double>(0.25 * duration, 0.75 * duration)(rng)
+                             : std::uniform_real_distribution<double>(0.0, duration)(rng);
+    trace << " " << at << " s" << (has_checkpoint(dir) ? " (resumed)" : " (fresh)");
+    resumed_from_state += has_checkpoint(dir) ? 1 : 0;
+    Process p(args("out.h5", has_checkpoint(dir)), dir.path());
+    const auto t0 = Clock::now();
+    while (!p.ended() && std::chrono::duration<double>(Clock::now() - t0).count() < at)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (!p.ended()) {
+      p.send(SIGKILL);
+      ++kills;
+    }
+    const ProcessResult r = p.wait(300);
+    if (r.signal == SIGKILL) continue;
+    ASSERT_EQ(r.exit_code, 0) << trace.str() << "\n" << r.describe();
+    done = true;  // it finished before the kill
+  }
+  SCOPED_TRACE(trace.str());
+  if (!done) {
+    const bool resume = has_checkpoint(dir);
+    resumed_from_state += resume ? 1 : 0;
+    const ProcessResult r = run_gdsmc(args("out.h5", resume), dir.path(), 300);
+    ASSERT_EQ(r.exit_code, 0) << r.describe();
+  }
+  EXPECT_GE(kills, 1) << "no kill landed while the run was under way";
+  EXPECT_GE(resumed_from_state, 1) << "no run resumed from a saved state";
+  EXPECT_FALSE(fs::exists(dir / "out.h5.checkpoint"));
+
+  const auto expected = h5::contents(dir / "out_ref.h5"), got = h5::contents(dir / "out.h5");
+  EXPECT_GE(expected.size(), min_entries);
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [key, bytes] : expected) {
+    auto it = got.find(key);
+    ASSERT_NE(it, got.end()) << key << " missing after the kills";
+    EXPECT_TRUE(it->second == bytes) << key << " differs after kill and resume";
+  }
+}
+
+const std::string kHomogeneous =
+    "run:\n  seed: 5\n  particles: 100000\n  subpopulation: 20000\n"
+    "  time_step: {value: 0.01, unit: tau0, follow_temperature: true}\n"
+    "  stop: {collisions_per_particle: 20}\n  record_every: 15\n  sample_every: 5\n"
+    "  average_after: {collisions_per_particle: 3}\n"
+    "  checkpoint: {every: {collisions_per_particle: 0.4}}\n"
+    "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: maxwellian\n"
+    "collision: {plugin: inelastic_hard_spheres, alpha: 0.7}\n"
+    "diagnostics: [temperature, cumulants, hcs_theory, cooling_rate, velocity_marginals]\n"
+    "output: {file: out.h5}\n";
+
+TEST(Checkpoint, AHomogeneousRunKilledThreeTimesAndResumedIsTheSameBits) {
+  expect_kill_and_resume_gives_the_same_bits(kHomogeneous, {"--threads", "2"}, 40);
+}
+
+TEST(Checkpoint, ASlabBetweenWallsKilledThreeTimesAndResumedIsTheSameBits) {
+  expect_kill_and_resume_gives_the_same_bits(
+      "run:\n  seed: 11\n  particles: 30000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 16}\n"
+      "  record_every: 20\n  average_after: {time: 4}\n  checkpoint: {every: {collisions_per_particle: 0.3}}\n"
+      "system:\n  mean_free_path: 186\n  temperature: 1.0\n  domain: slab\n"
+      "  box: {y: {value: 1860, unit: sigma}}\n  layers: 40\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 5.0e-4, unit: reduced}}\n"
+      "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
+      "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n"
+      "diagnostics: [slab_averages, energy_balance, profiles, wall_fluxes]\n"
+      "output: {file: out.h5, particles: true}\n",
+      {"--threads", "2"}, 20);
+}
+
+TEST(Checkpoint, ALeesEdwardsSweepWithRealizationsKilledThreeTimesAndResumedIsTheSameBits) {
+  expect_kill_and_resume_gives_the_same_bits(
+      "run:\n  seed: 2001\n  particles: 10000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 5}\n  record_every: 40\n  realizations: 3\n"
+      "  checkpoint: {every: 0.3 s}\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"
+      "diagnostics: [slab_averages, shear_rheology]\n"
+      "sweep:\n  collision.alpha: [0.7, 0.9]\noutput: {file: out.h5, realizations: true}\n",
+      {"--threads", "2"}, 20);
+}
+
+// Replaces `from` by `to` (same length) inside a binary file.
+void patch(const fs::path& file, const std::string& from, const std::string& to) {
+  ASSERT_EQ(from.size(), to.size());
+  std::string bytes = read_text(file);
+  const auto at = bytes.find(from);
+  ASSERT_NE(at, std::string::npos) << "'" << from << "' not in " << file;
+  bytes.replace(at, from.size(), to);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+TEST(Checkpoint, SigintSavesTheStateAndAForeignCheckpointIsRefusedNamingWhatDiffers) {
+  TempDir dir;
+  const std::string yaml = replace_once(kHomogeneous, "collisions_per_particle: 20", "collisions_per_particle: 60");
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const std::vector<std::string> run{"run", pipeline.string(), "-o", "out.h5", "--threads", "2"};
+  {
+    Process p(run, dir.path());
+    ASSERT_TRUE(p.wait_until_catches(SIGINT));
+    const auto t0 = Clock::now();  // until the first runs have saved a state
+    while (!has_checkpoint(dir) && std::chrono::duration<double>(Clock::now() - t0).count() < 60)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    p.send(SIGINT);
+    const ProcessResult r = p.wait(120);
+    ASSERT_EQ(r.exit_code, 130) << r.describe();
+    EXPECT_TRUE(contains(r.err, "saved its state in out.h5.checkpoint")) << r.err;
+    EXPECT_TRUE(contains(r.err, "--resume")) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out.h5"));
+  }
+  ASSERT_TRUE(fs::exists(dir / "out.h5.checkpoint" / "run-0"));
+
+  // Not over it: a fresh run refuses; another pipeline text refuses, naming the line.
+  ProcessResult r = run_gdsmc(run, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "holds the checkpoint of an earlier run")) << r.err;
+  r = run_gdsmc({"run", pipeline.string(), "-o", "out.h5", "--resume", "--set", "collision.alpha=0.8"}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "belongs to another run")) << r.err;
+  EXPECT_TRUE(contains(r.err, "alpha: 0.8")) << r.err;
+  // Another gdsmc version, another plugin version: both named. The study file is copied aside and
+  // restored after.
+  const fs::path study = dir / "out.h5.checkpoint" / "study";
+  const std::string original = read_text(study);
+  patch(study, gdsmc::version_string, std::string(gdsmc::version_string).replace(0, 1, "9"));
+  patch(study, "diagnostics[0]: temperature 1.", "diagnostics[0]: temperature 9.");
+  r = run_gdsmc({"run", pipeline.string(), "-o", "out.h5", "--resume"}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "written by gdsmc 9")) << r.err;
+  EXPECT_TRUE(contains(r.err, "the checkpoint has diagnostics[0]: temperature 9.")) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.h5"));
+  std::ofstream(study, std::ios::binary | std::ios::trunc) << original;
+  // A damaged run file is refused with its name (and nothing is written).
+  const fs::path run0 = dir / "out.h5.checkpoint" / "run-0";
+  const std::string state = read_text(run0);
+  std::ofstream(run0, std::ios::binary | std::ios::trunc) << state.substr(0, state.size() / 2);
+  r = run_gdsmc({"run", pipeline.string(), "-o", "out.h5", "--resume", "--quiet"}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "run-0")) << r.err;
+  EXPECT_TRUE(contains(r.err, "truncated")) << r.err;
+  std::ofstream(run0, std::ios::binary | std::ios::trunc) << state;
+
+  // validate --resume says what the checkpoint holds; the resumed run gives the uninterrupted bits.
+  r = run_gdsmc({"validate", pipeline.string(), "-o", "out.h5", "--resume"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_TRUE(contains(r.out, "a checkpoint of this pipeline")) << r.out;
+  r = run_gdsmc({"run", pipeline.string(), "-o", "out.h5", "--resume", "--quiet", "--threads", "1"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_FALSE(fs::exists(dir / "out.h5.checkpoint"));
+  r = run_gdsmc({"run", pipeline.string(), "-o", "ref.h5", "--quiet"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const auto expected = h5::contents(dir / "ref.h5"), got = h5::contents(dir / "out.h5");
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [key, bytes] : expected) EXPECT_TRUE(got.at(key) == bytes) << key;
+}
+
+TEST(Checkpoint, BadCheckpointSettingsAreRefusedWithTheValidForms) {
+  TempDir dir;
+  for (const auto& [value, words] : std::vector<std::pair<std::string, std::string>>{
+           {"{every: 10 minutes}", "not a wall time"},
+           {"{every: -5 s}", "not a wall time"},
+           {"{every: {collisions_per_particle: 0}}", "must be > 0"},
+           {"{often: yes}", "expected {every: WALL_TIME}"}}) {
+    const fs::path pipeline =
+        dir.write("p.yaml", replace_once(kHomogeneous, "checkpoint: {every: {collisions_per_particle: 0.4}}", "checkpoint: " + value));
+    const ProcessResult r = run_gdsmc({"validate", pipeline.string()}, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << value << "\n" << r.describe();
+    EXPECT_TRUE(contains(r.err, "run.checkpoint")) << r.err;
+    EXPECT_TRUE(contains(r.err, words)) << value << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, "p.yaml:")) << r.err;
+  }
+  // --resume without a checkpoint.
+  const fs::path pipeline = dir.write("q.yaml", kHomogeneous);
+  const ProcessResult r = run_gdsmc({"run", pipeline.string(), "--resume"}, dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "there is no checkpoint at out.h5.checkpoint")) << r.err;
+}
+
+}  // namespace
