@@ -190,7 +190,7 @@ struct BenchIHS {
 // A homogeneous cell and the host side of its collision stage (as Engine::collide).
 
 struct Cell {
-  std::vector<std::uint64_t> id;     // particle identities 0..N-1 (ParticleSpan::id)
+  std::vector<std::uint32_t> id;     // particle identities 0..N-1 (ParticleSpan::id)
   std::vector<std::uint32_t> cell;   // all in cell 0 (ParticleSpan::cell)
   std::vector<double> vx, vy, vz;    // never reallocated: a rule bound to span() stays valid
   std::uint32_t n;

@@ -14,10 +14,9 @@ import sys
 
 import h5py
 import numpy as np
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import report_figures
+from report_figures import plt
 
 NAN = float("nan")
 RUNS = [  # name, what, default e_n (when not a sweep axis)
@@ -297,11 +296,7 @@ def crossing_mc(k, v, e, up=True):
 
 
 def savefig(fig, docdir, name):
-    d = os.path.join(docdir, "poiseuille")
-    os.makedirs(d, exist_ok=True)
-    fig.savefig(os.path.join(d, name + ".png"), dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    return f"![{name}](poiseuille/{name}.png)"
+    return report_figures.savefig(fig, docdir, "poiseuille", name)
 
 
 def profile_rows(c, ys):

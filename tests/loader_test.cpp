@@ -194,7 +194,7 @@ TEST(Loader, ObjectKeepsItsLibraryAlive) {
   // And a collision: v1 = (1,0,0), v2 = 0, s = x: v1' = (1 - 0.75, 0, 0), v2' = (0.75, 0, 0) for
   // alpha = 0.5 (000 Eq. 2.8); energy change -(1 - alpha^2)/4 (g.s)^2 = -0.1875. All exact in binary.
   std::vector<double> vx = {1.0, 0.0}, vy = {0.0, 0.0}, vz = {0.0, 0.0}, x(2), y(2), z(2);
-  const std::vector<std::uint64_t> ids = {0, 1};
+  const std::vector<std::uint32_t> ids = {0, 1};
   const std::vector<std::uint32_t> cells = {0, 0};
   gdsmc::ParticleSpan span;
   span.count = 2;

@@ -36,19 +36,19 @@ ShellResult under_limit(const fs::path& cwd, const std::string& kib, const std::
 // ---------------------------------------------------------------------------------------------
 // Memory
 
-// 4e9 particles need 119 GiB: refused at run.particles with the estimate, what drives it, the
+// 4e9 particles need 104 GiB: refused at run.particles with the estimate, what drives it, the
 // memory available and how many particles would fit, by validate and run alike (no std::bad_alloc,
 // nothing written), under an address-space limit and without one.
 TEST(MemoryCheck, AStudyThatCannotFitIsRefusedWithTheEstimateAndTheMemoryAvailable) {
   TempDir dir;
   const std::string yaml = replace_once(kSmallHcsPipeline, "particles: 400", "particles: 4000000000");
   const fs::path file = dir.write("pipeline.yaml", yaml);
-  const std::string at = location(file, yaml, "4000000000") + ": run.particles: this run needs about 119 GiB of memory";
+  const std::string at = location(file, yaml, "4000000000") + ": run.particles: this run needs about 104 GiB of memory";
   for (const char* command : {"validate", "run"}) {
     const ShellResult limited = under_limit(dir.path(), "1000000", {command, file.string()});
     EXPECT_EQ(limited.status, 1) << command << "\n" << limited.out;
     EXPECT_TRUE(contains(limited.out, at)) << command << "\n" << limited.out;
-    EXPECT_TRUE(contains(limited.out, "4000000000 particles x 32 bytes = 119 GiB")) << limited.out;
+    EXPECT_TRUE(contains(limited.out, "4000000000 particles x 28 bytes = 104 GiB")) << limited.out;
     EXPECT_TRUE(contains(limited.out, "is available (the address-space limit (ulimit -v) 977 MiB less ")) << limited.out;
     EXPECT_TRUE(contains(limited.out, "particles fit")) << limited.out;
     EXPECT_FALSE(contains(limited.out, "bad_alloc")) << limited.out;
@@ -67,12 +67,12 @@ TEST(MemoryCheck, TheVerdictOfValidateGivesTheEstimate) {
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   const host::Pipeline p = load_yaml(dir, kSmallHcsPipeline);
   const auto estimate = host::study_memory({host::case_memory(p, host::setup_layout(p))});
-  EXPECT_GT(estimate.bytes, 400.0 * 32);
+  EXPECT_GT(estimate.bytes, 400.0 * 28);
   EXPECT_TRUE(contains(r.out, "; about " + host::bytes_text(estimate.bytes) + " of memory)")) << r.out;
 }
 
-// The arithmetic of the estimate: 32 bytes per particle in a homogeneous system (velocities and
-// identity; +8 per attribute component), 72 in a slab (+ positions, layer index, layer lists,
+// The arithmetic of the estimate: 28 bytes per particle in a homogeneous system (velocities and
+// 32-bit identity; +8 per attribute component), 64 in a slab (+ positions, layer index, layer lists,
 // reordering scratch), each diagnostic's records over the steps to the stop, the realizations' copies, and what
 // each sweep case keeps until the file is written.
 TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKeptCases) {
@@ -83,26 +83,26 @@ TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKept
   EXPECT_GE(layout.values_per_record[0], 3u);  // time, s and at least the temperature
   EXPECT_EQ(layout.attribute_values, 0u);
   const host::CaseMemory m = host::case_memory(p, layout);
-  EXPECT_EQ(m.bytes_per_particle, 32);
+  EXPECT_EQ(m.bytes_per_particle, 28);
   EXPECT_EQ(m.steps, 50);  // s = 1 at dt = 0.02 tau0
   EXPECT_EQ(m.records_bytes, 52.0 * static_cast<double>(layout.values_per_record[0]) * 8);  // + initial and final records
-  EXPECT_EQ(m.peak, 400 * 32 + 3 * m.records_bytes);
+  EXPECT_EQ(m.peak, 400 * 28 + 3 * m.records_bytes);
   EXPECT_EQ(m.kept, m.records_bytes);
 
   host::RunLayout declared{3, {10}};
   const host::CaseMemory a = host::case_memory(p, declared);
-  EXPECT_EQ(a.bytes_per_particle, 32 + 3 * 8);
+  EXPECT_EQ(a.bytes_per_particle, 28 + 3 * 8);
   EXPECT_EQ(a.records_bytes, 52.0 * 10 * 8);
 
   const host::Pipeline k = load_yaml(dir, kSmallHcsPipeline, {"run.realizations=3", "output.realizations=true", "run.record_every=5"});
   const host::CaseMemory r = host::case_memory(k, declared);
   EXPECT_EQ(r.records_bytes, (50 / 5 + 2) * 10.0 * 8);
-  EXPECT_EQ(r.peak, 400 * 56 + 5 * r.records_bytes);  // three realizations, the running one, the first output
+  EXPECT_EQ(r.peak, 400 * 52 + 5 * r.records_bytes);  // three realizations, the running one, the first output
   EXPECT_EQ(r.kept, (2 + 3) * r.records_bytes);       // mean and error, and each realization's own
 
   const host::Pipeline slab = load_yaml(dir, kSmallHcsPipeline + "boundaries: {y: periodic}\n",
                                         {"system={density: 1.0e-3, domain: slab, box: {y: 2}, layers: 4}"});
-  EXPECT_EQ(host::case_memory(slab, host::setup_layout(slab)).bytes_per_particle, 72);
+  EXPECT_EQ(host::case_memory(slab, host::setup_layout(slab)).bytes_per_particle, 64);
 
   // Cases run one after another; each keeps its records until the file is written.
   host::CaseMemory small{}, big{};
@@ -133,7 +133,7 @@ TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
   rusage usage{};
   ASSERT_EQ(::wait4(pid, &status, 0, &usage), pid);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_text(out);
-  EXPECT_TRUE(contains(read_text(out), "about 305 MiB of memory")) << read_text(out);
+  EXPECT_TRUE(contains(read_text(out), "about 267 MiB of memory")) << read_text(out);
   EXPECT_LT(usage.ru_maxrss, 200 * 1024) << "KiB resident at the peak";
 }
 
@@ -147,7 +147,7 @@ TEST(MemoryCheck, RunningOutOfMemoryAnywaySaysSoWithTheEstimate) {
   EXPECT_EQ(run.exit_code, 1) << run.describe();
   EXPECT_TRUE(contains(run.err, "memory ran out")) << run.describe();
   EXPECT_TRUE(contains(run.err, "the estimate was about")) << run.describe();
-  EXPECT_TRUE(contains(run.err, "400 particles x 32 bytes")) << run.describe();
+  EXPECT_TRUE(contains(run.err, "400 particles x 28 bytes")) << run.describe();
   EXPECT_FALSE(contains(run.err, "bad_alloc")) << run.describe();
   EXPECT_EQ(dir.files(), std::vector<std::string>{"pipeline.yaml"});
 

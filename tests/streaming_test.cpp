@@ -30,7 +30,7 @@ struct Sticky final : Boundary {  // a broken boundary: returns the particle mov
 
 struct Slab {
   std::vector<double> x, y, z, vx, vy, vz;
-  std::vector<std::uint64_t> id;
+  std::vector<std::uint32_t> id;
   std::vector<std::uint32_t> cell;
   ParticleSpan span;
   double box[3] = {2.0, 1.0, 3.0};

@@ -74,7 +74,7 @@ std::string usf_yaml(const std::string& model, double alpha, double a_tau0, int 
 // ids 0..n-1, all in cell 0, and the forcing's streams as the host would hand them over
 // (StreamFactory::standalone_streams for instance 0 at step 0).
 struct ForcingBench {
-  std::vector<std::uint64_t> id;
+  std::vector<std::uint32_t> id;
   std::vector<std::uint32_t> cell;
   std::vector<double> x, y, z, vx, vy, vz;
   ParticleSpan span;

@@ -60,7 +60,7 @@ where its state was saved and gives the output of the uninterrupted run, to the 
 and run.checkpoint may change, nothing else: a checkpoint of another pipeline text, another gdsmc
 or plugin version is refused with what differs. The directory is removed once the output is
 written; a fresh run refuses to start over an existing one. A state holds every particle (about
-N x 32 bytes homogeneous, N x 72 slab, per run under way).
+N x 28 bytes homogeneous, N x 60 slab, per run under way).
 
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.

@@ -17,7 +17,7 @@ Snapshot Particles::save() {
 
 void Particles::restore(const Snapshot& s, const std::vector<std::uint32_t>* perm) {
   const ParticleSpan p = span();
-  std::uint64_t* id = store.ids();
+  std::uint32_t* id = store.ids();
   for (std::size_t k = 0; k < p.count; ++k) {
     const std::size_t i = perm ? (*perm)[k] : k;
     id[k] = s.id[i];

@@ -24,7 +24,7 @@
 namespace gdsmc::host::conformance {
 
 struct Snapshot {
-  std::vector<std::uint64_t> id;
+  std::vector<std::uint32_t> id;
   std::vector<double> x, y, z, vx, vy, vz;
   std::vector<std::vector<double>> attributes;
 };
@@ -40,7 +40,7 @@ struct Particles {
   }
   ParticleSpan span() { return store.span(); }
   std::uint32_t* cells() { return store.cells(); }
-  std::vector<std::uint64_t> ids() { return {store.ids(), store.ids() + store.size()}; }
+  std::vector<std::uint32_t> ids() { return {store.ids(), store.ids() + store.size()}; }
   Snapshot save();
   // Restore a snapshot; with `perm`, particle k of the span is particle perm[k] of the snapshot
   // (identity included, so per-particle streams follow the particle).

@@ -58,11 +58,11 @@ RunLayout setup_layout(const Pipeline& p) {
 CaseMemory case_memory(const Pipeline& p, const RunLayout& layout) {
   CaseMemory m;
   m.particles = p.particles;
-  // ParticleStore: vx, vy, vz and the identity (8), and the attributes: 32 bytes in a homogeneous
+  // ParticleStore: vx, vy, vz and the identity (4), and the attributes: 28 bytes in a homogeneous
   // system. A slab adds x, y, z, the layer index (4), each layer's member list (4) and the
-  // reordering's scratch array (8): 72 bytes.
-  m.bytes_per_particle = 3 * 8 + 8 + 8.0 * static_cast<double>(layout.attribute_values);
-  if (p.geometry == Geometry::slab) m.bytes_per_particle += 3 * 8 + 4 + 4 + 8;
+  // reordering's scratch array (4): 64 bytes.
+  m.bytes_per_particle = 3 * 8 + 4 + 8.0 * static_cast<double>(layout.attribute_values);
+  if (p.geometry == Geometry::slab) m.bytes_per_particle += 3 * 8 + 4 + 4 + 4;
   // Records are kept for the whole run. s grows by about dt/tau0 per step (hard spheres collide
   // 2/sqrt(pi) times per tau0 at T0), which bounds the steps of a stop at s as the stop time does.
   double stop = std::numeric_limits<double>::infinity();

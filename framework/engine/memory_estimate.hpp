@@ -47,7 +47,7 @@ struct MemoryEstimate {
   std::size_t peak_case = 0;  // the case during which the peak is reached
   double kept_before = 0;     // what the cases before it keep at that time
   CaseMemory at_peak;
-  // "4000000000 particles x 32 bytes = 119 GiB; diagnostics' records about 12 MiB (about 5000
+  // "4000000000 particles x 28 bytes = 104 GiB; diagnostics' records about 12 MiB (about 5000
   // steps); 3 MiB kept from earlier cases"
   std::string drivers() const;
 };

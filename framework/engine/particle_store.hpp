@@ -1,6 +1,8 @@
 // The host's particle storage: structure of arrays, plus the extra attributes plugins declare.
 #pragma once
 #include <algorithm>
+#include <bit>
+#include <cstring>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -19,7 +21,7 @@ class ParticleStore {
  public:
   // Allocate n particles and the declared attributes (names must be unique). Positions and the
   // layer index only where particles move (a slab); a homogeneous system keeps velocities and
-  // identities alone (32 bytes per particle) and its span shows x, y, z and cell as nullptr.
+  // identities alone (28 bytes per particle) and its span shows x, y, z and cell as nullptr.
   void allocate(std::size_t n, const std::vector<AttributeSpec>& attributes, bool positions = true) {
     n_ = n;
     for (auto* v : {&vx_, &vy_, &vz_}) v->assign(n, 0.0);
@@ -28,7 +30,7 @@ class ParticleStore {
       if (positions) v->assign(n, 0.0);
     }
     id_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) id_[i] = i;  // identities 0..N-1 in the initial order
+    for (std::size_t i = 0; i < n; ++i) id_[i] = static_cast<std::uint32_t>(i);  // identities 0..N-1 in the initial order
     cell_.clear();
     if (positions) cell_.assign(n, 0u);
     specs_ = attributes;
@@ -65,35 +67,53 @@ class ParticleStore {
   }
   std::size_t size() const { return n_; }
   // Put the particles in the order `order` (a permutation: new position k holds old order[k]),
-  // every array and attribute alike, array by array through one scratch array of 8 bytes per
-  // particle (a gather in blocks, on the pool's threads: independent reads, so the memory system
-  // overlaps them) and back into the same storage, so pointers plugins took in bind() stay valid. Identities travel with their
-  // particles. Following the permutation's cycles in place instead (no scratch) costs 158 ms per
-  // reordering of 1e6 slab particles after 15 steps of flight, against a few ms here: each step of
-  // a cycle waits for the previous one.
+  // every array and attribute alike, in place, so pointers plugins took in bind() stay valid.
+  // Identities travel with their particles. One scratch array of 4 bytes per particle (a slab
+  // only, allocated at the first reordering): a 4-byte array is gathered into it and copied back;
+  // an 8-byte array in three passes -- (1) its low words gathered into the scratch, (2) its high
+  // words gathered into the low-word slots, which (1) freed (this pass reads only high words and
+  // writes only low ones), (3) each slot rebuilt from the two. Every pass is a gather in blocks on
+  // the pool's threads (independent reads, which the memory system overlaps). Following the
+  // permutation's cycles in place instead (no scratch) costs 158 ms per reordering of 1e6 slab
+  // particles after 15 steps of flight, against a few ms here: each step of a cycle waits for the
+  // previous one.
   void permute(const std::uint32_t* order, WorkPool* pool = nullptr) {
-    scratch_.resize(n_ * sizeof(double));
+    scratch_.resize(n_);
     constexpr std::size_t kBlock = 1u << 16;
     const std::size_t blocks = (n_ + kBlock - 1) / kBlock;
-    auto apply = [&](auto* data) {
-      using T = std::remove_pointer_t<decltype(data)>;
-      static_assert(sizeof(T) <= sizeof(double));
-      T* scratch = reinterpret_cast<T*>(scratch_.data());  // bytes from operator new: aligned, and
-                                                            // objects of T are created in them (C++20)
+    std::uint32_t* scratch = scratch_.data();
+    auto gather = [&](auto&& pass) {
       for_pieces(pool, blocks, [&](std::size_t b) {
-        for (std::size_t k = b * kBlock, e = std::min(n_, k + kBlock); k < e; ++k) scratch[k] = data[order[k]];
+        for (std::size_t k = b * kBlock, e = std::min(n_, k + kBlock); k < e; ++k) pass(k);
       });
-      for_pieces(pool, blocks, [&](std::size_t b) {
-        const std::size_t k = b * kBlock, e = std::min(n_, k + kBlock);
-        std::copy(scratch + k, scratch + e, data + k);
+    };
+    auto apply32 = [&](std::uint32_t* data) {
+      gather([&](std::size_t k) { scratch[k] = data[order[k]]; });
+      gather([&](std::size_t k) { data[k] = scratch[k]; });
+    };
+    // The 4-byte halves of a double, little-endian: low word at byte 0, high word at byte 4.
+    static_assert(sizeof(double) == 8 && std::endian::native == std::endian::little);
+    auto apply64 = [&](double* values) {
+      auto* bytes = reinterpret_cast<unsigned char*>(values);
+      auto word = [&](std::size_t i, std::size_t half) {
+        std::uint32_t w;
+        std::memcpy(&w, bytes + 8 * i + 4 * half, 4);
+        return w;
+      };
+      auto set_word = [&](std::size_t i, std::size_t half, std::uint32_t w) { std::memcpy(bytes + 8 * i + 4 * half, &w, 4); };
+      gather([&](std::size_t k) { scratch[k] = word(order[k], 0); });
+      gather([&](std::size_t k) { set_word(k, 0, word(order[k], 1)); });
+      gather([&](std::size_t k) {
+        set_word(k, 1, word(k, 0));
+        set_word(k, 0, scratch[k]);
       });
     };
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
-      if (!v->empty()) apply(v->data());
-    apply(id_.data());
-    if (!cell_.empty()) apply(cell_.data());
+      if (!v->empty()) apply64(v->data());
+    apply32(id_.data());
+    if (!cell_.empty()) apply32(cell_.data());
     for (std::size_t a = 0; a < specs_.size(); ++a)
-      for (int c = 0; c < specs_[a].components; ++c) apply(data_[a].data() + c * n_);
+      for (int c = 0; c < specs_[a].components; ++c) apply64(data_[a].data() + c * n_);
   }
   // Exchange particles i and j in every array.
   void swap(std::size_t i, std::size_t j) {
@@ -131,18 +151,18 @@ class ParticleStore {
   std::uint32_t* cells() { return cell_.data(); }
   // The identities, for the host only (the conformance harness restores snapshots in a permuted
   // order, identities travelling with their particles).
-  std::uint64_t* ids() { return id_.data(); }
+  std::uint32_t* ids() { return id_.data(); }
   const std::vector<AttributeSpec>& attribute_specs() const { return specs_; }
 
  private:
   std::size_t n_ = 0;
-  std::vector<std::uint64_t> id_;
+  std::vector<std::uint32_t> id_;
   std::vector<std::uint32_t> cell_;
   std::vector<double> x_, y_, z_, vx_, vy_, vz_;
   std::vector<AttributeSpec> specs_;
   std::vector<std::vector<double>> data_;
   std::vector<double*> pointers_;
-  std::vector<std::byte> scratch_;  // permute(): 8 bytes per particle, allocated at the first reordering (a slab only)
+  std::vector<std::uint32_t> scratch_;  // permute(): 4 bytes per particle, allocated at the first reordering (a slab only)
 };
 
 }  // namespace gdsmc::host

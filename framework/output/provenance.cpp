@@ -15,6 +15,8 @@ std::vector<PluginProvenance> plugin_provenance(const Pipeline& p) {
   prov("initial_state", p.initial_state);
   prov("collision", p.collision);
   for (const auto& u : p.forcings) prov(u.path, u);
+  for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s)  // boundaries: {y: ...} gives both planes one path
+    prov(s == 0 ? "boundaries.y_min" : "boundaries.y_max", p.boundaries[s]);
   for (const auto& u : p.diagnostics) prov(u.path, u);
   return out;
 }

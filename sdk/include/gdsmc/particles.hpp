@@ -23,9 +23,9 @@ struct AttributeSpec {
 
 struct ParticleSpan {
   std::size_t count = 0;
-  // Each particle's identity: fixed for the whole run whatever the storage order (key of its
-  // random streams, Streams::for_particle).
-  const std::uint64_t* id = nullptr;
+  // Each particle's identity, 0 .. N-1 (N < 2^32): fixed for the whole run whatever the storage
+  // order (key of its random streams, Streams::for_particle). 32 bits since SDK 5.0.
+  const std::uint32_t* id = nullptr;
   // The collision cell (slab: the layer along y, 000 Eq. 4.3) each particle sat in at the last
   // sort; all 0 in a homogeneous system.
   const std::uint32_t* cell = nullptr;

@@ -1,0 +1,55 @@
+"""Figures of the validation reports (docs/validation/*.md): matplotlib on the Agg backend, the one
+savefig that writes DOCDIR/SUBDIR/NAME.png and returns the markdown line embedding it (a path
+relative to DOCDIR, where the reports live), and the shared looks of error bands and of the numbers
+a paper states. Used by poiseuille_report.py, usf_inhomogeneous_report.py and enskog_report.py.
+Needs Debian's python3-matplotlib and python3-numpy."""
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402,F401  (re-exported: `from report_figures import plt`)
+import numpy as np  # noqa: E402
+
+PAPER_COLOUR = "0.35"  # the paper's stated numbers: grey dotted lines, black open markers
+
+
+def savefig(fig, docdir, subdir, name, dpi=110):
+    """Write fig to DOCDIR/SUBDIR/NAME.png, close it, return '![NAME](SUBDIR/NAME.png)'."""
+    d = os.path.join(docdir, subdir)
+    os.makedirs(d, exist_ok=True)
+    fig.savefig(os.path.join(d, name + ".png"), dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+    return f"![{name}]({subdir}/{name}.png)"
+
+
+def band(ax, x, y, e=None, alpha=0.25, **kw):
+    """A line y(x) with a shaded band of +- e (a standard error; none where e is None or not finite)."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    (line,) = ax.plot(x, y, **kw)
+    if e is not None:
+        e = np.asarray(e, dtype=float)
+        ok = np.isfinite(e) & np.isfinite(y)
+        if ok.any():
+            ax.fill_between(x, np.where(ok, y - e, np.nan), np.where(ok, y + e, np.nan),
+                            color=line.get_color(), alpha=alpha, linewidth=0)
+    return line
+
+
+def paper_hline(ax, y, label=None, **kw):
+    """A value the paper states, as a grey dotted horizontal line."""
+    kw = {"color": PAPER_COLOUR, "linestyle": ":", "linewidth": 1.2, **kw}
+    return ax.axhline(y, label=label, **kw)
+
+
+def paper_vline(ax, x, label=None, **kw):
+    """A position the paper states (a time, a density), as a grey dash-dot vertical line."""
+    kw = {"color": PAPER_COLOUR, "linestyle": "-.", "linewidth": 1.0, **kw}
+    return ax.axvline(x, label=label, **kw)
+
+
+def paper_points(ax, x, y, label=None, **kw):
+    """Points the paper states, as black open markers drawn above the curves."""
+    kw = {"marker": "o", "markersize": 7, "markerfacecolor": "none", "markeredgecolor": "k",
+          "markeredgewidth": 1.4, "linestyle": "none", "zorder": 5, **kw}
+    return ax.plot(x, y, label=label, **kw)[0]
