@@ -166,6 +166,9 @@ TEST(Checkpoint, SigintSavesTheStateAndAForeignCheckpointIsRefusedNamingWhatDiff
   ProcessResult r = run_gdsmc(run, dir.path());
   EXPECT_EQ(r.exit_code, 1) << r.describe();
   EXPECT_TRUE(contains(r.err, "holds the checkpoint of an earlier run")) << r.err;
+  r = run_gdsmc({"validate", pipeline.string(), "-o", "out.h5"}, dir.path());  // validate says so too
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "so `run` would refuse to start over it")) << r.err;
   r = run_gdsmc({"run", pipeline.string(), "-o", "out.h5", "--resume", "--set", "collision.alpha=0.8"}, dir.path());
   EXPECT_EQ(r.exit_code, 1) << r.describe();
   EXPECT_TRUE(contains(r.err, "belongs to another run")) << r.err;

@@ -213,6 +213,13 @@ int cmd_run(const Options& o, bool run_it) {
   // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
   std::optional<CheckpointStore> checkpoints;
   const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
+  std::error_code exists_error;
+  if (!run_it && !o.resume && p.checkpoint && fs::exists(checkpoint_dir / "study", exists_error)) {
+    print_errors({p.file.string() + ": " + checkpoint_dir.string() +
+                  " holds the checkpoint of an earlier run with this output, so `run` would refuse to start over "
+                  "it: continue it with --resume (`validate --resume` checks that it fits), or remove the directory"});
+    return 1;
+  }
   if (o.resume || (run_it && p.checkpoint)) {
     try {
       checkpoints.emplace(checkpoint_dir, cases, o.resume);
