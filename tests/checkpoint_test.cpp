@@ -198,7 +198,7 @@ TEST(Checkpoint, SigintSavesTheStateAndAForeignCheckpointIsRefusedNamingWhatDiff
   // validate --resume says what the checkpoint holds; the resumed run gives the uninterrupted bits.
   r = run_gdsmc({"validate", pipeline.string(), "-o", "out.h5", "--resume"}, dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.describe();
-  EXPECT_TRUE(contains(r.out, "a checkpoint of this pipeline")) << r.out;
+  EXPECT_TRUE(contains(r.out, "a checkpoint of this pipeline (1 run: 0 finished, 1 under way (at t = ")) << r.out;
   r = run_gdsmc({"run", pipeline.string(), "-o", "out.h5", "--resume", "--quiet", "--threads", "1"}, dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   EXPECT_FALSE(fs::exists(dir / "out.h5.checkpoint"));

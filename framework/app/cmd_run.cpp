@@ -230,8 +230,8 @@ int cmd_run(const Options& o, bool run_it) {
   }
   if (!run_it) {
     if (checkpoints)
-      std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->runs_saved()
-                << " runs saved)\n";
+      std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->describe(cases)
+                << ")\n";
     if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
     std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
               << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
@@ -278,13 +278,7 @@ int cmd_run(const Options& o, bool run_it) {
     return 130;
   };
   if (checkpoints && o.resume && !o.quiet)
-    std::cerr << "gdsmc: resuming from " << checkpoint_dir.string() << " (" << checkpoints->runs_saved() << " of "
-              << [&] {
-                   std::size_t runs = 0;
-                   for (const auto& c : cases) runs += c.pipeline.realizations;
-                   return runs;
-                 }()
-              << " runs saved; the others start afresh)\n";
+    std::cerr << "gdsmc: resuming from " << checkpoint_dir.string() << " (" << checkpoints->describe(cases) << ")\n";
   StudyResult result;
   try {
     result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -236,10 +237,47 @@ bool CheckpointStore::has_run(std::size_t index) const {
   return fs::exists(run_file(index), ec);
 }
 
-std::size_t CheckpointStore::runs_saved() const {
-  std::size_t n = 0;
-  for (std::size_t k = 0; k < runs_; ++k) n += has_run(k) ? 1 : 0;
-  return n;
+std::string CheckpointStore::describe(const std::vector<StudyCase>& cases) const {
+  std::size_t finished = 0, under_way = 0, run = 0;
+  double t_min = 0, t_max = 0;  // t/tau0 of the runs under way
+  for (const auto& c : cases) {
+    const double tau0 = c.pipeline.system_info(c.pipeline.particles, 0).time_unit0;
+    for (std::uint32_t r = 0; r < c.pipeline.realizations; ++r, ++run) {
+      if (!has_run(run)) continue;
+      try {  // the header and the engine's first entries (Engine::save)
+        FileStateReader in(run_file(run));
+        std::string text;
+        std::uint64_t u = 0;
+        std::uint32_t realization = 0;
+        std::uint8_t done = 0;
+        in.read("format", text);
+        in.read("gdsmc_version", text);
+        in.read("run", u);
+        in.read("realization", realization);
+        in.read("plugins", text);
+        in.read("engine.finished", done);
+        in.read("engine.step", u);
+        double clocks[4];
+        in.read("engine.clocks", clocks, 4);
+        if (done) {
+          ++finished;
+          continue;
+        }
+        const double t = clocks[0] / tau0;
+        t_min = under_way ? std::min(t_min, t) : t;
+        t_max = under_way ? std::max(t_max, t) : t;
+        ++under_way;
+      } catch (const std::exception&) {
+        // restore() says what is wrong with it
+      }
+    }
+  }
+  char range[96];
+  std::snprintf(range, sizeof range, t_min == t_max ? "at t = %.4g tau0" : "at t = %.4g to %.4g tau0", t_min, t_max);
+  std::string s = std::to_string(runs_) + (runs_ == 1 ? " run: " : " runs: ") + std::to_string(finished) + " finished, " +
+                  std::to_string(under_way) + " under way";
+  if (under_way) s += std::string(" (") + range + ")";
+  return s + ", " + std::to_string(runs_ - finished - under_way) + " not started";
 }
 
 void CheckpointStore::write(std::size_t index, const StudyCase& c, std::uint32_t realization, const Engine& engine) const {

@@ -36,8 +36,9 @@ class CheckpointStore {
   const std::filesystem::path& directory() const { return dir_; }
   // True when run `index` (study order: cases, realizations within a case) has a state to resume.
   bool has_run(std::size_t index) const;
-  // How many runs have a state, and how many of those are finished (for the resume message).
-  std::size_t runs_saved() const;
+  // What the checkpoint holds, for the resume message: "12 runs: 3 finished, 2 under way (at
+  // t = 1.2 to 3.4 tau0, s = ...), 7 not started".
+  std::string describe(const std::vector<StudyCase>& cases) const;
   // The engine of run `index`, restored from its file (CheckpointError on a foreign or damaged one).
   std::unique_ptr<Engine> restore(std::size_t index, const StudyCase& c, std::uint32_t realization,
                                   unsigned threads) const;
