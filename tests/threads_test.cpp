@@ -77,7 +77,8 @@ TEST(Threads, LeesEdwardsSlabWithRealizationsIsTheSameBitsForOneTwoAndThreeThrea
       10);
 }
 
-// Threads inside one run: a single run with --threads 2 or 3 spreads its collision groups, the
+// Threads inside one run (each system below is large enough for a run to use them: at least two
+// sub-populations, or a slab of at least four mover blocks): a single run with --threads 2 or 3 spreads its collision groups, the
 // mover's blocks of 4096 particles and the moment sums over the threads, and must give the bits
 // of one thread. A homogeneous run in 12 sub-populations (with the particles written, and a
 // shear forcing), a slab of 5 mover blocks between walls with a body force, a Lees-Edwards slab.
@@ -109,8 +110,8 @@ TEST(Threads, OneSlabRunBetweenWallsIsTheSameBitsForOneTwoAndThreeThreads) {
 
 TEST(Threads, OneLeesEdwardsRunIsTheSameBitsForOneTwoAndThreeThreads) {
   expect_same_bits_for_any_thread_count(
-      "run:\n  seed: 2002\n  particles: 9000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
-      "  stop: {collisions_per_particle: 2}\n  record_every: 40\n"
+      "run:\n  seed: 2002\n  particles: 18000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 1}\n  record_every: 40\n"
       "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
       "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
       "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"

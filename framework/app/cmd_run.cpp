@@ -42,7 +42,9 @@ Options:
   --threads N            threads; default run.threads, else every core; 1 is serial. Runs
                          (sweep cases x realizations) go at once, and threads left over work
                          inside each run (slab layers, sub-populations of a homogeneous system,
-                         blocks of particles). The output is the same bits for any N; memory
+                         blocks of particles) when it is large enough to share (two or more
+                         sub-populations; a slab of 16384 particles or more). The output is the
+                         same bits for any N; memory
                          grows with the runs at once (each holds its particles)
   -h, --help             this text
 

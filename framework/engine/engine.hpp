@@ -52,8 +52,9 @@ class Engine {
  public:
   // Builds every plugin object, allocates and fills the particles, lets diagnostics declare
   // their output. Throws std::runtime_error naming the plugin on any failure.
-  // `threads`: the threads this run's stages are spread over (1: the caller alone). The output
-  // does not depend on it.
+  // `threads`: the threads this run's stages are spread over (1: the caller alone; a system too
+  // small to share, below two sub-populations or four mover blocks, uses 1). The output does not
+  // depend on it.
   explicit Engine(const Pipeline& pipeline, std::uint32_t realization = 0, unsigned threads = 1);
 
   // What `gdsmc validate` checks: every plugin object constructs, declares its attributes,
