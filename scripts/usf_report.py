@@ -228,7 +228,7 @@ def refined_point(ax, R, q, sign=1.0, x=0.5, label=True):
     if v is None:
         return
     ax.errorbar([x + 0.012 if x == 0.5 else x], [sign * v[0]], yerr=finite([v[1]]), fmt="D", color="C2", markersize=7,
-                capsize=2, label="EHS, refined drag γ = ζ₀⟨V₁₂³⟩/2⟨V₁₂³⟩₀ (α = 0.5, aτ⁰ = 4)" if label else None)
+                capsize=2, label="EHS, refined drag γ = ζ₀⟨V₁₂³⟩/2⟨V₁₂³⟩₀ (α = 0.5, aτ⁰ = 4)" if label else None, zorder=4)
 
 
 def alpha_axes(ax, bottom):
@@ -253,7 +253,7 @@ def figure_14(P, R, docdir):
         alpha_axes(ax, k >= 2)
     paper_points(axes[0, 1], [0.9], [PAPER_PXY_09], label="paper, Sec. V.A: 0.33 (inhomogeneous, aτ⁰ = 4)")
     paper_points(axes[1, 0], [0.9], [PAPER_N1_09], label="paper, Sec. V.A: 0.24 (inhomogeneous, aτ⁰ = 4)")
-    axes[0, 0].legend(fontsize=8, loc="upper right")
+    axes[0, 0].legend(fontsize=8, loc="lower left")
     axes[0, 1].legend(fontsize=8, loc="upper right")
     axes[1, 0].legend(fontsize=8, loc="upper right")
     axes[1, 1].set_ylim(bottom=-0.005)
@@ -272,7 +272,7 @@ def figure_15(P, R, docdir):
     for k, (ax, (q, sign, b, ylabel)) in enumerate(zip(axes, panels)):
         dsmc_points(ax, P, q, sign, x_of="shear_rheology.a_star", labels=k == 0)
         row = P[("IHS", 4.0)]
-        xa, _ = bgk_line(row, "a_star")
+        _, xa = bgk_line(row, "a_star")
         if b is not None:
             ax.plot(xa, bgk_line(row, b, sign)[1], label="BGK model" if k == 0 else None, **BGK_STYLE)
         else:
@@ -360,7 +360,7 @@ def s_axis(ax, bottom, s_max):
         ax.set_xlabel("s (IHS), s′/β (EHS): collisions per particle")
 
 
-def evolution_figure(C, alphas, rows, bgk, title, name, docdir, paper=None):
+def evolution_figure(C, alphas, rows, bgk, title, name, docdir, paper=None, clip=None):
     """Columns alpha, rows quantities against s (IHS) and s'/beta (EHS), both shear rates; BGK dotted."""
     fig, axes = plt.subplots(len(rows), len(alphas), figsize=(7 * len(alphas), 3.3 * len(rows)), sharex=True,
                              squeeze=False)
@@ -387,6 +387,11 @@ def evolution_figure(C, alphas, rows, bgk, title, name, docdir, paper=None):
                             **BGK_TRANSIENT_STYLE)
             if logy:
                 ax.set_yscale("log")
+            if clip and clip.get((i, al)):
+                lo, hi = clip[(i, al)]
+                ax.set_ylim(lo, hi)
+                ax.text(0.02, 0.95, f"clipped at {hi:g}: single records of one realization reach higher",
+                        transform=ax.transAxes, fontsize=8, va="top")
             s_axis(ax, i == len(rows) - 1, s_max)
             if j == 0:
                 ax.set_ylabel(ylabel)
@@ -428,7 +433,7 @@ def figure_11_12(C, docdir):
             ("cumulants", "a3", -1.0, r"$-a_3$", False)]
     return evolution_figure(C, (0.9, 0.5), rows, None,
                             "Figs. 11 (α = 0.9) and 12 (α = 0.5): ⟨V₁₂³⟩ ratio and cumulants from Eq. 3.12 "
-                            "(one realization)", "fig11_12_cumulants", docdir)
+                            "(one realization)", "fig11_12_cumulants", docdir, clip={(2, 0.5): (-0.3, 2.0)})
 
 
 def figure_13(C, docdir):
@@ -448,8 +453,7 @@ def figure_13(C, docdir):
         ax.set_ylabel(f"R{chr(0x2080 + l)}")
         s_axis(ax, l >= 2, 170)
         ax.legend(fontsize=8, loc="best")
-    fig.suptitle("Fig. 13: speed ratios R₀..R₃ (Eq. 3.15), α = 0.5, aτ⁰ = 4, from Eq. 3.12 (one realization; "
-                 "grey band: steady average)", fontsize=10.5)
+    fig.suptitle("Fig. 13: speed ratios R₀..R₃ (Eq. 3.15), α = 0.5, aτ⁰ = 4, from Eq. 3.12 (one realization)", fontsize=10.5)
     fig.tight_layout()
     return savefig(fig, docdir, FIGDIR, "fig13_speed_ratios")
 
@@ -542,7 +546,8 @@ def figure_ratio_a2(balance, slopes, docdir):
     xx = np.array([0, xm])
     for m, ls in zip(MODELS, ("-", "--")):
         ax.plot(xx, slopes[m] * xx, color="k", linestyle=ls, linewidth=1.0, label=f"fit through 0, {m}: {slopes[m]:.3f} a₂")
-    ax.plot(xx, PAPER_SLOPE * xx, color=PAPER_COLOUR, linestyle=":", linewidth=1.6, label="paper: 0.27 a₂ (USF)")
+    ax.plot(xx, PAPER_SLOPE * xx, color=PAPER_COLOUR, linestyle=":", linewidth=2.4, zorder=4,
+            label="paper: 0.27 a₂ (USF)")
     ax.plot(xx, ISOTROPIC_SLOPE * xx, color=PAPER_COLOUR, linestyle="-.", linewidth=1.0,
             label="paper: (3/16) a₂ (isotropic states)")
     ax.set_xlim(0, xm)

@@ -209,6 +209,20 @@ TEST(Checkpoint, SigintSavesTheStateAndAForeignCheckpointIsRefusedNamingWhatDiff
   for (const auto& [key, bytes] : expected) EXPECT_TRUE(got.at(key) == bytes) << key;
 }
 
+// A checkpoint that cannot be written (here: a file size limit below the state's size, as a full
+// disk would) is a warning: the run goes on, its output is complete, no partial file is left.
+TEST(Checkpoint, ACheckpointThatCannotBeWrittenIsAWarningAndTheRunGoesOn) {
+  TempDir dir;
+  const fs::path pipeline = dir.write("pipeline.yaml", kHomogeneous);  // a state of 100000 x 28 bytes
+  const ShellResult r = shell("cd '" + dir.path().string() + "' && ulimit -f 1024 && exec '" + executable().string() +
+                              "' run pipeline.yaml --quiet --threads 1 --set run.stop.collisions_per_particle=2");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "warning: checkpoint out.h5.checkpoint/run-0 not written: cannot write")) << r.out;
+  EXPECT_TRUE(contains(r.out, "File too large; the run goes on")) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "out.h5"));
+  EXPECT_FALSE(fs::exists(dir / "out.h5.checkpoint"));
+}
+
 TEST(Checkpoint, BadCheckpointSettingsAreRefusedWithTheValidForms) {
   TempDir dir;
   for (const auto& [value, words] : std::vector<std::pair<std::string, std::string>>{

@@ -283,7 +283,8 @@ std::string CheckpointStore::describe(const std::vector<StudyCase>& cases) const
 void CheckpointStore::write(std::size_t index, const StudyCase& c, std::uint32_t realization, const Engine& engine) const {
   const fs::path file = run_file(index);
   fs::path partial = dir_ / ("." + file.filename().string() + ".partial-" + std::to_string(::getpid()));
-  {
+  std::error_code ec;
+  try {
     FileStateWriter w(partial);
     w.write("format", std::string(kFormat));
     w.write("gdsmc_version", gdsmc_version_);
@@ -292,8 +293,10 @@ void CheckpointStore::write(std::size_t index, const StudyCase& c, std::uint32_t
     w.write("plugins", plugin_lines(c.pipeline));
     engine.save(w);
     w.close();
+  } catch (const std::exception& e) {
+    fs::remove(partial, ec);  // a failed write (disk full) leaves no partial file taking space
+    throw std::runtime_error("checkpoint " + file.string() + " not written: " + e.what());
   }
-  std::error_code ec;
   fs::rename(partial, file, ec);
   if (ec) throw std::runtime_error("cannot write " + file.string() + ": " + ec.message());
   const int d = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY);
