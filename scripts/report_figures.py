@@ -1,7 +1,8 @@
 """Figures of the validation reports (docs/validation/*.md): matplotlib on the Agg backend, the one
 savefig that writes DOCDIR/SUBDIR/NAME.png and returns the markdown line embedding it (a path
 relative to DOCDIR, where the reports live), and the shared looks of error bands and of the numbers
-a paper states. Used by poiseuille_report.py, usf_inhomogeneous_report.py and enskog_report.py.
+a paper states. Used by poiseuille_report.py, usf_inhomogeneous_report.py, enskog_report.py and
+heat_flux_report.py.
 Needs Debian's python3-matplotlib and python3-numpy."""
 import os
 
