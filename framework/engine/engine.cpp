@@ -506,6 +506,16 @@ void Engine::finish_energy_balance() {
                      " (residual " + fmt("%.2g", (change - added) * per) + ")");
 }
 
+Engine::SavedProgress Engine::saved_progress(StateReader& in) {
+  SavedProgress p;
+  std::uint8_t finished = 0;
+  in.read("engine.finished", finished);
+  p.finished = finished != 0;
+  in.read("engine.step", p.step);
+  in.read("engine.clocks", p.clocks, 4);
+  return p;
+}
+
 // The order of entries is the checkpoint format: load() reads exactly what save() writes.
 void Engine::save(StateWriter& out) const {
   out.write("engine.finished", static_cast<std::uint8_t>(finished_));
@@ -565,16 +575,13 @@ void Engine::save(StateWriter& out) const {
 }
 
 void Engine::load(StateReader& in) {
-  std::uint8_t finished = 0;
-  in.read("engine.finished", finished);
-  finished_ = finished != 0;
-  in.read("engine.step", ctx_.step);
-  double clocks[4];
-  in.read("engine.clocks", clocks, 4);
-  ctx_.time = clocks[0];
-  ctx_.dt = clocks[1];
-  ctx_.collision_energy_change = clocks[2];
-  initial_energy_ = clocks[3];
+  const SavedProgress head = saved_progress(in);
+  finished_ = head.finished;
+  ctx_.step = head.step;
+  ctx_.time = head.clocks[0];
+  ctx_.dt = head.clocks[1];
+  ctx_.collision_energy_change = head.clocks[2];
+  initial_energy_ = head.clocks[3];
   std::uint64_t counts[4];
   in.read("engine.counts", counts, 4);
   ctx_.collisions = counts[0];

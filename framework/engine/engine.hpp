@@ -67,6 +67,15 @@ class Engine {
   // Everything the rest of the run depends on (particles, clocks, majorants, tallies, records,
   // every plugin's save_state): an engine restored from it continues with the same bits.
   void save(StateWriter& out) const;
+  // The first entries of a state that save() wrote: whether the run had finished, its step, and
+  // its clocks (time in reduced units, dt, collision energy change, initial energy). Reads only
+  // those entries (load() begins with it).
+  struct SavedProgress {
+    bool finished = false;
+    std::uint64_t step = 0;
+    double clocks[4] = {0, 0, 0, 0};
+  };
+  static SavedProgress saved_progress(StateReader& in);
 
   // Steps until the stop condition (or until *interrupt becomes true, then throws Interrupted: the
   // flag is also polled inside the collision stage, so a step of any size stops promptly).

@@ -123,6 +123,39 @@ std::string plugin_lines(const Pipeline& p) {
   return t;
 }
 
+// The head of a run file, before the engine's state: what the file is and whose run it holds.
+struct RunHeader {
+  std::string format, version, plugins;
+  std::uint64_t run = 0;
+  std::uint32_t realization = 0;
+};
+void write_run_header(StateWriter& w, const RunHeader& h) {
+  w.write("format", h.format);
+  w.write("gdsmc_version", h.version);
+  w.write("run", h.run);
+  w.write("realization", h.realization);
+  w.write("plugins", h.plugins);
+}
+RunHeader read_run_header(StateReader& r) {
+  RunHeader h;
+  r.read("format", h.format);
+  r.read("gdsmc_version", h.version);
+  r.read("run", h.run);
+  r.read("realization", h.realization);
+  r.read("plugins", h.plugins);
+  return h;
+}
+
+// The lines of a text, as a set.
+std::set<std::string> line_set(const std::string& text) {
+  std::set<std::string> lines;
+  for (std::size_t a = 0, e; a < text.size(); a = e + 1) {
+    e = text.find('\n', a);
+    lines.insert(text.substr(a, e - a));
+  }
+  return lines;
+}
+
 // The first line where two texts differ, for a message.
 std::string first_difference(const std::string& saved, const std::string& now) {
   std::size_t a = 0, b = 0;
@@ -202,15 +235,7 @@ CheckpointStore::CheckpointStore(fs::path dir, const std::vector<StudyCase>& cas
                             first_difference(pipeline, pipeline_));
     if (saved_plugins != plugins) {
       // Name each plugin line that is not the same.
-      std::set<std::string> before, after;
-      for (std::size_t a = 0, e; a < saved_plugins.size(); a = e + 1) {
-        e = saved_plugins.find('\n', a);
-        before.insert(saved_plugins.substr(a, e - a));
-      }
-      for (std::size_t a = 0, e; a < plugins.size(); a = e + 1) {
-        e = plugins.find('\n', a);
-        after.insert(plugins.substr(a, e - a));
-      }
+      const std::set<std::string> before = line_set(saved_plugins), after = line_set(plugins);
       std::string what;
       for (const auto& l : before)
         if (!after.count(l)) what += (what.empty() ? "" : "; ") + ("the checkpoint has " + l);
@@ -244,26 +269,15 @@ std::string CheckpointStore::describe(const std::vector<StudyCase>& cases) const
     const double tau0 = c.pipeline.system_info(c.pipeline.particles, 0).time_unit0;
     for (std::uint32_t r = 0; r < c.pipeline.realizations; ++r, ++run) {
       if (!has_run(run)) continue;
-      try {  // the header and the engine's first entries (Engine::save)
+      try {
         FileStateReader in(run_file(run));
-        std::string text;
-        std::uint64_t u = 0;
-        std::uint32_t realization = 0;
-        std::uint8_t done = 0;
-        in.read("format", text);
-        in.read("gdsmc_version", text);
-        in.read("run", u);
-        in.read("realization", realization);
-        in.read("plugins", text);
-        in.read("engine.finished", done);
-        in.read("engine.step", u);
-        double clocks[4];
-        in.read("engine.clocks", clocks, 4);
-        if (done) {
+        read_run_header(in);
+        const Engine::SavedProgress progress = Engine::saved_progress(in);
+        if (progress.finished) {
           ++finished;
           continue;
         }
-        const double t = clocks[0] / tau0;
+        const double t = progress.clocks[0] / tau0;
         t_min = under_way ? std::min(t_min, t) : t;
         t_max = under_way ? std::max(t_max, t) : t;
         ++under_way;
@@ -286,11 +300,7 @@ void CheckpointStore::write(std::size_t index, const StudyCase& c, std::uint32_t
   std::error_code ec;
   try {
     FileStateWriter w(partial);
-    w.write("format", std::string(kFormat));
-    w.write("gdsmc_version", gdsmc_version_);
-    w.write("run", static_cast<std::uint64_t>(index));
-    w.write("realization", realization);
-    w.write("plugins", plugin_lines(c.pipeline));
+    write_run_header(w, RunHeader{kFormat, gdsmc_version_, plugin_lines(c.pipeline), index, realization});
     engine.save(w);
     w.close();
   } catch (const std::exception& e) {
@@ -311,16 +321,9 @@ std::unique_ptr<Engine> CheckpointStore::restore(std::size_t index, const StudyC
   const fs::path file = run_file(index);
   try {
     FileStateReader r(file);
-    std::string format, version, plugins;
-    std::uint64_t run = 0;
-    std::uint32_t saved_realization = 0;
-    r.read("format", format);
-    r.read("gdsmc_version", version);
-    r.read("run", run);
-    r.read("realization", saved_realization);
-    r.read("plugins", plugins);
-    if (format != kFormat || version != gdsmc_version_ || run != index || saved_realization != realization ||
-        plugins != plugin_lines(c.pipeline))
+    const RunHeader h = read_run_header(r);
+    if (h.format != kFormat || h.version != gdsmc_version_ || h.run != index || h.realization != realization ||
+        h.plugins != plugin_lines(c.pipeline))
       throw CheckpointError(file.string() + " is not the checkpoint of run " + std::to_string(index) + " (realization " +
                             std::to_string(realization) + ") of this study with gdsmc " + gdsmc_version_ +
                             " and these plugins");

@@ -80,11 +80,10 @@ class StudyClock {
 void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index, const std::atomic<bool>* stop,
              unsigned threads, const CheckpointStore* checkpoints) {
   const Pipeline& p = sc.pipeline;
-  std::unique_ptr<Engine> restored;
-  if (checkpoints && checkpoints->has_run(index)) restored = checkpoints->restore(index, sc, run.realization, threads);
-  std::optional<Engine> fresh;
-  if (!restored) fresh.emplace(p, run.realization, threads);
-  Engine& engine = restored ? *restored : *fresh;
+  const std::unique_ptr<Engine> started =
+      checkpoints && checkpoints->has_run(index) ? checkpoints->restore(index, sc, run.realization, threads)
+                                                 : std::make_unique<Engine>(p, run.realization, threads);
+  Engine& engine = *started;
   std::function<void(const Progress&)> inner = [&](const Progress& pr) { clock.update(index, run.label, pr); };
   CheckpointSchedule schedule;
   if (checkpoints) {
