@@ -437,8 +437,9 @@ T* cached_or_skip(benchmark::State& state, const std::string& name) {
   return nullptr;
 }
 
-// Engine::step of the HCS pipeline (N, threads): collisions in sub-populations of 32768, moments
-// every 4 steps, the five diagnostics of configs/hcs.yaml sampled every step. Real time (threads).
+// Engine::step of the HCS pipeline (N, threads): collisions in sub-populations of 32768, the
+// moment update every 4 steps, the five diagnostics of configs/hcs.yaml sampled every 20 steps.
+// Real time (threads).
 void BM_EngineStep(benchmark::State& state) {
   EngineRun* run = cached_or_skip<EngineRun>(state, "engine");
   if (!run) return;

@@ -155,6 +155,43 @@ TEST(HcsPhysics, ElasticCollisionsConserveEnergyToRoundOff) {
   EXPECT_EQ(b.declared_energy_change, 0.0);
 }
 
+// Without forcings, the engine's moment update between sampled steps makes no pass over the
+// particles: T follows the collisions' declared energy, the mean stays (Engine::update_moments).
+// At every update the result must be the temperature and mean of the velocities as they are, to
+// round-off: T falls by ~0.1 % per update here, so an update that missed the declared energy, or
+// counted it twice, is a thousand times the tolerance. Sampled steps (every 50) measure afresh.
+TEST(HcsPhysics, TemperatureBetweenPassesFollowsTheDeclaredEnergyToRoundOff) {
+  TempDir dir;
+  Hcs h;
+  h.alpha = 0.5;
+  h.particles = 4000;
+  h.seed = 33;
+  h.every = 50;
+  const Pipeline p = load_yaml(dir, hcs_yaml(h));
+  ASSERT_EQ(p.moments_every, 4u);
+  Engine e(p, 0, 2);
+  int updates = 0;
+  double worst = 0;
+  const double t0 = e.context().global->temperature;
+  for (int k = 0; k < 400; ++k) {
+    e.step();
+    if (e.context().step % 4 != 0) continue;
+    ++updates;
+    const gdsmc::VelocityMoments m = gdsmc::velocity_moments(e.particles());
+    const gdsmc::CellMoments& g = *e.context().global;
+    const double rel = std::fabs(g.temperature - m.temperature) / m.temperature;
+    worst = std::max(worst, rel);
+    ASSERT_LE(rel, 1e-12) << "step " << e.context().step << ": T = " << g.temperature << ", measured " << m.temperature;
+    for (int a = 0; a < 3; ++a)
+      ASSERT_LE(std::fabs(g.mean_velocity[a] - m.mean[a]), 1e-13 * std::sqrt(m.temperature)) << "component " << a;
+    ASSERT_EQ(e.context().cells[0].temperature, g.temperature);
+  }
+  std::printf("%d updates, T/T0 %.4g -> %.4g: worst |T - T_measured| / T = %.2g\n", updates, t0,
+              e.context().global->temperature, worst);
+  EXPECT_EQ(updates, 100);
+  EXPECT_LT(e.context().global->temperature, 0.5 * t0);
+}
+
 // Inelastic collisions: the energy lost is the sum of what the rule declares,
 // -(1 - alpha^2)/4 (g.s)^2 per collision (000 Eq. 2.8), to the same round-off budget.
 TEST(HcsPhysics, InelasticEnergyLossMatchesDeclaredChange) {

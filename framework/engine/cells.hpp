@@ -57,8 +57,15 @@ class CellGrid {
   void cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
                     CellMoments& global, WorkPool* pool = nullptr) const;
   // The shared moments of a sampled step: peculiar velocities relative to each particle's cell
-  // mean (computed fresh here), cumulants, pressure tensor, kinetic energy.
-  void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool = nullptr) const;
+  // mean (computed fresh here), cumulants, pressure tensor, kinetic energy. Two passes (the means,
+  // then the peculiar sums), or, in a homogeneous system given `conserved_mean` (a mean velocity
+  // the caller knows has not moved since it was measured), one pass around it, checked below.
+  void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool = nullptr,
+                       const double* conserved_mean = nullptr) const;
+  // How far the mean may have moved from `conserved_mean`, as |u - u'|^2 / (3 T), before the one
+  // pass is discarded for two: the fourth and sixth moments around u' differ from those around u
+  // by a relative O(|u - u'| / sqrt(T)), here at most ~1e-10.
+  static constexpr double kConservedMeanTolerance = 1e-20;
   static constexpr std::size_t kMomentBlock = 1u << 16;
 
  private:
@@ -81,6 +88,8 @@ class CellGrid {
   template <class Run>
   void homogeneous_moments(const ParticleSpan& p, double mean_density, CellMoments& cell, CellMoments& global,
                            Run&& run) const;
+  template <class Run>
+  bool one_pass_moments(const ParticleSpan& p, const double* conserved_mean, SampledMoments& out, Run&& run) const;
   // The particles of piece k: [begin, end) of members(cell) (or of every particle), and its cell.
   void piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
 };

@@ -73,7 +73,7 @@ class Engine {
   struct SavedProgress {
     bool finished = false;
     std::uint64_t step = 0;
-    double clocks[4] = {0, 0, 0, 0};
+    double clocks[5] = {0, 0, 0, 0, 0};  // t, dt, collision energy, E0, collision energy at the last moment update
   };
   static SavedProgress saved_progress(StateReader& in);
 
@@ -129,6 +129,8 @@ class Engine {
   void check_boundaries();
   void open_ledger();
   void update_moments();
+  void measure_sampled_moments();
+  bool samples_at(std::uint64_t step) const;
   double time_step() const;
   void apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings);
   void stream(double dt);
@@ -149,6 +151,11 @@ class Engine {
   std::vector<CellMoments> cells_;  // per-cell moments as of the last update (ctx.cells)
   CellMoments global_;
   SampledMoments sampled_;
+  std::uint64_t sampled_step_ = static_cast<std::uint64_t>(-1);  // the step sampled_ was measured at
+  // A homogeneous system without forcings: only collisions change velocities, so between passes
+  // the mean stays and T follows their declared energy (update_moments).
+  bool moments_follow_collisions_ = false;
+  double energy_at_update_ = 0;  // ctx.collision_energy_change at the last moment update
   std::vector<std::shared_ptr<PluginObject>> objects_;  // keeps every plugin object (and library) alive
   std::vector<const PluginUse*> object_uses_;           // what made each of objects_
   InitialState* initial_state_ = nullptr;
