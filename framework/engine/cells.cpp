@@ -60,6 +60,16 @@ void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
   });
 }
 
+void CellGrid::set_layer_order(std::uint32_t* cell, WorkPool* pool) {
+  if (!slab_) return;
+  for_pieces(pool, layers_, [&](std::size_t c) {
+    for (std::uint32_t k = offsets_[c]; k < offsets_[c + 1]; ++k) {
+      cell[k] = static_cast<std::uint32_t>(c);
+      members_[k] = k;
+    }
+  });
+}
+
 void CellGrid::assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n) {
   if (!slab_) return;  // one cell, and no positions or cell array to fill
   for (std::size_t i = 0; i < n; ++i) cell[i] = layer_of(y[i]);

@@ -42,6 +42,10 @@ class CellGrid {
   // homogeneous system.
   void assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n);
 
+  // After storage was permuted into the order of all_members(): the layer of every position
+  // written into cell[] (layer c holds positions offsets[c] .. offsets[c+1] - 1) and each layer's
+  // members listed as those positions; what sort() would find, without its passes.
+  void set_layer_order(std::uint32_t* cell, WorkPool* pool = nullptr);
   // Every particle, layer after layer (members of layer 0, then layer 1, ...): the order that makes
   // each layer a contiguous range of storage (ParticleStore::permute), after which assign_and_sort
   // lists each layer as 0..N_0-1, N_0.., and so on.

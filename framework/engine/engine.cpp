@@ -346,7 +346,7 @@ void Engine::stream(double dt) {
     StreamingTally tally;
     mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally, &pool_);
     grid_.sort(store_.cells(), span.count, &pool_);
-    if (ctx_.step % kReorderEvery == 0) reorder_by_layer();
+    if (ctx_.step % kReorderEvery == 0) permute_by_layer();  // the layers just sorted from the fresh cell[]
     for (int s = 0; s < 2; ++s) {
       BoundaryTally& t = tallies_[s];
       t.hits += tally.sides[s].hits;
@@ -379,8 +379,13 @@ void Engine::reorder_by_layer() {
   if (!grid_.is_slab()) return;
   const ParticleSpan span = store_.span();
   grid_.assign_and_sort(span.y, store_.cells(), span.count);  // from the positions as they are now
+  permute_by_layer();
+}
+
+// Storage in the order of the current member lists; each layer is then a range of positions.
+void Engine::permute_by_layer() {
   store_.permute(grid_.all_members(), &pool_);
-  grid_.sort(store_.cells(), span.count, &pool_);
+  grid_.set_layer_order(store_.cells(), &pool_);
 }
 
 // Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows the larger of its

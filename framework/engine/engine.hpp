@@ -129,6 +129,7 @@ class Engine {
   void check_boundaries();
   void open_ledger();
   void update_moments();
+  void permute_by_layer();
   void measure_sampled_moments();
   bool samples_at(std::uint64_t step) const;
   double time_step() const;

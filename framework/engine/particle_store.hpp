@@ -1,7 +1,6 @@
 // The host's particle storage: structure of arrays, plus the extra attributes plugins declare.
 #pragma once
 #include <algorithm>
-#include <bit>
 #include <cstring>
 #include <cstddef>
 #include <cstdint>
@@ -68,50 +67,47 @@ class ParticleStore {
   std::size_t size() const { return n_; }
   // Put the particles in the order `order` (a permutation: new position k holds old order[k]),
   // every array and attribute alike, in place, so pointers plugins took in bind() stay valid.
-  // Identities travel with their particles. One scratch array of 4 bytes per particle (a slab
-  // only, allocated at the first reordering): a 4-byte array is gathered into it and copied back;
-  // an 8-byte array in three passes -- (1) its low words gathered into the scratch, (2) its high
-  // words gathered into the low-word slots, which (1) freed (this pass reads only high words and
-  // writes only low ones), (3) each slot rebuilt from the two. Every pass is a gather in blocks on
-  // the pool's threads (independent reads, which the memory system overlaps). Following the
+  // Identities travel with their particles. The layer index cell[] does not: it serves as scratch
+  // and the caller writes it afresh (CellGrid::set_layer_order: after a reordering by layer, the
+  // layer of every position is known). A slab store only. Scratch: 4 bytes per particle of our
+  // own (allocated at the first reordering) plus cell[]'s 4, so an 8-byte value is gathered as its
+  // two halves in one pass (low into the scratch, high into cell[]) and rebuilt in a second, and a
+  // 4-byte array is gathered into the scratch and copied back. Every pass is a gather in blocks
+  // on the pool's threads (independent reads, which the memory system overlaps). Following the
   // permutation's cycles in place instead (no scratch) costs 158 ms per reordering of 1e6 slab
   // particles after 15 steps of flight, against a few ms here: each step of a cycle waits for the
   // previous one.
   void permute(const std::uint32_t* order, WorkPool* pool = nullptr) {
+    if (cell_.size() != n_) throw std::logic_error("ParticleStore::permute: a slab store (with cell[]) only");
     scratch_.resize(n_);
     constexpr std::size_t kBlock = 1u << 16;
     const std::size_t blocks = (n_ + kBlock - 1) / kBlock;
-    std::uint32_t* scratch = scratch_.data();
+    std::uint32_t* low = scratch_.data();
+    std::uint32_t* high = cell_.data();
     auto gather = [&](auto&& pass) {
       for_pieces(pool, blocks, [&](std::size_t b) {
         for (std::size_t k = b * kBlock, e = std::min(n_, k + kBlock); k < e; ++k) pass(k);
       });
     };
     auto apply32 = [&](std::uint32_t* data) {
-      gather([&](std::size_t k) { scratch[k] = data[order[k]]; });
-      gather([&](std::size_t k) { data[k] = scratch[k]; });
+      gather([&](std::size_t k) { low[k] = data[order[k]]; });
+      gather([&](std::size_t k) { data[k] = low[k]; });
     };
-    // The 4-byte halves of a double, little-endian: low word at byte 0, high word at byte 4.
-    static_assert(sizeof(double) == 8 && std::endian::native == std::endian::little);
     auto apply64 = [&](double* values) {
-      auto* bytes = reinterpret_cast<unsigned char*>(values);
-      auto word = [&](std::size_t i, std::size_t half) {
-        std::uint32_t w;
-        std::memcpy(&w, bytes + 8 * i + 4 * half, 4);
-        return w;
-      };
-      auto set_word = [&](std::size_t i, std::size_t half, std::uint32_t w) { std::memcpy(bytes + 8 * i + 4 * half, &w, 4); };
-      gather([&](std::size_t k) { scratch[k] = word(order[k], 0); });
-      gather([&](std::size_t k) { set_word(k, 0, word(order[k], 1)); });
       gather([&](std::size_t k) {
-        set_word(k, 1, word(k, 0));
-        set_word(k, 0, scratch[k]);
+        std::uint64_t w;
+        std::memcpy(&w, values + order[k], 8);
+        low[k] = static_cast<std::uint32_t>(w);
+        high[k] = static_cast<std::uint32_t>(w >> 32);
+      });
+      gather([&](std::size_t k) {
+        const std::uint64_t w = static_cast<std::uint64_t>(high[k]) << 32 | low[k];
+        std::memcpy(values + k, &w, 8);
       });
     };
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
       if (!v->empty()) apply64(v->data());
     apply32(id_.data());
-    if (!cell_.empty()) apply32(cell_.data());
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c) apply64(data_[a].data() + c * n_);
   }
