@@ -1,5 +1,7 @@
 #include "engine/work_pool.hpp"
 
+#include <chrono>
+
 namespace gdsmc::host {
 
 WorkPool::WorkPool(unsigned threads) {
@@ -33,19 +35,40 @@ void WorkPool::take_pieces() {
   }
 }
 
+namespace {
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#else
+  std::this_thread::yield();
+#endif
+}
+// Spin until done() or kSpinSeconds have passed; true if done() came true.
+template <class Done>
+bool spin_until(Done&& done, double seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  for (unsigned k = 1;; ++k) {
+    if (done()) return true;
+    cpu_relax();
+    if (k % 64 == 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds)
+      return done();
+  }
+}
+}  // namespace
+
 void WorkPool::work() {
   std::uint64_t seen = 0;
   for (;;) {
-    {
+    if (!spin_until([&] { return generation_.load(std::memory_order_acquire) != seen; }, kSpinSeconds)) {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return quit_ || generation_ != seen; });
+      wake_.wait(lock, [&] { return quit_ || generation_.load(std::memory_order_acquire) != seen; });
       if (quit_) return;
-      seen = generation_;
     }
+    seen = generation_.load(std::memory_order_acquire);
     take_pieces();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (--busy_ == 0) done_.notify_all();
+    if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(mutex_);  // the caller may be about to sleep: notify under the lock
+      done_.notify_all();
     }
   }
 }
@@ -59,15 +82,16 @@ void WorkPool::run_erased(std::size_t count, Trampoline call, void* piece) {
     next_.store(0);
     failed_.store(false);
     error_ = nullptr;
-    busy_ = static_cast<unsigned>(workers_.size());
-    ++generation_;
+    busy_.store(static_cast<unsigned>(workers_.size()), std::memory_order_relaxed);
+    generation_.fetch_add(1, std::memory_order_release);
   }
   wake_.notify_all();
   take_pieces();
   std::exception_ptr error;
+  spin_until([&] { return busy_.load(std::memory_order_acquire) == 0; }, kSpinSeconds);
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return busy_ == 0; });
+    done_.wait(lock, [&] { return busy_.load(std::memory_order_acquire) == 0; });
     piece_ = nullptr;
     error = error_;
     error_ = nullptr;

@@ -48,9 +48,13 @@ class WorkPool {
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  std::uint64_t generation_ = 0;
+  // A new job (generation_) and the end of one (busy_ = 0) are watched by spinning for up to
+  // kSpinSeconds before sleeping on the condition variables: a sleeping thread took ~24 us to
+  // wake and report back on this machine, ~5 % of a 2-thread step of 1e6 homogeneous particles.
+  static constexpr double kSpinSeconds = 50e-6;
+  std::atomic<std::uint64_t> generation_{0};
   bool quit_ = false;
-  unsigned busy_ = 0;
+  std::atomic<unsigned> busy_{0};
   // The current job (valid while busy_ > 0 or the caller is inside run()).
   Trampoline call_ = nullptr;
   void* piece_ = nullptr;
