@@ -7,10 +7,15 @@
 // with its own error, naming its case, and nothing is written.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "engine/work_pool.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -158,3 +163,33 @@ TEST(Threads, ThreadCountsOutsideTheirRangeAreRefusedWithTheValidRange) {
 }
 
 }  // namespace
+
+// The pool itself: many short stages in a row (workers spin between them, WorkPool::kSpinSeconds),
+// stages far apart (workers asleep), an exception from a piece, and destruction right after a
+// stage. Every piece must run exactly once per stage, and the lowest throwing piece's error reach
+// the caller.
+TEST(WorkPool, EveryPieceRunsOnceInShortAndSpacedStagesAndTheLowestErrorIsRethrown) {
+  gdsmc::host::WorkPool pool(3);
+  std::vector<std::atomic<int>> ran(64);
+  for (int stage = 0; stage < 20000; ++stage) {
+    const std::size_t count = 1 + static_cast<std::size_t>(stage % 64);
+    pool.run(count, [&](std::size_t k) { ran[k].fetch_add(1, std::memory_order_relaxed); });
+    if (stage % 5000 == 4999) std::this_thread::sleep_for(std::chrono::milliseconds(5));  // workers fall asleep
+  }
+  for (std::size_t k = 0; k < ran.size(); ++k) {
+    int expected = 0;
+    for (int stage = 0; stage < 20000; ++stage) expected += k < 1 + static_cast<std::size_t>(stage % 64);
+    EXPECT_EQ(ran[k].load(), expected) << "piece " << k;
+  }
+  try {
+    pool.run(40, [&](std::size_t k) {
+      if (k == 7 || k == 30) throw std::runtime_error("piece " + std::to_string(k));
+    });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "piece 7");
+  }
+  std::atomic<int> after{0};
+  pool.run(10, [&](std::size_t) { after.fetch_add(1); });  // the pool works after an error
+  EXPECT_EQ(after.load(), 10);
+}
