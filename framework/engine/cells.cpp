@@ -212,8 +212,9 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
     homogeneous_moments(p, mean_density, cells[0], global, run);
     return;
   }
-  // Every layer on its own (a piece of the pool): its mean, then its temperature, while its
-  // particles are in cache.
+  // Every layer on its own (a piece of the pool): its mean, then its temperature and largest
+  // peculiar speed, while its particles are in cache.
+  speed_max_.resize(layers_);
   run(layers_, [&](std::size_t c) {
     const std::uint32_t* m = members(c);
     const std::uint32_t n = members_count(c);
@@ -223,6 +224,7 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
     cm.number_density = n / cell_volume_;  // n_I = N_I / (A delta y), Eq. 4.4
     double* s = pieces_[c].s;
     s[0] = s[1] = s[2] = 0;
+    speed_max_[c] = 0;
     if (n == 0) return;
     for (std::uint32_t k = 0; k < n; ++k) {
       s[0] += p.vx[m[k]];
@@ -232,13 +234,16 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
     for (int a = 0; a < 3; ++a) cm.mean_velocity[a] = s[a] / n;  // u_I, Eq. 4.5
     if (n < 2) return;
     const double* u = cm.mean_velocity;
-    double c2 = 0;
+    double c2 = 0, c2_max = 0;
     for (std::uint32_t k = 0; k < n; ++k) {
       const std::uint32_t i = m[k];
       const double cx = p.vx[i] - u[0], cy = p.vy[i] - u[1], cz = p.vz[i] - u[2];
-      c2 += cx * cx + cy * cy + cz * cz;
+      const double ci2 = cx * cx + cy * cy + cz * cz;
+      c2 += ci2;
+      c2_max = std::max(c2_max, ci2);
     }
     cm.temperature = c2 / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
+    speed_max_[c] = std::sqrt(c2_max);
   });
   // The whole system, in layer order.
   double gsum[3] = {0, 0, 0}, weighted_t = 0;

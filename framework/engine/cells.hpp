@@ -60,6 +60,8 @@ class CellGrid {
   // any thread count.
   void cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
                     CellMoments& global, WorkPool* pool = nullptr) const;
+  // Slab: the largest |v - u_I| in every layer at the last cell_moments (0 below 2 particles).
+  const double* peculiar_speed_max() const { return speed_max_.data(); }
   // The shared moments of a sampled step: peculiar velocities relative to each particle's cell
   // mean (computed fresh here), cumulants, pressure tensor, kinetic energy. Two passes (the means,
   // then the peculiar sums), or, in a homogeneous system given `conserved_mean` (a mean velocity
@@ -81,6 +83,7 @@ class CellGrid {
   std::vector<std::uint32_t> fill_;           // blocks x layers: counts, then next places (sort)
   std::vector<std::uint32_t> members_;        // particles
   mutable std::vector<double> scratch_mean_;  // 3 * layers (sampled_moments)
+  mutable std::vector<double> speed_max_;     // layers (cell_moments, slab)
   // One piece of the moment sums: a layer (slab) or a block of particles (homogeneous).
   struct PieceSums {
     double s[3] = {0, 0, 0};

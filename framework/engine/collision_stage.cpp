@@ -93,6 +93,18 @@ void CollisionStage::make_groups(const CellGrid& grid, std::size_t particles, co
   }
 }
 
+double CollisionStage::reference_temperature(const CellMoments* cells, std::size_t c, double temperature) {
+  return cells && cells[c].count >= 2 && cells[c].temperature > 0 ? cells[c].temperature : temperature;
+}
+
+void CollisionStage::set_layer_majorants(const CellMoments* cells, const double* peculiar_speed_max, double temperature,
+                                         double mass) {
+  for (std::size_t c = 0; c < ratio_.size(); ++c) {
+    const double speed = std::sqrt(reference_temperature(cells, c, temperature) / mass);
+    ratio_[c] = std::max(kInitialMajorantRatio, kMajorantHeadroom * 2.0 * peculiar_speed_max[c] / speed);
+  }
+}
+
 CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const ParticleSpan& particles, const CellGrid& grid,
                                            const CellMoments* cells, double temperature, double mass, double sigma,
                                            double dt, const StreamFactory& streams, bool reversed) {
@@ -104,8 +116,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
   // to an integer and loop on it).
   double total = 0;
   for (std::size_t c = 0; c < n; ++c) {
-    const double t_ref = cells ? std::max(cells[c].temperature, temperature) : temperature;
-    speed_[c] = std::sqrt(t_ref / mass);
+    speed_[c] = std::sqrt(reference_temperature(cells, c, temperature) / mass);
     // pi times the rule's bound of its rate (the hard-sphere count; a general kernel draws up to 4x)
     estimate_[c] = pair_count(scheme_, groups_[c].count) * sigma * sigma * M_PI *
                    rule.rate_bound(ratio_[c] * speed_[c]) * dt / groups_[c].volume;

@@ -263,6 +263,8 @@ void Engine::update_moments() {
     cells_[0] = global_;
   } else {
     grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
+    if (grid_.is_slab())
+      collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
   }
 }
 
