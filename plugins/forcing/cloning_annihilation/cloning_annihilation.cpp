@@ -92,7 +92,7 @@ class VelocityGrid {
 class CloningAnnihilation final : public gdsmc::Forcing {
  public:
   static constexpr const char* name = "cloning_annihilation";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.1.1";
   static constexpr const char* summary =
       "Clones at rate zeta/2 and annihilates at rate (zeta/2) f0/f, f0 from an HCS reservoir (001 Eq. 3.17)";
   static constexpr const char* documentation =
@@ -113,8 +113,9 @@ class CloningAnnihilation final : public gdsmc::Forcing {
       "-(zeta/2) f0 term, with no estimate of f needed. N is unchanged; momentum and energy change\n"
       "only by fluctuations (f and f0 share n, u, T), which energy_momentum_thermostat removes.\n"
       "A particle overwritten in a step is not annihilated again in that step. Nearest neighbours come\n"
-      "from a uniform grid of about (8N)^(1/3) cells per axis over the particles' velocity range,\n"
-      "rebuilt each step that has events, searched shell by shell until the nearest is proved.\n"
+      "from a uniform grid of N^(1/3) cells per axis (at least 4, at most 128) over the particles'\n"
+      "velocity range, rebuilt each step that has events, searched shell by shell until the nearest\n"
+      "is proved.\n"
       "Order in the step: collisions, heat_flux_force, this, energy_momentum_thermostat. Streams:\n"
       "for_unit(0) the reservoir's collisions, for_unit(1) the events, for_unit(2) the reservoir's\n"
       "start. Returns the energy it added (m = 1).";
