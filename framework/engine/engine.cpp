@@ -390,8 +390,9 @@ void Engine::permute_by_layer() {
   grid_.set_layer_order(store_.cells(), &pool_);
 }
 
-// Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows the larger of its
-// temperature and T-bar; the cells draw from their own streams, so their order does not matter.
+// Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows its own temperature
+// (re-set at every moment update, update_moments); the cells draw from their own streams, so their
+// order does not matter.
 void Engine::collide(double dt) {
   CollisionStage::Totals t;
   try {
