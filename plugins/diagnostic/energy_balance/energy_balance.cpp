@@ -13,7 +13,7 @@ namespace {
 class EnergyBalance final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "energy_balance";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.1.1";
   static constexpr const char* summary =
       "Kinetic energy E(t) per particle and its balance E - E0 = sum of the energy ledger [T0]";
   static constexpr const char* documentation =
@@ -53,7 +53,6 @@ class EnergyBalance final : public gdsmc::Diagnostic {
       have_e0_ = true;
     }
     last_e_ = E;
-    last_step_ = ctx.step;
     values_[0] = E * per_;
     values_[1] = (E - e0_) * per_;
     values_[2] = added * per_;
@@ -89,14 +88,12 @@ class EnergyBalance final : public gdsmc::Diagnostic {
     out.write("have_e0", have_e0_);
     out.write("e0", e0_);
     out.write("last_e", last_e_);
-    out.write("last_step", last_step_);
     window_.save(out);
   }
   void load_state(gdsmc::StateReader& in) override {
     in.read("have_e0", have_e0_);
     in.read("e0", e0_);
     in.read("last_e", last_e_);
-    in.read("last_step", last_step_);
     window_.load(in);
   }
 
@@ -109,7 +106,6 @@ class EnergyBalance final : public gdsmc::Diagnostic {
 
   double per_ = 1, e0_ = 0, last_e_ = 0;
   bool have_e0_ = false;
-  std::uint64_t last_step_ = 0;
   std::vector<double> values_;
   gdsmc::WindowAverage window_;
 };
