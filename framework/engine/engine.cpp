@@ -1,5 +1,6 @@
 #include "engine/engine.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -276,10 +277,7 @@ void Engine::measure_sampled_moments() {
 
 // Whether some diagnostic samples or records after step `step`.
 bool Engine::samples_at(std::uint64_t step) const {
-  for (const DiagnosticSlot& slot : slots_)
-    if (slot.last_record_step != step && (step % slot.use->record_every == 0 || step % slot.use->sample_every == 0))
-      return true;
-  return false;
+  return std::any_of(slots_.begin(), slots_.end(), [&](const DiagnosticSlot& slot) { return slot.samples_at(step); });
 }
 
 // dt = c tau0, or c tau0 sqrt(T0/T) so that it follows the mean free time (000 Sec. IV.B; in a
@@ -418,9 +416,9 @@ void Engine::sample_and_record(bool force_record) {
   bool have_moments = false;
   for (std::size_t k = 0; k < slots_.size(); ++k) {
     DiagnosticSlot& slot = slots_[k];
-    const bool record = force_record || ctx_.step % slot.use->record_every == 0;
     if (slot.last_record_step == ctx_.step) continue;
-    if (record || ctx_.step % slot.use->sample_every == 0) {
+    const bool record = force_record || ctx_.step % slot.use->record_every == 0;
+    if (force_record || slot.samples_at(ctx_.step)) {
       if (!have_moments) {  // once per sampled step, shared by every diagnostic
         if (sampled_step_ != ctx_.step) measure_sampled_moments();
         have_moments = true;

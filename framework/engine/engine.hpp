@@ -112,6 +112,10 @@ class Engine {
     double time_sum = 0, s_sum = 0;
     std::uint64_t samples = 0;
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
+    // Whether it samples (or records) after step `step`, unless forced to record.
+    bool samples_at(std::uint64_t step) const {
+      return last_record_step != step && (step % use->record_every == 0 || step % use->sample_every == 0);
+    }
   };
   enum class Setup { full, objects_only, restore };
   Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads,
