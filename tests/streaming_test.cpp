@@ -66,7 +66,7 @@ struct Slab {
     host::StreamingTally tally;
     for (int s = 0; s < steps; ++s) {
       streams.set_step(static_cast<std::uint64_t>(s));
-      mover.stream(span, cell.data(), grid, s * dt, dt, ctx, streams, tally);
+      mover.stream(span, cell.data(), nullptr, grid, s * dt, dt, ctx, streams, tally);
     }
     return tally;
   }
@@ -178,6 +178,32 @@ TEST(CellGrid, CountingSortListsEveryParticleOnceInIndexOrder) {
     total += s.grid.members_count(c);
   }
   EXPECT_EQ(total, s.y.size());
+}
+
+// The layers the mover counts while it flies (block by block, on two threads) give the sort the
+// same offsets and member lists as the sort's own count of cell[]: 40000 particles are 3 blocks,
+// the last one short, and dt = 0.3 sends many of them through the walls and across layers.
+TEST(CellGrid, LayersCountedByTheMoverSortAsTheSortsOwnCount) {
+  Slab s(40000, 5);
+  ASSERT_EQ((s.y.size() + host::CellGrid::kSortBlock - 1) / host::CellGrid::kSortBlock, 3u);
+  Specular wall;
+  host::Mover mover(s.box, {0, 0, 0}, {host::Mover::Side{&wall, "y_min"}, host::Mover::Side{&wall, "y_max"}});
+  host::WorkPool pool(2);
+  host::CellGrid recount;
+  recount.slab(s.y.size(), s.grid.count(), s.box[1], s.box[0] * s.box[2]);
+  for (int step = 0; step < 3; ++step) {
+    host::StreamingTally tally;
+    s.streams.set_step(static_cast<std::uint64_t>(step));
+    mover.stream(s.span, s.cell.data(), s.grid.block_counts(s.y.size()), s.grid, 0.3 * step, 0.3, s.ctx, s.streams,
+                 tally, &pool);
+    s.grid.sort_counted(s.cell.data(), s.y.size(), &pool);
+    recount.sort(s.cell.data(), s.y.size());
+    for (std::size_t c = 0; c < s.grid.count(); ++c) {
+      ASSERT_EQ(s.grid.members_count(c), recount.members_count(c)) << "layer " << c;
+      for (std::uint32_t k = 0; k < s.grid.members_count(c); ++k)
+        ASSERT_EQ(s.grid.members(c)[k], recount.members(c)[k]) << "layer " << c << ", member " << k;
+    }
+  }
 }
 
 // The sampled moments of a homogeneous system in one pass around a mean the caller says is

@@ -83,10 +83,11 @@ TEST(Threads, LeesEdwardsSlabWithRealizationsIsTheSameBitsForOneTwoAndThreeThrea
 }
 
 // Threads inside one run (each system below is large enough for a run to use them: at least two
-// sub-populations, or a slab of at least four mover blocks): a single run with --threads 2 or 3 spreads its collision groups, the
-// mover's blocks of 4096 particles and the moment sums over the threads, and must give the bits
-// of one thread. A homogeneous run in 12 sub-populations (with the particles written, and a
-// shear forcing), a slab of 5 mover blocks between walls with a body force, a Lees-Edwards slab.
+// sub-populations, or a slab of at least 16384 particles): a single run with --threads 2 or 3
+// spreads its collision groups, the mover's blocks of 16384 particles (with their layer counts for
+// the sort) and the moment sums over the threads, and must give the bits of one thread. A
+// homogeneous run in 12 sub-populations (with the particles written, and a shear forcing), a slab
+// of 2 mover blocks between walls with a body force, a Lees-Edwards slab.
 TEST(Threads, OneHomogeneousRunInSubpopulationsIsTheSameBitsForOneTwoAndThreeThreads) {
   expect_same_bits_for_any_thread_count(
       "run:\n  seed: 17\n  particles: 6000\n  subpopulation: 500\n"

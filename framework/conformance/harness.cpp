@@ -131,8 +131,8 @@ void SlabHarness::stream(int steps, double dt) {
     ctx.step = step;
     ctx.time = time;
     ctx.dt = dt;
-    mover.stream(p, particles.cells(), grid, time, dt, ctx, factory, tally, pool);
-    grid.sort(particles.cells(), p.count);
+    mover.stream(p, particles.cells(), grid.block_counts(p.count), grid, time, dt, ctx, factory, tally, pool);
+    grid.sort_counted(particles.cells(), p.count);
     time += dt;
     ++step;
   }

@@ -28,6 +28,7 @@ void CellGrid::slab(std::size_t particles, std::size_t layers, double height, do
   offsets_.assign(layers + 1, 0);
   fill_.clear();
   members_.assign(particles, 0);
+  next_.assign(layers, 0);
   scratch_mean_.assign(3 * layers, 0.0);
 }
 
@@ -36,27 +37,44 @@ void CellGrid::slab(std::size_t particles, std::size_t layers, double height, do
 // particles, so every layer lists its members in increasing index whatever the thread count.
 void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
   if (!slab_) return;
-  const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
-  if (fill_.size() != blocks * layers_) fill_.resize(blocks * layers_);
-  for_pieces(pool, blocks, [&](std::size_t b) {
-    std::uint32_t* count = fill_.data() + b * layers_;
+  std::uint32_t* const counts = block_counts(n);
+  for_pieces(pool, (n + kSortBlock - 1) / kSortBlock, [&](std::size_t b) {
+    std::uint32_t* count = counts + b * layers_;
     std::fill(count, count + layers_, 0u);
     for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i) ++count[cell[i]];
   });
-  std::uint32_t start = 0;
-  for (std::size_t c = 0; c < layers_; ++c) {
-    offsets_[c] = start;
-    for (std::size_t b = 0; b < blocks; ++b) {
-      const std::uint32_t k = fill_[b * layers_ + c];
-      fill_[b * layers_ + c] = start;
-      start += k;
+  sort_counted(cell, n, pool);
+}
+
+std::uint32_t* CellGrid::block_counts(std::size_t n) {
+  const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
+  if (fill_.size() != blocks * layers_) fill_.resize(blocks * layers_);
+  return fill_.data();
+}
+
+void CellGrid::sort_counted(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
+  if (!slab_) return;
+  const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
+  // Each layer's start (the layers' totals, block rows read in storage order), then each block's
+  // start within a layer, the blocks in order: the same places as taking layer by layer, block by
+  // block, without striding across the rows.
+  std::fill(offsets_.begin(), offsets_.end(), 0u);
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (std::size_t c = 0; c < layers_; ++c) offsets_[c + 1] += fill_[b * layers_ + c];
+  for (std::size_t c = 0; c < layers_; ++c) offsets_[c + 1] += offsets_[c];
+  std::vector<std::uint32_t>& next = next_;
+  next.assign(offsets_.begin(), offsets_.end() - 1);
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (std::size_t c = 0; c < layers_; ++c) {
+      std::uint32_t& slot = fill_[b * layers_ + c];
+      const std::uint32_t k = slot;
+      slot = next[c];
+      next[c] += k;
     }
-  }
-  offsets_[layers_] = start;
   for_pieces(pool, blocks, [&](std::size_t b) {
-    std::uint32_t* next = fill_.data() + b * layers_;
+    std::uint32_t* place = fill_.data() + b * layers_;
     for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i)
-      members_[next[cell[i]]++] = static_cast<std::uint32_t>(i);
+      members_[place[cell[i]]++] = static_cast<std::uint32_t>(i);
   });
 }
 

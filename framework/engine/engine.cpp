@@ -23,10 +23,10 @@ std::string where_text(const PluginUse& u) {
 // whole stage of a small system: at N = 1e4 two threads ran a homogeneous HCS at 5.3 M collisions/s
 // against 7.0 M on one (one sub-population: nothing to share but the moment sums) and a slab at
 // 40 M moves/s against 52 M. So: a homogeneous system with at least two sub-populations, a slab of at
-// least four mover blocks. The output does not depend on it.
+// least 16384 particles (one mover block; its layers are shared too). The output does not depend on it.
 unsigned run_threads(const Pipeline& p, unsigned threads) {
   if (threads <= 1) return 1;
-  const bool enough = p.geometry == Geometry::slab ? p.particles >= 4 * Mover::kBlock
+  const bool enough = p.geometry == Geometry::slab ? p.particles >= Mover::kBlock
                                                    : subpopulation_count(p.particles, p.subpopulation) >= 2;
   return enough ? threads : 1;
 }
@@ -344,8 +344,9 @@ void Engine::stream(double dt) {
   const double g2 = dot(acceleration_, acceleration_);
   if (mover_) {
     StreamingTally tally;
-    mover_->stream(span, store_.cells(), grid_, ctx_.time, dt, ctx_, streams_, tally, &pool_);
-    grid_.sort(store_.cells(), span.count, &pool_);
+    mover_->stream(span, store_.cells(), grid_.block_counts(span.count), grid_, ctx_.time, dt, ctx_, streams_, tally,
+                   &pool_);
+    grid_.sort_counted(store_.cells(), span.count, &pool_);
     if (ctx_.step % kReorderEvery == 0) permute_by_layer();  // the layers just sorted from the fresh cell[]
     for (int s = 0; s < 2; ++s) {
       BoundaryTally& t = tallies_[s];

@@ -60,9 +60,11 @@ CaseMemory case_memory(const Pipeline& p, const RunLayout& layout) {
   m.particles = p.particles;
   // ParticleStore: vx, vy, vz and the identity (4), and the attributes: 28 bytes in a homogeneous
   // system. A slab adds x, y, z, the layer index (4), each layer's member list (4) and the
-  // reordering's scratch array (4): 64 bytes.
+  // reordering's scratch array (4): 64 bytes, and the sort's count of every layer per block of
+  // CellGrid::kSortBlock particles (0.02 bytes a particle with 100 layers).
   m.bytes_per_particle = 3 * 8 + 4 + 8.0 * static_cast<double>(layout.attribute_values);
-  if (p.geometry == Geometry::slab) m.bytes_per_particle += 3 * 8 + 4 + 4 + 4;
+  if (p.geometry == Geometry::slab)
+    m.bytes_per_particle += 3 * 8 + 4 + 4 + 4 + 4.0 * static_cast<double>(p.layers) / CellGrid::kSortBlock;
   // Records are kept for the whole run. s grows by about dt/tau0 per step (hard spheres collide
   // 2/sqrt(pi) times per tau0 at T0), which bounds the steps of a stop at s as the stop time does.
   double stop = std::numeric_limits<double>::infinity();

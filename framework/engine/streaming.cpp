@@ -46,8 +46,9 @@ double first_crossing(double y0, double v, double g, double plane, double t_max)
 Mover::Mover(const double box[3], const Vec3& g, std::array<Side, 2> sides)
     : lx_(box[0]), ly_(box[1]), lz_(box[2]), half_(0.5 * box[1]), g_(g), sides_(std::move(sides)) {}
 
-void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, double t0, double dt,
-                   const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally, WorkPool* pool) const {
+void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* layer_counts, const CellGrid& grid,
+                   double t0, double dt, const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally,
+                   WorkPool* pool) const {
   const bool accelerated = g_.x != 0 || g_.y != 0 || g_.z != 0;
   const std::size_t blocks = (p.count + kBlock - 1) / kBlock;
   if (blocks_.size() < blocks) blocks_.resize(blocks);
@@ -55,8 +56,9 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& g
     StreamingTally& block = blocks_[k];
     block = StreamingTally{};
     const std::size_t b = k * kBlock, e = std::min(p.count, b + kBlock);
-    if (accelerated) stream_block<true>(p, cell, grid, b, e, t0, dt, ctx, streams, block);
-    else stream_block<false>(p, cell, grid, b, e, t0, dt, ctx, streams, block);
+    std::uint32_t* counts = layer_counts ? layer_counts + k * grid.count() : nullptr;
+    if (accelerated) stream_block<true>(p, cell, counts, grid, b, e, t0, dt, ctx, streams, block);
+    else stream_block<false>(p, cell, counts, grid, b, e, t0, dt, ctx, streams, block);
   });
   for (std::size_t k = 0; k < blocks; ++k) {  // tallies are summed per block, then blocks in order
     const StreamingTally& block = blocks_[k];
@@ -66,50 +68,62 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& g
 }
 
 template <bool Accelerated>
-void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, std::size_t begin,
-                         std::size_t end, double t0, double dt, const StepContext& ctx,
+void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const CellGrid& grid,
+                         std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
                          const StreamFactory& streams, StreamingTally& tally) const {
+  // The grid and the mover as locals: a store through a particle array may alias a member, so
+  // the loop would re-read them per particle.
   double* const x = p.x;
   double* const y = p.y;
   double* const z = p.z;
   double* const vx = p.vx;
   double* const vy = p.vy;
   double* const vz = p.vz;
+  std::uint32_t* const layer = cell;
+  const CellGrid::LayerIndex layer_of = grid.layer_index();
+  const double half = half_, lx = lx_, lz = lz_;
+  const Vec3 g = g_;
   const double half_dt2 = 0.5 * dt * dt;
-  const double g2 = dot(g_, g_);
+  const double g2 = dot(g, g);
   double energy = 0;
+  // The block's layer counts for the sort: an increment here, where the flight's loads hide it,
+  // instead of a pass of the sort's own over cell[].
+  if (counts) std::fill(counts, counts + grid.count(), 0u);
   for (std::size_t i = begin; i < end; ++i) {
     double y1 = y[i] + vy[i] * dt;
     bool inside;
     if constexpr (Accelerated) {
-      y1 += g_.y * half_dt2;
-      inside = y1 >= -half_ && y1 <= half_;
+      y1 += g.y * half_dt2;
+      inside = y1 >= -half && y1 <= half;
       // A parabola can leave and come back within the step: check its apex.
-      if (inside && g_.y != 0 && vy[i] * (vy[i] + g_.y * dt) < 0) {
-        const double apex = y[i] - vy[i] * vy[i] / (2.0 * g_.y);
-        inside = apex >= -half_ && apex <= half_;
+      if (inside && g.y != 0 && vy[i] * (vy[i] + g.y * dt) < 0) {
+        const double apex = y[i] - vy[i] * vy[i] / (2.0 * g.y);
+        inside = apex >= -half && apex <= half;
       }
     } else {
-      inside = y1 >= -half_ && y1 <= half_;
+      inside = y1 >= -half && y1 <= half;
     }
     if (!inside) {
       fly_with_hits(p, i, t0, dt, ctx, streams, tally);
-      cell[i] = grid.layer_of(y[i]);
+      layer[i] = layer_of(y[i]);
+      if (counts) ++counts[layer[i]];
       continue;
     }
     if constexpr (Accelerated) {
-      energy += (g_.x * vx[i] + g_.y * vy[i] + g_.z * vz[i]) * dt + 0.5 * g2 * dt * dt;
-      x[i] = wrap(x[i] + vx[i] * dt + g_.x * half_dt2, lx_);
-      z[i] = wrap(z[i] + vz[i] * dt + g_.z * half_dt2, lz_);
-      vx[i] += g_.x * dt;
-      vy[i] += g_.y * dt;
-      vz[i] += g_.z * dt;
+      energy += (g.x * vx[i] + g.y * vy[i] + g.z * vz[i]) * dt + 0.5 * g2 * dt * dt;
+      x[i] = wrap(x[i] + vx[i] * dt + g.x * half_dt2, lx);
+      z[i] = wrap(z[i] + vz[i] * dt + g.z * half_dt2, lz);
+      vx[i] += g.x * dt;
+      vy[i] += g.y * dt;
+      vz[i] += g.z * dt;
     } else {
-      x[i] = wrap(x[i] + vx[i] * dt, lx_);
-      z[i] = wrap(z[i] + vz[i] * dt, lz_);
+      x[i] = wrap(x[i] + vx[i] * dt, lx);
+      z[i] = wrap(z[i] + vz[i] * dt, lz);
     }
     y[i] = y1;
-    cell[i] = grid.layer_of(y1);
+    const std::uint32_t l = layer_of(y1);
+    layer[i] = l;
+    if (counts) ++counts[l];
   }
   tally.acceleration_energy += energy;
 }

@@ -35,20 +35,22 @@ class Mover {
   Mover(const double box[3], const Vec3& g, std::array<Side, 2> sides);
 
   // Streams every particle over dt from time t0, writes cell[] from the final y, and adds to
-  // `tally`. ctx is what boundaries see (time, dt, system). Throws std::runtime_error naming the
+  // `tally`. With layer_counts (CellGrid::block_counts) it also counts each block's layers, for
+  // CellGrid::sort_counted: the sort then does not read cell[] a second time. ctx is what boundaries see (time, dt, system). Throws std::runtime_error naming the
   // boundary when a plugin returns an impossible state or a particle cannot leave the walls.
   // Blocks of kBlock particles run on the pool's threads (boundaries' interact() concurrently);
   // their tallies are added in block order.
-  void stream(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, double t0, double dt,
-              const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally,
+  void stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* layer_counts, const CellGrid& grid,
+              double t0, double dt, const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally,
               WorkPool* pool = nullptr) const;
-  static constexpr std::size_t kBlock = 4096;
+  static constexpr std::size_t kBlock = CellGrid::kSortBlock;  // a block's layer counts are a sort block's
 
   static constexpr int max_hits_per_step = 100000;
 
  private:
   template <bool Accelerated>
-  void stream_block(const ParticleSpan& p, std::uint32_t* cell, const CellGrid& grid, std::size_t begin,
+  void stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const CellGrid& grid,
+                    std::size_t begin,
                     std::size_t end, double t0, double dt, const StepContext& ctx, const StreamFactory& streams,
                     StreamingTally& tally) const;
   // The flight of one particle that leaves [-Ly/2, Ly/2] during the step, hit by hit.
