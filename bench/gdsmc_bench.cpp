@@ -31,6 +31,8 @@
 //                         BM_PluginCollideCell/N/100 (one homogeneous cell, same rule).
 //   BM_SlabEngineStep     Engine::step of that slab pipeline (flight, walls, sort, collisions);
 //                         (N, threads), real time.
+//   BM_Memory{Read,Write,Flight}  six arrays of N doubles read, written, or moved as in free
+//                         flight, on the WorkPool: the machine's own 1 -> 2 thread ceiling.
 //   BM_Rng*               the random-number primitives the loop uses.
 //
 // The cell benchmarks take N (particles) and alpha_pct (restitution x 100). With alpha < 1 the gas
@@ -612,8 +614,8 @@ struct SlabPieces {
     auto* cell = const_cast<std::uint32_t*>(span.cell);
     host::StreamingTally tally;
     streams.set_step(step++);
-    mover->stream(span, cell, grid, 0.0, dt(), run.engine->context(), streams, tally);
-    grid.sort(cell, span.count);
+    mover->stream(span, cell, grid.block_counts(span.count), grid, 0.0, dt(), run.engine->context(), streams, tally);
+    grid.sort_counted(cell, span.count);
     hits += tally.sides[0].hits + tally.sides[1].hits;
   }
   // dt_collide: chosen for ~N/100 collisions per call over all layers, as the homogeneous bench.
@@ -694,6 +696,46 @@ void slab_engine_args(benchmark::internal::Benchmark* b) {
     for (std::int64_t n : {10000, 100000, 1000000, 10000000}) b->Args({n, threads});
 }
 BENCHMARK(BM_SlabEngineStep)->Apply(slab_engine_args);
+
+// What this machine's memory gives one and two cores, as the slab step uses it: six arrays of N
+// doubles (48 MB at 10^6: 48 bytes per particle, of the slab's 64) in blocks of Mover::kBlock on the engine's WorkPool. "read" sums them,
+// "write" fills them, "flight" is x,y,z += v dt (reads 48 MB, writes 24 MB). The 2-thread speed-up
+// of these loops is the ceiling for the memory-bound stages of a slab step (issue 13; on the 2-core
+// machine here writes gained 1.3-1.6x and reads 1.8x). (N, threads), real time; bytes/s counted.
+template <int Pattern>
+void BM_MemoryStream(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  host::WorkPool pool(static_cast<unsigned>(state.range(1)));
+  std::vector<std::vector<double>> a(6, std::vector<double>(n, 1.0));
+  std::vector<double> sums((n + host::Mover::kBlock - 1) / host::Mover::kBlock);
+  const double dt = 1e-3;
+  for (auto _ : state) {
+    pool.run(sums.size(), [&](std::size_t k) {
+      const std::size_t b = k * host::Mover::kBlock, e = std::min(n, b + host::Mover::kBlock);
+      double s = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        if constexpr (Pattern == 0) s += a[0][i] + a[1][i] + a[2][i] + a[3][i] + a[4][i] + a[5][i];
+        if constexpr (Pattern == 1)
+          for (int j = 0; j < 6; ++j) a[j][i] = static_cast<double>(i);
+        if constexpr (Pattern == 2)
+          for (int j = 0; j < 3; ++j) a[j][i] += a[j + 3][i] * dt;
+      }
+      sums[k] = s;
+    });
+    benchmark::DoNotOptimize(sums.data());
+    benchmark::ClobberMemory();
+  }
+  const double bytes = (Pattern == 2 ? 72.0 : 48.0) * static_cast<double>(n);
+  state.counters["bytes/s"] = benchmark::Counter(bytes * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+void memory_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"N", "threads"})->UseRealTime();
+  for (std::int64_t threads : {1, 2})
+    for (std::int64_t n : {100000, 1000000, 10000000}) b->Args({n, threads});
+}
+BENCHMARK_TEMPLATE(BM_MemoryStream, 0)->Name("BM_MemoryRead")->Apply(memory_args);
+BENCHMARK_TEMPLATE(BM_MemoryStream, 1)->Name("BM_MemoryWrite")->Apply(memory_args);
+BENCHMARK_TEMPLATE(BM_MemoryStream, 2)->Name("BM_MemoryFlight")->Apply(memory_args);
 
 // ---------------------------------------------------------------------------------------------
 // The random-number primitives (per call; items/s = calls per second).
