@@ -62,14 +62,13 @@ void CellGrid::sort_counted(const std::uint32_t* cell, std::size_t n, WorkPool* 
   for (std::size_t b = 0; b < blocks; ++b)
     for (std::size_t c = 0; c < layers_; ++c) offsets_[c + 1] += fill_[b * layers_ + c];
   for (std::size_t c = 0; c < layers_; ++c) offsets_[c + 1] += offsets_[c];
-  std::vector<std::uint32_t>& next = next_;
-  next.assign(offsets_.begin(), offsets_.end() - 1);
+  next_.assign(offsets_.begin(), offsets_.end() - 1);
   for (std::size_t b = 0; b < blocks; ++b)
     for (std::size_t c = 0; c < layers_; ++c) {
       std::uint32_t& slot = fill_[b * layers_ + c];
       const std::uint32_t k = slot;
-      slot = next[c];
-      next[c] += k;
+      slot = next_[c];
+      next_[c] += k;
     }
   for_pieces(pool, blocks, [&](std::size_t b) {
     std::uint32_t* place = fill_.data() + b * layers_;
