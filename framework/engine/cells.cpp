@@ -97,6 +97,11 @@ std::size_t CellGrid::piece_count() const {
   return slab_ ? layers_ : std::max<std::size_t>(1, (total_ + kMomentBlock - 1) / kMomentBlock);
 }
 
+CellGrid::PieceSums& CellGrid::open_piece(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const {
+  piece_range(k, cell, begin, end);
+  return pieces_[k] = PieceSums{};
+}
+
 void CellGrid::piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const {
   if (slab_) {
     cell = k;
@@ -117,9 +122,7 @@ bool CellGrid::one_pass_moments(const ParticleSpan& p, const double* shift, Samp
   const std::size_t pieces = piece_count();
   run(pieces, [&](std::size_t k) {
     std::size_t c, b, e;
-    piece_range(k, c, b, e);
-    PieceSums& ps = pieces_[k];
-    ps = PieceSums{};
+    PieceSums& ps = open_piece(k, c, b, e);
     // kLanes independent partial sums (particles i, i + kLanes, ...), added in lane order at the
     // end: the compiler keeps them in vector registers, and no sum waits on the one before (2.3
     // -> 1.6 ms at N = 1e6, against 1.3 ms for reading the velocities alone).
@@ -191,9 +194,7 @@ void CellGrid::homogeneous_moments(const ParticleSpan& p, double mean_density, C
   const std::size_t pieces = piece_count();
   run(pieces, [&](std::size_t k) {
     std::size_t c, b, e;
-    piece_range(k, c, b, e);
-    PieceSums& ps = pieces_[k];
-    ps = PieceSums{};
+    PieceSums& ps = open_piece(k, c, b, e);
     for (std::size_t i = b; i < e; ++i) {
       const double cx = p.vx[i] - shift[0], cy = p.vy[i] - shift[1], cz = p.vz[i] - shift[2];
       ps.s[0] += cx;
@@ -290,10 +291,8 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
   // Pass 1: the mean of every cell and of everyone, and the kinetic energy.
   run(pieces, [&](std::size_t k) {
     std::size_t c, b, e;
-    piece_range(k, c, b, e);
+    PieceSums& ps = open_piece(k, c, b, e);
     const std::uint32_t* mem = members(c);
-    PieceSums& ps = pieces_[k];
-    ps = PieceSums{};
     for (std::size_t q = b; q < e; ++q) {
       const std::uint32_t i = mem ? mem[q] : static_cast<std::uint32_t>(q);
       ps.s[0] += p.vx[i];

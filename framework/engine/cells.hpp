@@ -116,6 +116,8 @@ class CellGrid {
   bool one_pass_moments(const ParticleSpan& p, const double* conserved_mean, SampledMoments& out, Run&& run) const;
   // The particles of piece k: [begin, end) of members(cell) (or of every particle), and its cell.
   void piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
+  // piece_range, and the piece's sums set to zero for a pass to fill.
+  PieceSums& open_piece(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
 };
 
 }  // namespace gdsmc::host
