@@ -30,7 +30,8 @@
 //                         drives it, elastic, ~N/100 collisions per call: compare with
 //                         BM_PluginCollideCell/N/100 (one homogeneous cell, same rule).
 //   BM_SlabEngineStep     Engine::step of that slab pipeline (flight, walls, sort, collisions);
-//                         (N, threads), real time.
+//                         (N, threads), real time; with each stage's ms per step
+//                         (Engine::stage_seconds: flight_ms, sort_ms, reorder_ms, ...).
 //   BM_Memory{Read,Write,Flight}  six arrays of N doubles read, written, or moved as in free
 //                         flight, on the WorkPool: the machine's own 1 -> 2 thread ceiling.
 //   BM_Rng*               the random-number primitives the loop uses.
@@ -684,7 +685,14 @@ void BM_SlabEngineStep(benchmark::State& state) {
   SlabRun* run = cached_or_skip<SlabRun>(state, "slab_engine");
   if (!run) return;
   const std::uint64_t c0 = run->engine->context().collisions;
+  using Stage = host::Engine::Stage;
+  double before[static_cast<int>(Stage::count)];
+  for (int k = 0; k < static_cast<int>(Stage::count); ++k) before[k] = run->engine->stage_seconds(static_cast<Stage>(k));
   for (auto _ : state) run->engine->step();
+  // Where a step's time goes (Engine::stage_seconds), in ms per step: what limits the figure.
+  for (Stage s : {Stage::flight, Stage::sort, Stage::reorder, Stage::collisions, Stage::moments})
+    state.counters[std::string(host::Engine::stage_name(s)) + "_ms"] =
+        1e3 * (run->engine->stage_seconds(s) - before[static_cast<int>(s)]) / static_cast<double>(state.iterations());
   const double n = static_cast<double>(run->engine->system().particles);
   state.counters["moves/s"] = benchmark::Counter(n * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["collisions/s"] =

@@ -263,4 +263,48 @@ TEST(Output, InterruptedRunLeavesNoFile) {
   }
 }
 
+
+// /run/stage_seconds.* say where the steps' wall time went, and the run's summary prints them. Every
+// stage is timed from the end of the one before, so the stages together are the time inside the
+// steps: never more than wall_seconds (the same clock, over a longer interval), and all of it but
+// the run loop's own checks and the end of the run (the last record, finish) here, so at least
+// half of it. A slab has every stage but forcings; a homogeneous system without a body
+// acceleration has no flight, no sort and no reordering, which stay exactly 0.
+TEST(Output, StageSecondsSayWhereTheStepsWent) {
+  TempDir dir;
+  const std::string slab =
+      "run: {seed: 3, particles: 20000, time_step: {value: 0.02, unit: tau0}, stop: {time: {value: 1, unit: tau0}},"
+      " sample_every: 5, record_every: 10}\n"
+      "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 5}, layers: 20}\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "boundaries: {y: {plugin: diffuse_wall, temperature: 1.0}}\ndiagnostics: [temperature]\n"
+      "output: {file: slab.h5}\n";
+  const ProcessResult r = run_gdsmc({"run", dir.write("slab.yaml", slab).string(), "--threads", "2"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.out.find("time in the steps [s]: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("flight "), std::string::npos) << r.out;
+  h5::File h(dir / "slab.h5");
+  double sum = 0;
+  for (const char* stage : {"forcings", "flight", "sort", "reorder", "collisions", "moments", "diagnostics"}) {
+    const double s = h5::read_number_attribute(h.id(), "/run", std::string("stage_seconds.") + stage);
+    if (std::string(stage) == "forcings") EXPECT_EQ(s, 0.0);
+    else EXPECT_GT(s, 0.0) << stage;
+    sum += s;
+  }
+  const double wall = h5::read_number_attribute(h.id(), "/run", "wall_seconds");
+  EXPECT_LE(sum, wall);
+  EXPECT_GE(sum, 0.5 * wall);
+
+  TempDir dir2;
+  gdsmc::host::Engine homogeneous(load_yaml(dir2, pipeline_yaml(kDiagnostics)));
+  homogeneous.run();
+  using Stage = gdsmc::host::Engine::Stage;
+  for (Stage s : {Stage::flight, Stage::sort, Stage::reorder, Stage::forcings})
+    EXPECT_EQ(homogeneous.stage_seconds(s), 0.0) << gdsmc::host::Engine::stage_name(s);
+  EXPECT_GT(homogeneous.stage_seconds(Stage::collisions), 0.0);
+  EXPECT_LE(homogeneous.stage_seconds(Stage::collisions) + homogeneous.stage_seconds(Stage::moments) +
+                homogeneous.stage_seconds(Stage::diagnostics),
+            homogeneous.wall_seconds());
+}
+
 }  // namespace

@@ -502,7 +502,8 @@ inline std::string value_bytes(hid_t object, hid_t type, hid_t space, bool attri
 }
 
 // Every dataset (path -> bytes) and every attribute (path@name -> bytes) of a file, but the wall
-// times (the only values that may differ between two runs of the same pipeline).
+// times, wall_seconds and stage_seconds.* (the only values that may differ between two runs of
+// the same pipeline).
 inline std::map<std::string, std::string> contents(const fs::path& file) {
   h5::File f(file);
   std::map<std::string, std::string> out;
@@ -513,7 +514,7 @@ inline std::map<std::string, std::string> contents(const fs::path& file) {
       h5::Handle a(H5Aopen_by_idx(object, ".", H5_INDEX_NAME, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
       char name[256];
       H5Aget_name(a, sizeof name, name);
-      if (std::string(name) == "wall_seconds") continue;
+      if (std::string(name) == "wall_seconds" || std::string(name).rfind("stage_seconds.", 0) == 0) continue;
       h5::Handle type(H5Aget_type(a), H5Tclose), space(H5Aget_space(a), H5Sclose);
       out[path + "@" + name] = value_bytes(a, type, space, true);
     }

@@ -51,6 +51,10 @@ Options:
 With output.plots: true the finished file is then drawn by `gdsmc plot` (PNGs in
 <output>_plots/); a plot that fails is a warning, not a failed run.
 
+At the end the run prints what its diagnostics summarize, its energy balance, and where the
+steps' wall time went ("time in the steps [s]: ... flight, sort, collisions, ..."; the same
+seconds are in /run/stage_seconds.* of the file).
+
 Checkpoints: with run.checkpoint in the pipeline, e.g.
     run: {checkpoint: {every: 30 min}}     (or {every: {collisions_per_particle: 50}}, or both
                                             in a list: {every: [30 min, {collisions_per_particle: 50}]})

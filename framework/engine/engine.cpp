@@ -317,14 +317,31 @@ void Engine::step() {
   ctx_.in_average_window =
       (pipeline_.average_after_collisions_per_particle && s.collisions_per_particle() >= *pipeline_.average_after_collisions_per_particle) ||
       (pipeline_.average_after_time_tau0 && s.time_in_tau0() >= *pipeline_.average_after_time_tau0);
-  apply_forcings(forcings_before_);
+  lap_start_ = std::chrono::steady_clock::now();
+  if (!forcings_before_.empty()) {
+    apply_forcings(forcings_before_);
+    lap(Stage::forcings);
+  }
   stream(dt);
   collide(dt);
-  apply_forcings(forcings_after_);
+  lap(Stage::collisions);
+  if (!forcings_after_.empty()) {
+    apply_forcings(forcings_after_);
+    lap(Stage::forcings);
+  }
   ctx_.time += dt;
   ++ctx_.step;
-  if (ctx_.step % pipeline_.moments_every == 0) update_moments();
+  if (ctx_.step % pipeline_.moments_every == 0) {
+    update_moments();
+    lap(Stage::moments);
+  }
   sample_and_record(false);
+  lap(Stage::diagnostics);
+}
+
+const char* Engine::stage_name(Stage s) {
+  static const char* const names[] = {"forcings", "flight", "sort", "reorder", "collisions", "moments", "diagnostics"};
+  return names[static_cast<int>(s)];
 }
 
 void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings) {
@@ -346,8 +363,13 @@ void Engine::stream(double dt) {
     StreamingTally tally;
     mover_->stream(span, store_.cells(), grid_.block_counts(span.count), grid_, ctx_.time, dt, ctx_, streams_, tally,
                    &pool_);
+    lap(Stage::flight);
     grid_.sort_counted(store_.cells(), span.count, &pool_);
-    if (ctx_.step % kReorderEvery == 0) permute_by_layer();  // the layers just sorted from the fresh cell[]
+    lap(Stage::sort);
+    if (ctx_.step % kReorderEvery == 0) {
+      permute_by_layer();  // the layers just sorted from the fresh cell[]
+      lap(Stage::reorder);
+    }
     for (int s = 0; s < 2; ++s) {
       BoundaryTally& t = tallies_[s];
       t.hits += tally.sides[s].hits;
@@ -373,6 +395,7 @@ void Engine::stream(double dt) {
     double energy = 0;
     for (const double e : kick_energy_) energy += e;
     ledger_[1 + accelerations_[0]].energy += energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count);
+    lap(Stage::flight);
   }
 }
 
@@ -569,6 +592,7 @@ void Engine::save(StateWriter& out) const {
   const std::uint8_t flags[2] = {ctx_.in_average_window, steady_};
   out.write("engine.flags", flags, 2);
   out.write("engine.wall_seconds", wall_seconds_);
+  out.write("engine.stage_seconds", stage_seconds_, static_cast<std::size_t>(Stage::count));
   // A finished run keeps its particles only when they are part of the output.
   const std::uint8_t particles = !finished_ || pipeline_.output_particles;
   out.write("engine.has_particles", particles);
@@ -636,6 +660,7 @@ void Engine::load(StateReader& in) {
   ctx_.in_average_window = flags[0] != 0;
   steady_ = flags[1] != 0;
   in.read("engine.wall_seconds", wall_seconds_);
+  in.read("engine.stage_seconds", stage_seconds_, static_cast<std::size_t>(Stage::count));
   std::uint8_t particles = 0;
   in.read("engine.has_particles", particles);
   if (particles) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <optional>
 #include <functional>
 #include <memory>
@@ -102,6 +103,14 @@ class Engine {
   const StepContext& context() const { return ctx_; }
   const SystemInfo& system() const { return system_; }
   double wall_seconds() const { return wall_seconds_; }
+  // Where the steps' wall time went, stage by stage (as SPARTA and LAMMPS print at the end of a
+  // run): forcings, free flight with walls (or a homogeneous body acceleration's kick), the
+  // layers' counting sort, the reordering of storage by layer, collisions, moment updates, and
+  // diagnostics (sampling, recording). Seconds over every step, summed over the segments of a
+  // resumed run like wall_seconds; a stage the system does not have stays 0.
+  enum class Stage { forcings, flight, sort, reorder, collisions, moments, diagnostics, count };
+  static const char* stage_name(Stage s);
+  double stage_seconds(Stage s) const { return stage_seconds_[static_cast<int>(s)]; }
 
   using Interrupted = host::Interrupted;
 
@@ -182,6 +191,14 @@ class Engine {
   CollisionStage collisions_;            // per-cell majorants, remainders and streams
   std::vector<double> kick_energy_;      // per block: a homogeneous body acceleration's work this step
   double wall_seconds_ = 0;
+  double stage_seconds_[static_cast<int>(Stage::count)] = {};
+  std::chrono::steady_clock::time_point lap_start_;
+  // The time since the last lap (or the step's start) added to stage s.
+  void lap(Stage s) {
+    const auto now = std::chrono::steady_clock::now();
+    stage_seconds_[static_cast<int>(s)] += std::chrono::duration<double>(now - lap_start_).count();
+    lap_start_ = now;
+  }
   bool steady_ = false;
   bool finished_ = false;  // run() completed: finish() called, nothing left to step
   bool cells_reversed_ = false;

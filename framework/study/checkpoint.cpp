@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "gdsmc checkpoint";
-constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::uint32_t kFormatVersion = 2;  // 2: the engine keeps its stage times (engine.stage_seconds)
 
 std::string errno_text() { return std::strerror(errno); }
 

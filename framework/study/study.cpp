@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "study/summary.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -30,6 +31,7 @@ struct Run {
   std::vector<std::string> summary;  // realization 0 only
   std::vector<DiagnosticOutput> diagnostics;
   double collisions = 0, wall_seconds = 0;
+  double stage_seconds[static_cast<int>(Engine::Stage::count)] = {};
   std::uint64_t steps = 0;
   bool steady = false;
   std::exception_ptr error;
@@ -103,12 +105,31 @@ void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index
   run.collisions = engine.context().collisions;
   run.steps = engine.context().step;
   run.wall_seconds = engine.wall_seconds();
+  for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k)
+    run.stage_seconds[k] = engine.stage_seconds(static_cast<Engine::Stage>(k));
   run.steady = engine.reached_steady_state();
   if (run.realization == 0) {
     run.output = engine.output();
     run.summary = engine.summary();
   }
   run.diagnostics = engine.diagnostics();
+}
+
+// "time in the steps [s]: collisions 4.1 (39 %), flight 3.3 (31 %), ...": the stages that took
+// any time, longest first, each with its share of the steps' time.
+std::string stage_time_line(const double* seconds) {
+  std::vector<int> order;
+  double total = 0;
+  for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k) {
+    total += seconds[k];
+    if (seconds[k] > 0) order.push_back(k);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return seconds[a] > seconds[b]; });
+  std::string line = "time in the steps [s]: " + fmt("%.3g", total);
+  for (std::size_t i = 0; i < order.size(); ++i)
+    line += std::string(i == 0 ? " = " : ", ") + Engine::stage_name(static_cast<Engine::Stage>(order[i])) + " " +
+            fmt("%.3g", seconds[order[i]]) + fmt(" (%.0f %%)", 100.0 * seconds[order[i]] / total);
+  return line;
 }
 
 // A case from its runs (in realization order): the diagnostics averaged, the steady averages added.
@@ -118,13 +139,18 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   for (const auto& line : runs.front()->summary)
     case_summary.push_back((p.realizations > 1 ? "[realization 0] " : "") + line);
   std::vector<std::vector<DiagnosticOutput>> diagnostics;
+  double stages[static_cast<int>(Engine::Stage::count)] = {};
   for (Run* r : runs) {
+    for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k) stages[k] += r->stage_seconds[k];
     if (r->realization > 0) {
       case_out.run["wall_seconds"] += r->wall_seconds;
       case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"], r->steady ? 1.0 : 0.0);
     }
     diagnostics.push_back(std::move(r->diagnostics));
   }
+  for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k)
+    case_out.run[std::string("stage_seconds.") + Engine::stage_name(static_cast<Engine::Stage>(k))] = stages[k];
+  case_summary.push_back(stage_time_line(stages));
   case_out.run["realizations"] = p.realizations;
   case_out.diagnostics = average_realizations(diagnostics, nullptr);
   add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0,
