@@ -457,3 +457,65 @@ TEST(slab_physics, ALayerMajorantComesBackDownWhenItsFastParticleIsGone) {
   EXPECT_GT(raised, 1.3 * base);
   EXPECT_LT(after, 1.1 * base);
 }
+
+// The layer moments the engine hands to plugins (StepContext::cells, ::global) are those of the
+// particles as they stand at the end of the step, to the bit: a fresh grid sorted from the
+// positions and CellGrid::cell_moments give the same numbers. Three ways the engine gets them: the
+// collision stage measures each layer right after its collisions (no forcing after them, a moment
+// update every step), a forcing after the collisions (the thermostat rescales every velocity, so
+// the layers are measured in a pass of their own), and run.moments_every: 3 (measured only in the
+// steps that end with an update, and left alone in the steps between). Exact equality: the same
+// sums in the same member order.
+TEST(slab_physics, LayerMomentsAreThoseOfTheParticlesAtTheEndOfTheStep) {
+  struct Case {
+    const char* name;
+    std::string forcings;
+    int moments_every;
+  };
+  for (const Case& c : {Case{"measured after each layer's collisions", "[]", 1},
+                        Case{"a thermostat after the collisions", "[energy_momentum_thermostat]", 1},
+                        Case{"moments every 3 steps", "[]", 3}}) {
+    SCOPED_TRACE(c.name);
+    t::TempDir dir;
+    SlabSpec s;
+    s.particles = 3000;
+    s.layers = 12;
+    s.boundaries = "{y: {plugin: diffuse_wall, temperature: 2.0}}";  // walls that change the layers' state
+    s.forcings = c.forcings;
+    std::string yaml = slab_yaml(s);
+    yaml.replace(yaml.find("  sample_every"), 0, "  moments_every: " + std::to_string(c.moments_every) + "\n");
+    host::Pipeline p = t::load_yaml(dir, yaml);
+    host::Engine e(p, 0, 2);
+    const SystemInfo& sys = e.system();
+    int checked = 0;
+    std::vector<double> last_update;  // every layer's temperature at the last update
+    for (int k = 0; k < 40; ++k) {
+      e.step();
+      if (e.context().step % static_cast<std::uint64_t>(c.moments_every) != 0) {  // left as they were
+        for (std::size_t l = 0; l < last_update.size(); ++l)
+          ASSERT_EQ(e.context().cells[l].temperature, last_update[l]) << "layer " << l << " at step " << e.context().step;
+        continue;
+      }
+      const ParticleSpan sp = e.particles();
+      host::CellGrid grid;
+      grid.slab(sp.count, s.layers, sys.box[1], sys.cross_section());
+      std::vector<std::uint32_t> cell(sp.count);
+      grid.assign_and_sort(sp.y, cell.data(), sp.count);
+      std::vector<CellMoments> fresh;
+      CellMoments global;
+      grid.cell_moments(sp, sys.number_density, fresh, global);
+      ASSERT_EQ(e.context().cell_count, fresh.size());
+      for (std::size_t l = 0; l < fresh.size(); ++l) {
+        const CellMoments& m = e.context().cells[l];
+        ASSERT_EQ(m.count, fresh[l].count) << "layer " << l << " at step " << e.context().step;
+        ASSERT_EQ(m.temperature, fresh[l].temperature) << "layer " << l << " at step " << e.context().step;
+        for (int a = 0; a < 3; ++a) ASSERT_EQ(m.mean_velocity[a], fresh[l].mean_velocity[a]) << "layer " << l;
+      }
+      ASSERT_EQ(e.context().global->temperature, global.temperature) << "at step " << e.context().step;
+      last_update.clear();
+      for (const CellMoments& m : fresh) last_update.push_back(m.temperature);
+      ++checked;
+    }
+    EXPECT_EQ(checked, 40 / c.moments_every);
+  }
+}
