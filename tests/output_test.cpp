@@ -296,7 +296,8 @@ TEST(Output, StageSecondsSayWhereTheStepsWent) {
   EXPECT_GE(sum, 0.5 * wall);
 
   TempDir dir2;
-  gdsmc::host::Engine homogeneous(load_yaml(dir2, pipeline_yaml(kDiagnostics)));
+  const gdsmc::host::Pipeline pipeline = load_yaml(dir2, pipeline_yaml(kDiagnostics));  // the engine keeps a reference
+  gdsmc::host::Engine homogeneous(pipeline);
   homogeneous.run();
   using Stage = gdsmc::host::Engine::Stage;
   for (Stage s : {Stage::flight, Stage::sort, Stage::reorder, Stage::forcings})
