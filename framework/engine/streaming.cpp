@@ -89,41 +89,58 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   // The block's layer counts for the sort: an increment here, where the flight's loads hide it,
   // instead of a pass of the sort's own over cell[].
   if (counts) std::fill(counts, counts + grid.count(), 0u);
-  for (std::size_t i = begin; i < end; ++i) {
-    double y1 = y[i] + vy[i] * dt;
-    bool inside;
-    if constexpr (Accelerated) {
-      y1 += g.y * half_dt2;
-      inside = y1 >= -half && y1 <= half;
-      // A parabola can leave and come back within the step: check its apex.
-      if (inside && g.y != 0 && vy[i] * (vy[i] + g.y * dt) < 0) {
-        const double apex = y[i] - vy[i] * vy[i] / (2.0 * g.y);
-        inside = apex >= -half && apex <= half;
-      }
-    } else {
-      inside = y1 >= -half && y1 <= half;
-    }
-    if (!inside) {
+  // The particles that reach a wall are flown after each chunk of kHitBuffer particles, in index
+  // order (the tally's sums come in the same order, so the same bits): with the call to
+  // fly_with_hits inside the loop, the values the loop keeps lived on the stack (a call clobbers
+  // every vector register), and the flight reloaded them per particle.
+  std::uint32_t hit[kHitBuffer];
+  std::size_t hits = 0;
+  const auto fly_hits = [&] {
+    for (std::size_t h = 0; h < hits; ++h) {
+      const std::uint32_t i = hit[h];
       fly_with_hits(p, i, t0, dt, ctx, streams, tally);
-      layer[i] = layer_of(y[i]);
-      if (counts) ++counts[layer[i]];
-      continue;
+      const std::uint32_t l = layer_of(y[i]);
+      layer[i] = l;
+      if (counts) ++counts[l];
     }
-    if constexpr (Accelerated) {
-      energy += (g.x * vx[i] + g.y * vy[i] + g.z * vz[i]) * dt + 0.5 * g2 * dt * dt;
-      x[i] = wrap(x[i] + vx[i] * dt + g.x * half_dt2, lx);
-      z[i] = wrap(z[i] + vz[i] * dt + g.z * half_dt2, lz);
-      vx[i] += g.x * dt;
-      vy[i] += g.y * dt;
-      vz[i] += g.z * dt;
-    } else {
-      x[i] = wrap(x[i] + vx[i] * dt, lx);
-      z[i] = wrap(z[i] + vz[i] * dt, lz);
+    hits = 0;
+  };
+  for (std::size_t chunk = begin; chunk < end; chunk += kHitBuffer) {
+    for (std::size_t i = chunk, chunk_end = std::min(end, chunk + kHitBuffer); i < chunk_end; ++i) {
+      double y1 = y[i] + vy[i] * dt;
+      bool inside;
+      if constexpr (Accelerated) {
+        y1 += g.y * half_dt2;
+        inside = y1 >= -half && y1 <= half;
+        // A parabola can leave and come back within the step: check its apex.
+        if (inside && g.y != 0 && vy[i] * (vy[i] + g.y * dt) < 0) {
+          const double apex = y[i] - vy[i] * vy[i] / (2.0 * g.y);
+          inside = apex >= -half && apex <= half;
+        }
+      } else {
+        inside = y1 >= -half && y1 <= half;
+      }
+      if (!inside) {
+        hit[hits++] = static_cast<std::uint32_t>(i);
+        continue;
+      }
+      if constexpr (Accelerated) {
+        energy += (g.x * vx[i] + g.y * vy[i] + g.z * vz[i]) * dt + 0.5 * g2 * dt * dt;
+        x[i] = wrap(x[i] + vx[i] * dt + g.x * half_dt2, lx);
+        z[i] = wrap(z[i] + vz[i] * dt + g.z * half_dt2, lz);
+        vx[i] += g.x * dt;
+        vy[i] += g.y * dt;
+        vz[i] += g.z * dt;
+      } else {
+        x[i] = wrap(x[i] + vx[i] * dt, lx);
+        z[i] = wrap(z[i] + vz[i] * dt, lz);
+      }
+      y[i] = y1;
+      const std::uint32_t l = layer_of(y1);
+      layer[i] = l;
+      if (counts) ++counts[l];
     }
-    y[i] = y1;
-    const std::uint32_t l = layer_of(y1);
-    layer[i] = l;
-    if (counts) ++counts[l];
+    if (hits) fly_hits();
   }
   tally.acceleration_energy += energy;
 }

@@ -46,6 +46,7 @@ class Mover {
   static constexpr std::size_t kBlock = CellGrid::kSortBlock;  // a block's layer counts are a sort block's
 
   static constexpr int max_hits_per_step = 100000;
+  static constexpr std::size_t kHitBuffer = 256;  // wall-bound particles held back, then flown
 
  private:
   template <bool Accelerated>
