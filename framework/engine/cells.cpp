@@ -38,7 +38,7 @@ void CellGrid::slab(std::size_t particles, std::size_t layers, double height, do
 void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
   if (!slab_) return;
   std::uint32_t* const counts = block_counts(n);
-  for_pieces(pool, (n + kSortBlock - 1) / kSortBlock, [&](std::size_t b) {
+  for_pieces(pool, sort_blocks(n), [&](std::size_t b) {
     std::uint32_t* count = counts + b * layers_;
     std::fill(count, count + layers_, 0u);
     for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i) ++count[cell[i]];
@@ -47,14 +47,14 @@ void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
 }
 
 std::uint32_t* CellGrid::block_counts(std::size_t n) {
-  const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
-  if (fill_.size() != blocks * layers_) fill_.resize(blocks * layers_);
+  const std::size_t size = sort_blocks(n) * layers_;
+  if (fill_.size() != size) fill_.resize(size);
   return fill_.data();
 }
 
 void CellGrid::sort_counted(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
   if (!slab_) return;
-  const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
+  const std::size_t blocks = sort_blocks(n);
   // Each layer's start (the layers' totals, block rows read in storage order), then each block's
   // start within a layer, the blocks in order: the same places as taking layer by layer, block by
   // block, without striding across the rows.

@@ -54,6 +54,7 @@ class CellGrid {
   std::uint32_t* block_counts(std::size_t n);
   void sort_counted(const std::uint32_t* cell, std::size_t n, WorkPool* pool = nullptr);
   static constexpr std::size_t kSortBlock = 16384;  // the counts: 4 * layers / kSortBlock bytes a particle
+  static std::size_t sort_blocks(std::size_t n) { return (n + kSortBlock - 1) / kSortBlock; }
   // Recompute cell[] from y, then sort (after the initial state, or in tests); nothing in a
   // homogeneous system.
   void assign_and_sort(const double* y, std::uint32_t* cell, std::size_t n);

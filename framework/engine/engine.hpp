@@ -109,8 +109,11 @@ class Engine {
   // diagnostics (sampling, recording). Seconds over every step, summed over the segments of a
   // resumed run like wall_seconds; a stage the system does not have stays 0.
   enum class Stage { forcings, flight, sort, reorder, collisions, moments, diagnostics, count };
+  static constexpr std::size_t kStages = static_cast<std::size_t>(Stage::count);
+  using StageSeconds = std::array<double, kStages>;  // indexed by Stage
   static const char* stage_name(Stage s);
-  double stage_seconds(Stage s) const { return stage_seconds_[static_cast<int>(s)]; }
+  const StageSeconds& stage_seconds() const { return stage_seconds_; }
+  double stage_seconds(Stage s) const { return stage_seconds_[static_cast<std::size_t>(s)]; }
 
   using Interrupted = host::Interrupted;
 
@@ -191,12 +194,12 @@ class Engine {
   CollisionStage collisions_;            // per-cell majorants, remainders and streams
   std::vector<double> kick_energy_;      // per block: a homogeneous body acceleration's work this step
   double wall_seconds_ = 0;
-  double stage_seconds_[static_cast<int>(Stage::count)] = {};
+  StageSeconds stage_seconds_{};
   std::chrono::steady_clock::time_point lap_start_;
   // The time since the last lap (or the step's start) added to stage s.
   void lap(Stage s) {
     const auto now = std::chrono::steady_clock::now();
-    stage_seconds_[static_cast<int>(s)] += std::chrono::duration<double>(now - lap_start_).count();
+    stage_seconds_[static_cast<std::size_t>(s)] += std::chrono::duration<double>(now - lap_start_).count();
     lap_start_ = now;
   }
   bool steady_ = false;

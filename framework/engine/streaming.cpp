@@ -50,7 +50,7 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
                    double t0, double dt, const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally,
                    WorkPool* pool) const {
   const bool accelerated = g_.x != 0 || g_.y != 0 || g_.z != 0;
-  const std::size_t blocks = (p.count + kBlock - 1) / kBlock;
+  const std::size_t blocks = CellGrid::sort_blocks(p.count);  // kBlock = kSortBlock: a block's counts are a sort row
   if (blocks_.size() < blocks) blocks_.resize(blocks);
   for_pieces(pool, blocks, [&](std::size_t k) {
     StreamingTally& block = blocks_[k];
@@ -79,7 +79,6 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   double* const vx = p.vx;
   double* const vy = p.vy;
   double* const vz = p.vz;
-  std::uint32_t* const layer = cell;
   const CellGrid::LayerIndex layer_of = grid.layer_index();
   const double half = half_, lx = lx_, lz = lz_;
   const Vec3 g = g_;
@@ -89,6 +88,10 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   // The block's layer counts for the sort: an increment here, where the flight's loads hide it,
   // instead of a pass of the sort's own over cell[].
   if (counts) std::fill(counts, counts + grid.count(), 0u);
+  const auto place = [&](std::size_t i, std::uint32_t l) {
+    cell[i] = l;
+    if (counts) ++counts[l];
+  };
   // The particles that reach a wall are flown after each chunk of kHitBuffer particles, in index
   // order (the tally's sums come in the same order, so the same bits): with the call to
   // fly_with_hits inside the loop, the values the loop keeps lived on the stack (a call clobbers
@@ -99,9 +102,7 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
     for (std::size_t h = 0; h < hits; ++h) {
       const std::uint32_t i = hit[h];
       fly_with_hits(p, i, t0, dt, ctx, streams, tally);
-      const std::uint32_t l = layer_of(y[i]);
-      layer[i] = l;
-      if (counts) ++counts[l];
+      place(i, layer_of(y[i]));
     }
     hits = 0;
   };
@@ -136,9 +137,7 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
         z[i] = wrap(z[i] + vz[i] * dt, lz);
       }
       y[i] = y1;
-      const std::uint32_t l = layer_of(y1);
-      layer[i] = l;
-      if (counts) ++counts[l];
+      place(i, layer_of(y1));
     }
     if (hits) fly_hits();
   }

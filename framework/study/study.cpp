@@ -31,7 +31,7 @@ struct Run {
   std::vector<std::string> summary;  // realization 0 only
   std::vector<DiagnosticOutput> diagnostics;
   double collisions = 0, wall_seconds = 0;
-  double stage_seconds[static_cast<int>(Engine::Stage::count)] = {};
+  Engine::StageSeconds stage_seconds{};
   std::uint64_t steps = 0;
   bool steady = false;
   std::exception_ptr error;
@@ -105,8 +105,7 @@ void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index
   run.collisions = engine.context().collisions;
   run.steps = engine.context().step;
   run.wall_seconds = engine.wall_seconds();
-  for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k)
-    run.stage_seconds[k] = engine.stage_seconds(static_cast<Engine::Stage>(k));
+  run.stage_seconds = engine.stage_seconds();
   run.steady = engine.reached_steady_state();
   if (run.realization == 0) {
     run.output = engine.output();
@@ -117,14 +116,14 @@ void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index
 
 // "time in the steps [s]: collisions 4.1 (39 %), flight 3.3 (31 %), ...": the stages that took
 // any time, longest first, each with its share of the steps' time.
-std::string stage_time_line(const double* seconds) {
-  std::vector<int> order;
+std::string stage_time_line(const Engine::StageSeconds& seconds) {
+  std::vector<std::size_t> order;
   double total = 0;
-  for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k) {
+  for (std::size_t k = 0; k < Engine::kStages; ++k) {
     total += seconds[k];
     if (seconds[k] > 0) order.push_back(k);
   }
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return seconds[a] > seconds[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return seconds[a] > seconds[b]; });
   std::string line = "time in the steps [s]: " + fmt("%.3g", total);
   for (std::size_t i = 0; i < order.size(); ++i)
     line += std::string(i == 0 ? " = " : ", ") + Engine::stage_name(static_cast<Engine::Stage>(order[i])) + " " +
@@ -139,16 +138,16 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   for (const auto& line : runs.front()->summary)
     case_summary.push_back((p.realizations > 1 ? "[realization 0] " : "") + line);
   std::vector<std::vector<DiagnosticOutput>> diagnostics;
-  double stages[static_cast<int>(Engine::Stage::count)] = {};
+  Engine::StageSeconds stages{};
   for (Run* r : runs) {
-    for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k) stages[k] += r->stage_seconds[k];
+    for (std::size_t k = 0; k < Engine::kStages; ++k) stages[k] += r->stage_seconds[k];
     if (r->realization > 0) {
       case_out.run["wall_seconds"] += r->wall_seconds;
       case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"], r->steady ? 1.0 : 0.0);
     }
     diagnostics.push_back(std::move(r->diagnostics));
   }
-  for (int k = 0; k < static_cast<int>(Engine::Stage::count); ++k)
+  for (std::size_t k = 0; k < Engine::kStages; ++k)
     case_out.run[std::string("stage_seconds.") + Engine::stage_name(static_cast<Engine::Stage>(k))] = stages[k];
   case_summary.push_back(stage_time_line(stages));
   case_out.run["realizations"] = p.realizations;
