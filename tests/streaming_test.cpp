@@ -206,6 +206,40 @@ TEST(CellGrid, LayersCountedByTheMoverSortAsTheSortsOwnCount) {
   }
 }
 
+// The sort in two parts, as the collision stage drives it (CellGrid::place_blocks, then each
+// block's scatter_block in any order): the same member lists as sort(), and last_block(c) is the
+// last block holding a member of layer c, which the collisions of layer c wait for. 3 blocks, the
+// last one short; layer 0 has one member far away, in the last block; layer 3 has none.
+TEST(CellGrid, BlocksScatteredInAnyOrderGiveTheSortsListsAndEachLayersLastBlock) {
+  const std::size_t n = 2 * host::CellGrid::kSortBlock + 777, layers = 5;
+  std::vector<std::uint32_t> cell(n);
+  for (std::size_t i = 0; i < n; ++i) cell[i] = static_cast<std::uint32_t>(i * 4 / n);  // layers 0, 1, 2, 4 in order
+  for (std::uint32_t& c : cell)
+    if (c == 3) c = 4;
+  cell[n - 5] = 0;  // a member of layer 0 in the last block
+  host::CellGrid sorted, placed;
+  sorted.slab(n, layers, 1.0, 1.0);
+  placed.slab(n, layers, 1.0, 1.0);
+  sorted.sort(cell.data(), n);
+  std::uint32_t* counts = placed.block_counts(n);
+  std::fill(counts, counts + 3 * layers, 0u);
+  for (std::size_t i = 0; i < n; ++i) ++counts[(i / host::CellGrid::kSortBlock) * layers + cell[i]];
+  placed.place_blocks(n);
+  std::size_t expected_last[layers];
+  std::fill(expected_last, expected_last + layers, host::CellGrid::kNoBlock);
+  for (std::size_t i = 0; i < n; ++i) expected_last[cell[i]] = i / host::CellGrid::kSortBlock;
+  EXPECT_EQ(expected_last[0], 2u);
+  EXPECT_EQ(expected_last[3], host::CellGrid::kNoBlock);
+  for (std::size_t c = 0; c < layers; ++c) {
+    EXPECT_EQ(placed.last_block(c), expected_last[c]) << "layer " << c;
+    EXPECT_EQ(placed.members_count(c), sorted.members_count(c)) << "layer " << c;  // known before any scatter
+  }
+  for (std::size_t b : {2, 0, 1}) placed.scatter_block(cell.data(), b, n);
+  for (std::size_t c = 0; c < layers; ++c)
+    for (std::uint32_t k = 0; k < sorted.members_count(c); ++k)
+      ASSERT_EQ(placed.members(c)[k], sorted.members(c)[k]) << "layer " << c << ", member " << k;
+}
+
 // The sampled moments of a homogeneous system in one pass around a mean the caller says is
 // conserved, against the two passes of velocity_moments: to round-off when the given mean is the
 // mean (here, N = 150001 particles in 3 blocks, a tail that is not a multiple of the lanes, a drift

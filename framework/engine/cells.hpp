@@ -53,6 +53,17 @@ class CellGrid {
   // count() row per block, each row wholly written by its block.
   std::uint32_t* block_counts(std::size_t n);
   void sort_counted(const std::uint32_t* cell, std::size_t n, WorkPool* pool = nullptr);
+  // sort_counted in two parts, for a caller that interleaves the blocks' scatter with other work
+  // (CollisionStage::run: a layer collides once the blocks holding its members have placed them).
+  // place_blocks: every layer's range and every block's places in it (serial, from the counts);
+  // then scatter_block(b) for every block b, in any order, on any thread (or scatter_blocks: all
+  // of them on the pool's threads).
+  void place_blocks(std::size_t n);
+  void scatter_block(const std::uint32_t* cell, std::size_t b, std::size_t n);
+  void scatter_blocks(const std::uint32_t* cell, std::size_t n, WorkPool* pool = nullptr);
+  // After place_blocks: the last block holding a member of layer c (kNoBlock when c is empty).
+  std::size_t last_block(std::size_t c) const { return last_block_[c]; }
+  static constexpr std::size_t kNoBlock = static_cast<std::size_t>(-1);
   static constexpr std::size_t kSortBlock = 16384;  // the counts: 4 * layers / kSortBlock bytes a particle
   static std::size_t sort_blocks(std::size_t n) { return (n + kSortBlock - 1) / kSortBlock; }
   // Recompute cell[] from y, then sort (after the initial state, or in tests); nothing in a
@@ -99,6 +110,7 @@ class CellGrid {
   std::vector<std::uint32_t> offsets_;        // layers + 1
   std::vector<std::uint32_t> fill_;           // blocks x layers: counts, then next places (sort)
   std::vector<std::uint32_t> next_;           // layers: the next block's start in each (sort)
+  std::vector<std::size_t> last_block_;       // layers: the last block holding a member (place_blocks)
   std::vector<std::uint32_t> members_;        // particles
   mutable std::vector<double> scratch_mean_;  // 3 * layers (sampled_moments)
   mutable std::vector<double> speed_max_;     // layers (cell_moments, slab)

@@ -105,9 +105,108 @@ void CollisionStage::set_layer_majorants(const CellMoments* cells, const double*
   }
 }
 
+void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma,
+                                   double dt, const StreamFactory& streams) {
+  poll_interrupt(interrupt_);
+  Rng rng = streams.rng(StreamPurpose::collisions, 0, c);
+  const double majorant = ratio_[c] * speed_[c];
+  // Slices of dt for a large group (4 x the estimate: a general kernel's solid angle is 4 pi);
+  // one slice, the whole dt, otherwise.
+  const double upper = 4.0 * estimate_[c];
+  const double slices = upper > kCandidatesPerSlice ? std::ceil(upper / kCandidatesPerSlice) : 1.0;
+  CellCollision cell;
+  cell.remainder = remainder_[c];
+  double* const tally = tally_count_ ? cell_tallies_.data() + c * tally_count_ : nullptr;
+  if (tally) std::fill(tally, tally + tally_count_, 0.0);
+  double max_rate = 0, energy = 0;
+  std::uint64_t* const counts = counts_.data() + 3 * c;
+  counts[0] = counts[1] = counts[2] = 0;
+  for (double s = 0; s < slices; ++s) {
+    if (s > 0) poll_interrupt(interrupt_);
+    const double remainder = cell.remainder;
+    cell = CellCollision{};
+    cell.particles = particles;
+    cell.members = groups_[c].members;
+    cell.first = groups_[c].first;
+    cell.stride = groups_[c].stride;
+    cell.count = groups_[c].count;
+    cell.pairs = pair_count(scheme_, cell.count);
+    cell.index = static_cast<std::uint32_t>(c);
+    cell.volume = groups_[c].volume;
+    cell.sigma = sigma;
+    cell.dt = dt / slices;
+    cell.majorant = majorant;
+    cell.remainder = remainder;
+    cell.rng = &rng;
+    cell.tally = tally;  // summed over the slices
+    rule.collide_cell(cell);
+    counts[0] += cell.candidates;
+    counts[1] += cell.accepted;
+    counts[2] += cell.majorant_exceeded;
+    max_rate = std::max(max_rate, cell.max_rate);
+    energy += cell.energy_change;
+  }
+  remainder_[c] = cell.remainder;
+  if (max_rate > majorant) ratio_[c] = kMajorantHeadroom * max_rate / speed_[c];
+  max_rate_[c] = max_rate;
+  energy_[c] = energy;
+}
+
+void CollisionStage::scatter_and_collide(const CollisionRule& rule, const ParticleSpan& particles,
+                                         const PendingMembers& pending, double sigma, double dt,
+                                         const StreamFactory& streams) {
+  CellGrid& grid = *pending.grid;
+  const std::size_t layers = grid.count(), blocks = CellGrid::sort_blocks(particles.count);
+  if (scattered_size_ < blocks) {
+    scattered_ = std::make_unique<std::atomic<std::uint64_t>[]>(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) scattered_[b].store(0, std::memory_order_relaxed);
+    scattered_size_ = blocks;
+  }
+  const std::uint64_t stamp = ++stamp_;
+  // The layers by their last block (a counting sort; key 0: empty, key b + 1: last block b).
+  const auto key = [&](std::size_t c) {
+    const std::size_t b = grid.last_block(c);
+    return b == CellGrid::kNoBlock ? std::size_t{0} : b + 1;
+  };
+  key_start_.assign(blocks + 2, 0);
+  for (std::size_t c = 0; c < layers; ++c) ++key_start_[key(c) + 1];
+  for (std::size_t k = 1; k < key_start_.size(); ++k) key_start_[k] += key_start_[k - 1];
+  by_key_.resize(layers);
+  next_piece_.assign(key_start_.begin(), key_start_.end() - 1);
+  for (std::size_t c = 0; c < layers; ++c) by_key_[next_piece_[key(c)]++] = static_cast<std::uint32_t>(c);
+  // The pieces: the first kScatterLead blocks and the empty layers; then, for every block b, the
+  // scatter of block b + kScatterLead and the layers whose last block is b. The scatters run
+  // ahead of the layers that need them, so that a thread seldom waits for one.
+  pieces_.clear();
+  const auto layers_of_key = [&](std::size_t k) {
+    for (std::uint32_t j = key_start_[k]; j < key_start_[k + 1]; ++j) pieces_.push_back(static_cast<std::uint32_t>(blocks) + by_key_[j]);
+  };
+  for (std::size_t b = 0; b < std::min(kScatterLead, blocks); ++b) pieces_.push_back(static_cast<std::uint32_t>(b));
+  layers_of_key(0);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    if (b + kScatterLead < blocks) pieces_.push_back(static_cast<std::uint32_t>(b + kScatterLead));
+    layers_of_key(b + 1);
+  }
+  for_pieces(pool_, pieces_.size(), [&](std::size_t k) {
+    const std::uint32_t piece = pieces_[k];
+    if (piece < blocks) {
+      grid.scatter_block(pending.cell, piece, particles.count);
+      scattered_[piece].store(stamp, std::memory_order_release);
+      return;
+    }
+    const std::size_t c = piece - blocks, last = grid.last_block(c);
+    // Every block up to the last is an earlier piece, taken already: the wait ends.
+    if (last != CellGrid::kNoBlock)
+      for (std::size_t b = 0; b <= last; ++b)
+        while (scattered_[b].load(std::memory_order_acquire) != stamp) cpu_relax();
+    collide_group(rule, particles, c, sigma, dt, streams);
+  });
+}
+
 CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const ParticleSpan& particles, const CellGrid& grid,
                                            const CellMoments* cells, double temperature, double mass, double sigma,
-                                           double dt, const StreamFactory& streams, bool reversed) {
+                                           double dt, const StreamFactory& streams, bool reversed,
+                                           const PendingMembers* pending) {
   const std::size_t n = grid.is_slab() ? grid.count() : subpopulation_count(particles.count, subpopulation_);
   if (ratio_.size() != n) reset(n);
   make_groups(grid, particles.count, streams);
@@ -130,52 +229,12 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
                    total);
 
   // The groups are independent (own stream, majorant, remainder, results): any thread, any order.
-  for_pieces(pool_, n, [&](std::size_t k) {
-    poll_interrupt(interrupt_);
-    const std::size_t c = reversed ? n - 1 - k : k;
-    Rng rng = streams.rng(StreamPurpose::collisions, 0, c);
-    const double majorant = ratio_[c] * speed_[c];
-    // Slices of dt for a large group (4 x the estimate: a general kernel's solid angle is 4 pi);
-    // one slice, the whole dt, otherwise.
-    const double upper = 4.0 * estimate_[c];
-    const double slices = upper > kCandidatesPerSlice ? std::ceil(upper / kCandidatesPerSlice) : 1.0;
-    CellCollision cell;
-    cell.remainder = remainder_[c];
-    double* const tally = tally_count_ ? cell_tallies_.data() + c * tally_count_ : nullptr;
-    if (tally) std::fill(tally, tally + tally_count_, 0.0);
-    double max_rate = 0, energy = 0;
-    std::uint64_t* const counts = counts_.data() + 3 * c;
-    counts[0] = counts[1] = counts[2] = 0;
-    for (double s = 0; s < slices; ++s) {
-      if (s > 0) poll_interrupt(interrupt_);
-      const double remainder = cell.remainder;
-      cell = CellCollision{};
-      cell.particles = particles;
-      cell.members = groups_[c].members;
-      cell.first = groups_[c].first;
-      cell.stride = groups_[c].stride;
-      cell.count = groups_[c].count;
-      cell.pairs = pair_count(scheme_, cell.count);
-      cell.index = static_cast<std::uint32_t>(c);
-      cell.volume = groups_[c].volume;
-      cell.sigma = sigma;
-      cell.dt = dt / slices;
-      cell.majorant = majorant;
-      cell.remainder = remainder;
-      cell.rng = &rng;
-      cell.tally = tally;  // summed over the slices
-      rule.collide_cell(cell);
-      counts[0] += cell.candidates;
-      counts[1] += cell.accepted;
-      counts[2] += cell.majorant_exceeded;
-      max_rate = std::max(max_rate, cell.max_rate);
-      energy += cell.energy_change;
-    }
-    remainder_[c] = cell.remainder;
-    if (max_rate > majorant) ratio_[c] = kMajorantHeadroom * max_rate / speed_[c];
-    max_rate_[c] = max_rate;
-    energy_[c] = energy;
-  });
+  if (pending && !reversed && grid.is_slab()) {
+    scatter_and_collide(rule, particles, *pending, sigma, dt, streams);
+  } else {
+    if (pending) pending->grid->scatter_blocks(pending->cell, particles.count, pool_);
+    for_pieces(pool_, n, [&](std::size_t k) { collide_group(rule, particles, reversed ? n - 1 - k : k, sigma, dt, streams); });
+  }
   // The totals in group order.
   Totals sum;
   for (std::size_t c = 0; c < n; ++c) {

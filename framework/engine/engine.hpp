@@ -205,6 +205,7 @@ class Engine {
   bool steady_ = false;
   bool finished_ = false;  // run() completed: finish() called, nothing left to step
   bool cells_reversed_ = false;
+  bool members_pending_ = false;  // the slab's member lists are placed, not yet written (stream -> collide)
   int steady_slot_ = -1;
 };
 

@@ -36,13 +36,6 @@ void WorkPool::take_pieces() {
 }
 
 namespace {
-inline void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#else
-  std::this_thread::yield();
-#endif
-}
 // Spin until done() or kSpinSeconds have passed; true if done() came true.
 template <class Done>
 bool spin_until(Done&& done, double seconds) {

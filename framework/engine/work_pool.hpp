@@ -65,6 +65,15 @@ class WorkPool {
   std::exception_ptr error_;
 };
 
+// One turn of a spin-wait: the processor's pause hint (or a yield where there is none).
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#else
+  std::this_thread::yield();
+#endif
+}
+
 // piece(k) for k in [0, count): on the pool, or on the caller when there is none.
 template <class F>
 void for_pieces(WorkPool* pool, std::size_t count, F&& piece) {
