@@ -200,6 +200,11 @@ TEST(Inspect, PrintsProvenanceAndDatasetsWithUnits) {
   ASSERT_EQ(time.size(), 1u) << r.out;
   EXPECT_EQ(time[0].substr(time[0].size() - 4), "tau0") << time[0];
   EXPECT_EQ(lines_starting(r.out, "  /diagnostics/hcs_theory/a2.steady_mean ").size(), 1u) << r.out;
+  // Where the steps' time went, from /run/stage_seconds.*: a homogeneous run has collisions.
+  const auto stages = lines_starting(r.out, "  steps' time [s] ");
+  ASSERT_EQ(stages.size(), 1u) << r.out;
+  EXPECT_TRUE(contains(stages[0], " = ") && contains(stages[0], "collisions ")) << stages[0];
+  EXPECT_FALSE(contains(stages[0], "flight")) << "no flight in a homogeneous run without forcing: " << stages[0];
   // --long: the descriptions too.
   const ProcessResult l = run_gdsmc({"inspect", "--long", "out.h5"}, dir.path());
   ASSERT_EQ(l.exit_code, 0) << l.describe();

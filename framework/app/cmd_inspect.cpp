@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "engine/engine.hpp"
 
 namespace gdsmc::host {
 
@@ -20,7 +22,8 @@ const char* const kInspectHelp = R"(gdsmc inspect OUTPUT.h5 [options]
 
 Prints what a gdsmc output file holds, readably in a terminal (no Python needed):
   - its provenance: the gdsmc version and SDK ABI that wrote it, the pipeline file, the seed, the
-    --set overrides, the number of realizations, the run's totals (/run), the first lines of the
+    --set overrides, the number of realizations, the run's totals (/run) and where its steps' time
+    went (flight, sort, collisions, ...: /run/stage_seconds.*), the first lines of the
     pipeline as run (after --set), and every plugin with its version, library and parameters
     (/plugins; in a sweep, those of each case, with the case's label);
   - every dataset, in tree order, with its shape and its unit (the `unit` attribute).
@@ -140,6 +143,16 @@ void print_run(hid_t root) {
   field("run", number("steps") + " steps to t = " + number("final_time_tau0") + " tau0, s = " +
                    number("collisions_per_particle") + " collisions per particle, " + number("collisions") +
                    " collisions, " + number("wall_seconds") + " s of wall time");
+  // Where the steps' time went (/run/stage_seconds.*; files from before them have none).
+  Engine::StageSeconds stages{};
+  bool any = false;
+  for (std::size_t k = 0; k < Engine::kStages; ++k) {
+    const std::string text = attribute(run, std::string("stage_seconds.") + Engine::stage_name(static_cast<Engine::Stage>(k)));
+    if (text.empty()) continue;
+    stages[k] = std::strtod(text.c_str(), nullptr);
+    any = true;
+  }
+  if (any) field("steps' time [s]", Engine::stage_times_text(stages));
 }
 
 struct Entry {

@@ -344,6 +344,21 @@ const char* Engine::stage_name(Stage s) {
   return names[static_cast<int>(s)];
 }
 
+std::string Engine::stage_times_text(const StageSeconds& seconds) {
+  std::vector<std::size_t> order;
+  double total = 0;
+  for (std::size_t k = 0; k < kStages; ++k) {
+    total += seconds[k];
+    if (seconds[k] > 0) order.push_back(k);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return seconds[a] > seconds[b]; });
+  std::string text = fmt("%.3g", total);
+  for (std::size_t i = 0; i < order.size(); ++i)
+    text += std::string(i == 0 ? " = " : ", ") + stage_name(static_cast<Stage>(order[i])) + " " +
+            fmt("%.3g", seconds[order[i]]) + fmt(" (%.0f %%)", 100.0 * seconds[order[i]] / total);
+  return text;
+}
+
 void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings) {
   const ParticleSpan span = store_.span();
   for (const auto& [f, index] : forcings) {

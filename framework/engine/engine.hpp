@@ -112,6 +112,9 @@ class Engine {
   static constexpr std::size_t kStages = static_cast<std::size_t>(Stage::count);
   using StageSeconds = std::array<double, kStages>;  // indexed by Stage
   static const char* stage_name(Stage s);
+  // "2.03 = flight 1.09 (54 %), collisions 0.6 (30 %), ...": the total, then the stages that took
+  // any time, longest first, each with its share (the run's summary and `gdsmc inspect`).
+  static std::string stage_times_text(const StageSeconds& seconds);
   const StageSeconds& stage_seconds() const { return stage_seconds_; }
   double stage_seconds(Stage s) const { return stage_seconds_[static_cast<std::size_t>(s)]; }
 

@@ -114,23 +114,6 @@ void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index
   run.diagnostics = engine.diagnostics();
 }
 
-// "time in the steps [s]: collisions 4.1 (39 %), flight 3.3 (31 %), ...": the stages that took
-// any time, longest first, each with its share of the steps' time.
-std::string stage_time_line(const Engine::StageSeconds& seconds) {
-  std::vector<std::size_t> order;
-  double total = 0;
-  for (std::size_t k = 0; k < Engine::kStages; ++k) {
-    total += seconds[k];
-    if (seconds[k] > 0) order.push_back(k);
-  }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return seconds[a] > seconds[b]; });
-  std::string line = "time in the steps [s]: " + fmt("%.3g", total);
-  for (std::size_t i = 0; i < order.size(); ++i)
-    line += std::string(i == 0 ? " = " : ", ") + Engine::stage_name(static_cast<Engine::Stage>(order[i])) + " " +
-            fmt("%.3g", seconds[order[i]]) + fmt(" (%.0f %%)", 100.0 * seconds[order[i]] / total);
-  return line;
-}
-
 // A case from its runs (in realization order): the diagnostics averaged, the steady averages added.
 CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<std::string>& case_summary) {
   const Pipeline& p = sc.pipeline;
@@ -149,7 +132,7 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   }
   for (std::size_t k = 0; k < Engine::kStages; ++k)
     case_out.run[std::string("stage_seconds.") + Engine::stage_name(static_cast<Engine::Stage>(k))] = stages[k];
-  case_summary.push_back(stage_time_line(stages));
+  case_summary.push_back("time in the steps [s]: " + Engine::stage_times_text(stages));
   case_out.run["realizations"] = p.realizations;
   case_out.diagnostics = average_realizations(diagnostics, nullptr);
   add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0,
