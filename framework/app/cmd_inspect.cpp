@@ -147,7 +147,8 @@ void print_run(hid_t root) {
   Engine::StageSeconds stages{};
   bool any = false;
   for (std::size_t k = 0; k < Engine::kStages; ++k) {
-    const std::string text = attribute(run, std::string("stage_seconds.") + Engine::stage_name(static_cast<Engine::Stage>(k)));
+    const auto stage = static_cast<Engine::Stage>(k);
+    const std::string text = attribute(run, std::string("stage_seconds.") + Engine::stage_name(stage));
     if (text.empty()) continue;
     stages[k] = std::strtod(text.c_str(), nullptr);
     any = true;

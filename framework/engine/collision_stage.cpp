@@ -172,14 +172,15 @@ void CollisionStage::scatter_and_collide(const CollisionRule& rule, const Partic
   for (std::size_t c = 0; c < layers; ++c) ++key_start_[key(c) + 1];
   for (std::size_t k = 1; k < key_start_.size(); ++k) key_start_[k] += key_start_[k - 1];
   by_key_.resize(layers);
-  next_piece_.assign(key_start_.begin(), key_start_.end() - 1);
-  for (std::size_t c = 0; c < layers; ++c) by_key_[next_piece_[key(c)]++] = static_cast<std::uint32_t>(c);
+  key_next_.assign(key_start_.begin(), key_start_.end() - 1);
+  for (std::size_t c = 0; c < layers; ++c) by_key_[key_next_[key(c)]++] = static_cast<std::uint32_t>(c);
   // The pieces: the first kScatterLead blocks and the empty layers; then, for every block b, the
   // scatter of block b + kScatterLead and the layers whose last block is b. The scatters run
   // ahead of the layers that need them, so that a thread seldom waits for one.
   pieces_.clear();
   const auto layers_of_key = [&](std::size_t k) {
-    for (std::uint32_t j = key_start_[k]; j < key_start_[k + 1]; ++j) pieces_.push_back(static_cast<std::uint32_t>(blocks) + by_key_[j]);
+    for (std::uint32_t j = key_start_[k]; j < key_start_[k + 1]; ++j)
+      pieces_.push_back(static_cast<std::uint32_t>(blocks) + by_key_[j]);
   };
   for (std::size_t b = 0; b < std::min(kScatterLead, blocks); ++b) pieces_.push_back(static_cast<std::uint32_t>(b));
   layers_of_key(0);
@@ -195,7 +196,8 @@ void CollisionStage::scatter_and_collide(const CollisionRule& rule, const Partic
       return;
     }
     const std::size_t c = piece - blocks, last = grid.last_block(c);
-    // Every block up to the last is an earlier piece, taken already: the wait ends.
+    // Every block up to the last is an earlier piece, and the pool starts pieces in order, so
+    // each of them has started on some thread (or is done) and the wait ends.
     if (last != CellGrid::kNoBlock)
       for (std::size_t b = 0; b <= last; ++b)
         while (scattered_[b].load(std::memory_order_acquire) != stamp) cpu_relax();
@@ -233,7 +235,8 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     scatter_and_collide(rule, particles, *pending, sigma, dt, streams);
   } else {
     if (pending) pending->grid->scatter_blocks(pending->cell, particles.count, pool_);
-    for_pieces(pool_, n, [&](std::size_t k) { collide_group(rule, particles, reversed ? n - 1 - k : k, sigma, dt, streams); });
+    for_pieces(pool_, n,
+               [&](std::size_t k) { collide_group(rule, particles, reversed ? n - 1 - k : k, sigma, dt, streams); });
   }
   // The totals in group order.
   Totals sum;

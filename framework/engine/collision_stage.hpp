@@ -138,7 +138,7 @@ class CollisionStage {
   // each block's stamp once it is scattered (the run's number: nothing to clear between steps).
   void scatter_and_collide(const CollisionRule& rule, const ParticleSpan& particles, const PendingMembers& pending,
                            double sigma, double dt, const StreamFactory& streams);
-  std::vector<std::uint32_t> pieces_, next_piece_, key_start_, by_key_;
+  std::vector<std::uint32_t> pieces_, key_start_, key_next_, by_key_;  // the pieces; layers by last block
   static constexpr std::size_t kScatterLead = 2;  // blocks scattered ahead of the layers that wait for them
   std::unique_ptr<std::atomic<std::uint64_t>[]> scattered_;
   std::size_t scattered_size_ = 0;

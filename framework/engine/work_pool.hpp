@@ -26,8 +26,10 @@ class WorkPool {
   unsigned threads() const { return static_cast<unsigned>(workers_.size()) + 1; }
 
   // piece(k) for every k in [0, count), each exactly once, on the caller and the workers; returns
-  // when all have returned. Once a piece throws, no further piece starts, and the exception of the
-  // lowest-numbered piece that threw is rethrown here.
+  // when all have returned. Pieces start in increasing k, and a piece that was taken always runs,
+  // so a piece may wait for an earlier one (CollisionStage: a layer for its blocks' scatter).
+  // Once a piece throws, no further piece starts, and the exception of the lowest-numbered piece
+  // that threw is rethrown here.
   template <class F>
   void run(std::size_t count, F&& piece) {
     if (workers_.empty() || count < 2) {
