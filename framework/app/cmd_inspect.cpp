@@ -147,8 +147,7 @@ void print_run(hid_t root) {
   Engine::StageSeconds stages{};
   bool any = false;
   for (std::size_t k = 0; k < Engine::kStages; ++k) {
-    const auto stage = static_cast<Engine::Stage>(k);
-    const std::string text = attribute(run, std::string("stage_seconds.") + Engine::stage_name(stage));
+    const std::string text = attribute(run, Engine::stage_attribute(static_cast<Engine::Stage>(k)));
     if (text.empty()) continue;
     stages[k] = std::strtod(text.c_str(), nullptr);
     any = true;

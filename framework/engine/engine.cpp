@@ -382,10 +382,11 @@ void Engine::stream(double dt) {
     // The layers' ranges now; their member lists are written by the collision stage, interleaved
     // with the layers' collisions (CollisionStage::PendingMembers), except before a reordering.
     grid_.place_blocks(span.count);
-    members_pending_ = ctx_.step % kReorderEvery != 0;
-    if (!members_pending_) grid_.scatter_blocks(store_.cells(), span.count, &pool_);
-    lap(Stage::sort);
-    if (!members_pending_) {
+    if (members_written_by_collisions()) {
+      lap(Stage::sort);
+    } else {
+      grid_.scatter_blocks(store_.cells(), span.count, &pool_);
+      lap(Stage::sort);
       permute_by_layer();  // the layers just sorted from the fresh cell[]
       lap(Stage::reorder);
     }
@@ -438,11 +439,9 @@ void Engine::collide(double dt) {
   CollisionStage::Totals t;
   try {
     const CollisionStage::PendingMembers pending{&grid_, store_.cells()};
-    const bool scatter = members_pending_;
-    members_pending_ = false;  // written by run(), or not needed after a throw: the run ends
     t = collisions_.run(*collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
                         global_.temperature, system_.mass, system_.sigma, dt, streams_, cells_reversed_,
-                        scatter ? &pending : nullptr);
+                        members_written_by_collisions() ? &pending : nullptr);
   } catch (const CollisionStage::Overload& e) {
     throw std::runtime_error(now_text() + fmt(", with dt = %.3g tau0: ", dt / system_.time_unit0) + e.what() +
                              ": the time step no longer resolves the collisions; use a smaller run.time_step" +

@@ -112,6 +112,8 @@ class Engine {
   static constexpr std::size_t kStages = static_cast<std::size_t>(Stage::count);
   using StageSeconds = std::array<double, kStages>;  // indexed by Stage
   static const char* stage_name(Stage s);
+  // The /run attribute that keeps a stage's seconds: "stage_seconds.<stage_name>".
+  static std::string stage_attribute(Stage s) { return std::string("stage_seconds.") + stage_name(s); }
   // "2.03 = flight 1.09 (54 %), collisions 0.6 (30 %), ...": the total, then the stages that took
   // any time, longest first, each with its share (the run's summary and `gdsmc inspect`).
   static std::string stage_times_text(const StageSeconds& seconds);
@@ -208,7 +210,9 @@ class Engine {
   bool steady_ = false;
   bool finished_ = false;  // run() completed: finish() called, nothing left to step
   bool cells_reversed_ = false;
-  bool members_pending_ = false;  // the slab's member lists are placed, not yet written (stream -> collide)
+  // This step, the slab's member lists are placed by stream() and written by the collision stage
+  // (every step but those that reorder storage, which need the lists first).
+  bool members_written_by_collisions() const { return mover_ && ctx_.step % kReorderEvery != 0; }
   int steady_slot_ = -1;
 };
 

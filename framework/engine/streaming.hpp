@@ -36,7 +36,7 @@ class Mover {
 
   // Streams every particle over dt from time t0, writes cell[] from the final y, and adds to
   // `tally`. With layer_counts (CellGrid::block_counts) it also counts each block's layers, for
-  // CellGrid::sort_counted: the sort then does not read cell[] a second time. ctx is what
+  // CellGrid::place_blocks (or sort_counted): the sort then does not read cell[] a second time. ctx is what
   // boundaries see (time, dt, system). Throws std::runtime_error naming the boundary when a plugin
   // returns an impossible state or a particle cannot leave the walls.
   // Blocks of kBlock particles run on the pool's threads (boundaries' interact() concurrently);
@@ -52,8 +52,8 @@ class Mover {
  private:
   template <bool Accelerated>
   void stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const CellGrid& grid,
-                    std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx, const StreamFactory& streams,
-                    StreamingTally& tally) const;
+                    std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
+                    const StreamFactory& streams, StreamingTally& tally) const;
   // The flight of one particle that leaves [-Ly/2, Ly/2] during the step, hit by hit.
   void fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, double dt, const StepContext& ctx,
                      const StreamFactory& streams, StreamingTally& tally) const;

@@ -11,7 +11,6 @@
 #include <thread>
 
 #include "study/summary.hpp"
-#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -131,7 +130,7 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
     diagnostics.push_back(std::move(r->diagnostics));
   }
   for (std::size_t k = 0; k < Engine::kStages; ++k)
-    case_out.run[std::string("stage_seconds.") + Engine::stage_name(static_cast<Engine::Stage>(k))] = stages[k];
+    case_out.run[Engine::stage_attribute(static_cast<Engine::Stage>(k))] = stages[k];
   case_summary.push_back("time in the steps [s]: " + Engine::stage_times_text(stages));
   case_out.run["realizations"] = p.realizations;
   case_out.diagnostics = average_realizations(diagnostics, nullptr);
