@@ -14,6 +14,10 @@ namespace gdsmc::host {
 
 namespace fs = std::filesystem;
 
+std::string where_text(const PluginUse& use) {
+  return "plugin '" + use.plugin->descriptor->name + "' (" + use.path + ", " + use.where.str() + ")";
+}
+
 SystemInfo Pipeline::system_info(std::size_t n, std::uint32_t realization) const {
   SystemInfo sys;
   sys.particles = n;

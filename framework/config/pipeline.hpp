@@ -30,6 +30,9 @@ struct PluginUse {
   std::uint64_t record_every = 1;  // diagnostics only (steps)
 };
 
+// "plugin 'NAME' (PATH, FILE:LINE)": how an error names the pipeline entry it is about.
+std::string where_text(const PluginUse& use);
+
 // One axis of a parameter sweep: a list of values, each a set of overrides (key.path=value).
 struct SweepAxis {
   std::string name;  // the key path (value axis) or the axis name (named variants)

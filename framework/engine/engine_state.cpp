@@ -1,0 +1,175 @@
+// The engine's checkpoint state: what save() writes and load() reads back, in the one order that
+// is the format of a run's state (docs/user-guide.md, "Checkpoints and resuming").
+#include <gdsmc/state.hpp>
+
+#include "engine/engine.hpp"
+
+namespace gdsmc::host {
+
+Engine::SavedProgress Engine::saved_progress(StateReader& in) {
+  SavedProgress p;
+  std::uint8_t finished = 0;
+  in.read("engine.finished", finished);
+  p.finished = finished != 0;
+  in.read("engine.step", p.step);
+  in.read("engine.clocks", p.clocks, 5);
+  return p;
+}
+
+// The order of entries is the checkpoint format: load() reads exactly what save() writes.
+void Engine::save(StateWriter& out) const {
+  out.write("engine.finished", static_cast<std::uint8_t>(finished_));
+  out.write("engine.step", ctx_.step);
+  const double clocks[5] = {ctx_.time, ctx_.dt, ctx_.collision_energy_change, initial_energy_, energy_at_update_};
+  out.write("engine.clocks", clocks, 5);
+  const std::uint64_t counts[4] = {ctx_.collisions, ctx_.candidates, ctx_.majorant_exceeded, streams_.step()};
+  out.write("engine.counts", counts, 4);
+  const std::uint8_t flags[2] = {ctx_.in_average_window, steady_};
+  out.write("engine.flags", flags, 2);
+  out.write("engine.wall_seconds", wall_seconds_);
+  out.write("engine.stage_seconds", stage_seconds_.data(), kStages);
+  // A finished run keeps its particles only when they are part of the output.
+  const std::uint8_t particles = !finished_ || pipeline_.output_particles;
+  out.write("engine.has_particles", particles);
+  if (particles) store_.save(out);
+  std::vector<std::uint64_t> cell_counts;
+  std::vector<double> cell_values;
+  for (std::size_t k = 0; k <= cells_.size(); ++k) {
+    const CellMoments& c = k == cells_.size() ? global_ : cells_[k];  // the cells, then the global moments
+    cell_counts.push_back(c.count);
+    cell_values.insert(cell_values.end(), {c.number_density, c.mean_velocity[0], c.mean_velocity[1], c.mean_velocity[2],
+                                           c.temperature});
+  }
+  out.write("moments.count", cell_counts);
+  out.write("moments.values", cell_values);
+  out.write("moments.kinetic_energy", sampled_.kinetic_energy);
+  for (const BoundaryTally& t : tallies_) {
+    out.write("boundary.hits", t.hits);
+    const double v[4] = {t.momentum[0], t.momentum[1], t.momentum[2], t.energy};
+    out.write("boundary.values", v, 4);
+  }
+  std::vector<double> values;
+  for (const auto& t : tallies_total_) values.push_back(t.value);
+  out.write("collision_tallies", values);
+  values.clear();
+  for (const auto& e : ledger_) values.push_back(e.energy);
+  out.write("energy_ledger", values);
+  collisions_.save(out);
+  for (const DiagnosticSlot& slot : slots_) {
+    const double sums[2] = {slot.time_sum, slot.s_sum};
+    out.write("sampling.sums", sums, 2);
+    const std::uint64_t steps[2] = {slot.samples, slot.last_record_step};
+    out.write("sampling.steps", steps, 2);
+  }
+  for (const DiagnosticOutput& o : outputs_) o.save(out);
+  out.write("summary.lines", static_cast<std::uint64_t>(summary_.size()));
+  for (const auto& line : summary_) out.write("summary.line", line);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    BufferStateWriter plugin;
+    try {
+      objects_[k]->save_state(plugin);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(where_text(*object_uses_[k]) + ": save_state failed: " + e.what());
+    }
+    out.write("plugin." + object_uses_[k]->path, plugin.bytes());
+  }
+}
+
+void Engine::load(StateReader& in) {
+  const SavedProgress head = saved_progress(in);
+  finished_ = head.finished;
+  ctx_.step = head.step;
+  ctx_.time = head.clocks[0];
+  ctx_.dt = head.clocks[1];
+  ctx_.collision_energy_change = head.clocks[2];
+  initial_energy_ = head.clocks[3];
+  energy_at_update_ = head.clocks[4];
+  std::uint64_t counts[4];
+  in.read("engine.counts", counts, 4);
+  ctx_.collisions = counts[0];
+  ctx_.candidates = counts[1];
+  ctx_.majorant_exceeded = counts[2];
+  streams_.set_step(counts[3]);
+  std::uint8_t flags[2];
+  in.read("engine.flags", flags, 2);
+  ctx_.in_average_window = flags[0] != 0;
+  steady_ = flags[1] != 0;
+  in.read("engine.wall_seconds", wall_seconds_);
+  in.read("engine.stage_seconds", stage_seconds_.data(), kStages);
+  std::uint8_t particles = 0;
+  in.read("engine.has_particles", particles);
+  if (particles) {
+    store_.load(in);
+    if (grid_.is_slab()) grid_.sort(store_.cells(), store_.size(), &pool_);  // the layers' member lists
+  } else if (!finished_) {
+    throw StateError("checkpoint: an unfinished run without its particles");
+  }
+  std::vector<std::uint64_t> cell_counts;
+  std::vector<double> cell_values;
+  in.read("moments.count", cell_counts);
+  in.read("moments.values", cell_values);
+  if (cell_counts.size() != cells_.size() + 1 || cell_values.size() != 5 * cell_counts.size())
+    throw StateError("checkpoint entry 'moments': " + std::to_string(cell_counts.size()) + " cells where the system has " +
+                     std::to_string(cells_.size()) + " (and the global moments)");
+  for (std::size_t k = 0; k < cell_counts.size(); ++k) {
+    CellMoments& c = k == cells_.size() ? global_ : cells_[k];
+    c.count = cell_counts[k];
+    const double* v = cell_values.data() + 5 * k;
+    c.number_density = v[0];
+    for (int a = 0; a < 3; ++a) c.mean_velocity[a] = v[1 + a];
+    c.temperature = v[4];
+  }
+  in.read("moments.kinetic_energy", sampled_.kinetic_energy);
+  for (BoundaryTally& t : tallies_) {
+    in.read("boundary.hits", t.hits);
+    double v[4];
+    in.read("boundary.values", v, 4);
+    for (int a = 0; a < 3; ++a) t.momentum[a] = v[a];
+    t.energy = v[3];
+  }
+  std::vector<double> values(tallies_total_.size());
+  in.read("collision_tallies", values.data(), values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) tallies_total_[k].value = values[k];
+  values.assign(ledger_.size(), 0.0);
+  in.read("energy_ledger", values.data(), values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) ledger_[k].energy = values[k];
+  collisions_.load(in);
+  for (DiagnosticSlot& slot : slots_) {
+    double sums[2];
+    in.read("sampling.sums", sums, 2);
+    slot.time_sum = sums[0];
+    slot.s_sum = sums[1];
+    std::uint64_t steps[2];
+    in.read("sampling.steps", steps, 2);
+    slot.samples = steps[0];
+    slot.last_record_step = steps[1];
+  }
+  for (std::size_t k = 0; k < outputs_.size(); ++k) {
+    try {
+      outputs_[k].load(in);
+    } catch (const StateError& e) {
+      throw StateError(where_text(*slots_[k].use) + ": " + e.what());
+    }
+  }
+  std::uint64_t lines = 0;
+  in.read("summary.lines", lines);
+  if (lines > in.remaining()) throw StateError("checkpoint entry 'summary.lines': a damaged count");
+  summary_.assign(static_cast<std::size_t>(lines), std::string());
+  for (auto& line : summary_) in.read("summary.line", line);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    std::vector<unsigned char> bytes;
+    in.read("plugin." + object_uses_[k]->path, bytes);
+    BufferStateReader plugin(bytes);
+    try {
+      objects_[k]->load_state(plugin);
+    } catch (const std::exception& e) {
+      throw StateError(where_text(*object_uses_[k]) + ": load_state failed: " + e.what());
+    }
+    if (!plugin.at_end())
+      throw StateError(where_text(*object_uses_[k]) + ": load_state read " + std::to_string(bytes.size() - plugin.remaining()) +
+                       " of the " + std::to_string(bytes.size()) + " bytes its save_state wrote (next entry '" +
+                       plugin.peek_name() + "')");
+  }
+}
+
+}  // namespace gdsmc::host
