@@ -56,7 +56,10 @@ class Engine {
   // `threads`: the threads this run's stages are spread over (1: the caller alone; a system too
   // small to share, below two sub-populations or four mover blocks, uses 1). The output does not
   // depend on it.
+  // The engine keeps a reference to `pipeline` (its plugins' libraries, parameters and
+  // diagnostics): the pipeline must outlive the engine, so a temporary one is refused.
   explicit Engine(const Pipeline& pipeline, std::uint32_t realization = 0, unsigned threads = 1);
+  explicit Engine(const Pipeline&& pipeline, std::uint32_t realization = 0, unsigned threads = 1) = delete;
 
   // What `gdsmc validate` checks: every plugin object constructs, declares its attributes,
   // publishes its quantities and (diagnostics) begins, for the pipeline's system; no particle
@@ -65,6 +68,7 @@ class Engine {
   // A run continued from a checkpoint: set up as the constructor above, but with the state that
   // save() wrote instead of the initial state. Throws StateError on a state that does not fit.
   Engine(const Pipeline& pipeline, std::uint32_t realization, unsigned threads, StateReader& state);
+  Engine(const Pipeline&& pipeline, std::uint32_t realization, unsigned threads, StateReader& state) = delete;
   // Everything the rest of the run depends on (particles, clocks, majorants, tallies, records,
   // every plugin's save_state): an engine restored from it continues with the same bits.
   void save(StateWriter& out) const;
