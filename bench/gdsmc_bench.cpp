@@ -1,7 +1,9 @@
 // gdsmc_bench: cost of the DSMC collision stage of inelastic hard spheres in one homogeneous cell,
 // of the slab's streaming and layer collisions, and of Engine::step.
 // (Over 600 lines on purpose: the hand-written reference loop, the plugin path and the engine
-// paths stay in one file so the start-up bit-identity check compares exactly what is timed.)
+// paths stay in one file so the start-up bit-identity check compares exactly what is timed. The
+// slab benchmarks are in slab_bench.cpp, the machine's own in memory_bench.cpp, what they share
+// in bench_support.hpp.)
 //
 //   BM_PluginCollideCell  the IHS plugin (.so loaded at run time with gdsmc::host::load_plugin +
 //                         create_object, bound once to the particles with CollisionRule::bind),
@@ -53,12 +55,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
-#include <tuple>
-#include <type_traits>
 #include <vector>
 
 #include <gdsmc/collision.hpp>
@@ -69,27 +68,14 @@
 #include "engine/collision_stage.hpp"
 #include "engine/engine.hpp"
 #include "engine/majorant.hpp"
-#include "engine/streaming.hpp"
 #include "engine/streams.hpp"
 #include "plugins/loader.hpp"
+#include "bench_support.hpp"
 
 namespace {
 
 using namespace gdsmc;
-
-constexpr double kT0 = 1.0;
-constexpr double kDensity = 1e-3;  // n sigma^3, as in configs/hcs.yaml (the cost does not depend on it)
-constexpr double kSigma = 1.0;
-constexpr double kCollisionFractionPerCall = 0.01;       // ~N/100 accepted collisions per call
-constexpr double kRescaleBelow = 0.8;                    // rescale velocities when T < 0.8 T0
-constexpr std::uint64_t kSeed = 2026;
-
-std::string env_or(const char* name, const char* fallback) {
-  const char* v = std::getenv(name);
-  return v && *v ? std::string(v) : std::string(fallback);
-}
-std::string plugin_dir() { return env_or("GDSMC_BENCH_PLUGIN_DIR", GDSMC_BENCH_PLUGIN_DIR); }
-std::string pipeline_file() { return env_or("GDSMC_BENCH_PIPELINE", GDSMC_BENCH_PIPELINE); }
+using namespace gdsmc::bench;
 
 // ---------------------------------------------------------------------------------------------
 // The hand-written loop: one function, plain doubles, gdsmc::Rng drawn in the SDK loop's order.
@@ -319,21 +305,6 @@ CollisionRule* bound_rule(PluginObject* object, Cell& cell) {
   return rule;
 }
 
-// State kept across the repeated calls Google Benchmark makes to one benchmark (iteration-count
-// search, repetitions): the 1e6-particle set-up is paid once and the gas keeps evolving.
-template <class T>
-T& cached(const std::string& name, std::int64_t n, std::int64_t alpha_pct) {
-  static std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::unique_ptr<T>> cache;
-  auto& slot = cache[{name, n, alpha_pct}];
-  if (!slot) {
-    if constexpr (std::is_constructible_v<T, std::uint32_t, std::int64_t>)
-      slot = std::make_unique<T>(static_cast<std::uint32_t>(n), alpha_pct);  // second key: threads
-    else
-      slot = std::make_unique<T>(static_cast<std::uint32_t>(n));
-  }
-  return *slot;
-}
-
 struct PluginCell {
   Cell cell;
   std::shared_ptr<PluginObject> object;
@@ -427,20 +398,6 @@ struct EngineRun {
   }
   void restart() { engine = std::make_unique<host::Engine>(pipeline, 0, threads); }
 };
-
-template <class T>
-T* cached_or_skip(benchmark::State& state, const std::string& name) {
-  try {
-    return &cached<T>(name, state.range(0), state.range(1));
-  } catch (const host::PipelineError& e) {
-    std::string m;
-    for (const auto& s : e.messages()) m += s + "; ";
-    state.SkipWithError(m.c_str());
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-  }
-  return nullptr;
-}
 
 // Engine::step of the HCS pipeline (N, threads): collisions in sub-populations of 32768, the
 // moment update every 4 steps, the five diagnostics of configs/hcs.yaml sampled every 20 steps.
@@ -540,244 +497,6 @@ void BM_HomogeneousStage(benchmark::State& state) {
   state.counters["coll/call"] = benchmark::Counter(static_cast<double>(acc), benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_HomogeneousStage)->Apply(engine_args);
-
-// ---------------------------------------------------------------------------------------------
-// Slab benchmarks (layers along y, walls, the mover): reserved for the slab pipelines. They go
-// here, between the homogeneous engine step and the random-number primitives; the summary table
-// (SummaryReporter::PrintSummary) only reads the homogeneous cell benchmarks, so new ones do not
-// change it unless they add a column there.
-
-// A slab of N particles: 100 layers across a gap of 20 lambda0 (delta y = 0.2 lambda0), diffuse
-// walls at T0 on both planes, elastic hard spheres (no cooling, so the state is stationary), a
-// Maxwellian at rest. dt = 0.05 tau0: a thermal particle flies a quarter of a layer per step and
-// ~0.1 % of the particles hit a wall per step.
-std::string slab_yaml(std::uint32_t n) {
-  return "run: {seed: 2026, particles: " + std::to_string(n) +
-         ", time_step: {value: 0.05, unit: tau0}, stop: {time: 1.0e9}, sample_every: 1000000, record_every: 1000000}\n"
-         "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 20}, layers: 100}\n"
-         "initial_state: maxwellian\n"
-         "collision: {plugin: inelastic_hard_spheres, alpha: 1.0}\n"
-         "boundaries: {y: {plugin: diffuse_wall, temperature: 1.0}}\n"
-         "diagnostics: []\noutput: {file: unused.h5}\n";
-}
-
-struct SlabRun {
-  std::filesystem::path file;
-  host::Pipeline pipeline;
-  std::unique_ptr<host::Engine> engine;
-  explicit SlabRun(std::uint32_t n, std::int64_t threads = 1) {
-    file = std::filesystem::temp_directory_path() / ("gdsmc_bench_slab_" + std::to_string(n) + ".yaml");
-    std::FILE* f = std::fopen(file.c_str(), "w");
-    const std::string text = slab_yaml(n);
-    std::fwrite(text.data(), 1, text.size(), f);
-    std::fclose(f);
-    pipeline = host::load_pipeline(file, {}, {plugin_dir()});
-    std::filesystem::remove(file);
-    engine = std::make_unique<host::Engine>(pipeline, 0, static_cast<unsigned>(threads));
-    // Untimed: the initial state lies in storage in no particular layer order until the first
-    // reordering (step Engine::kReorderEvery); a long run spends all but those steps after it.
-    for (std::uint64_t k = 0; k < 2 * host::Engine::kReorderEvery; ++k) engine->step();
-  }
-};
-
-// The pieces of a slab step on their own: the mover (free flight, diffuse walls, layer index)
-// plus the counting sort, and the collision stage over the 100 layers, driven as Engine drives them.
-struct SlabPieces {
-  SlabRun run;
-  std::shared_ptr<PluginObject> wall, rule_object;
-  CollisionRule* rule = nullptr;
-  host::CellGrid grid;
-  std::unique_ptr<host::Mover> mover;
-  host::StreamFactory streams{kSeed, 0};
-  host::CollisionStage stage;
-  std::uint64_t step = 0, accepted = 0, candidates = 0, hits = 0;
-  explicit SlabPieces(std::uint32_t n) : run(n) {
-    const host::Pipeline& p = run.pipeline;
-    wall = host::create_object(*p.boundaries[0].plugin, p.boundaries[0].params);
-    rule_object = host::create_object(*p.collision.plugin, p.collision.params);
-    rule = static_cast<CollisionRule*>(rule_object.get());
-    const SystemInfo& sys = run.engine->system();
-    const auto* b = static_cast<const Boundary*>(wall.get());
-    mover = std::make_unique<host::Mover>(sys.box, Vec3{0, 0, 0},
-                                          std::array<host::Mover::Side, 2>{host::Mover::Side{b, "y_min"}, host::Mover::Side{b, "y_max"}});
-    grid.slab(sys.particles, sys.cells, sys.box[1], sys.cross_section());
-    reorder();
-    rule->bind(run.engine->particles());
-    stage.reset(sys.cells);
-  }
-  double dt() const { return 0.05 * run.engine->system().time_unit0; }
-  // Storage layer by layer, as the engine keeps it (Engine::kReorderEvery), and the layer lists.
-  void reorder() {
-    run.engine->reorder_by_layer();
-    ParticleSpan span = run.engine->particles();
-    grid.assign_and_sort(span.y, const_cast<std::uint32_t*>(span.cell), span.count);
-  }
-  void stream_and_sort() {
-    ParticleSpan span = run.engine->particles();
-    auto* cell = const_cast<std::uint32_t*>(span.cell);
-    host::StreamingTally tally;
-    streams.set_step(step++);
-    mover->stream(span, cell, grid.block_counts(span.count), grid, 0.0, dt(), run.engine->context(), streams, tally);
-    grid.sort_counted(cell, span.count);
-    hits += tally.sides[0].hits + tally.sides[1].hits;
-  }
-  // dt_collide: chosen for ~N/100 collisions per call over all layers, as the homogeneous bench.
-  // Driven by the engine's own CollisionStage; T_ref = T0 in every layer (elastic, stationary).
-  void collide(double dt_collide) {
-    streams.set_step(step++);
-    const host::CollisionStage::Totals t =
-        stage.run(*rule, run.engine->particles(), grid, nullptr, kT0, 1.0, kSigma, dt_collide, streams);
-    accepted += t.accepted;
-    candidates += t.candidates;
-  }
-};
-
-template <class Fn>
-void slab_bench(benchmark::State& state, Fn&& body) {
-  SlabPieces* s;
-  try {
-    s = &cached<SlabPieces>("slab", state.range(0), 100);
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  body(state, *s);
-}
-
-// Free flight with diffuse walls plus the counting sort into 100 layers: particle moves per second.
-void BM_SlabStreamSort(benchmark::State& state) {
-  slab_bench(state, [](benchmark::State& st, SlabPieces& s) {
-    const std::uint64_t h0 = s.hits;
-    std::uint64_t calls = 0;
-    for (auto _ : st) {
-      s.stream_and_sort();
-      if (++calls % host::Engine::kReorderEvery == 0) s.reorder();  // timed: part of the cost of moving
-    }
-    const double n = static_cast<double>(s.run.engine->system().particles);
-    st.counters["moves/s"] = benchmark::Counter(n * static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
-    st.counters["hits/call"] = benchmark::Counter(static_cast<double>(s.hits - h0), benchmark::Counter::kAvgIterations);
-  });
-}
-BENCHMARK(BM_SlabStreamSort)->ArgName("N")->Arg(100000)->Arg(1000000);
-
-// The collision stage of the slab, layer by layer (per-layer majorant, remainder and stream), with
-// ~N/100 collisions per call as BM_PluginCollideCell/N/100 (the same rule, elastic) in one cell.
-void BM_SlabCollideLayers(benchmark::State& state) {
-  slab_bench(state, [](benchmark::State& st, SlabPieces& s) {
-    const SystemInfo& sys = s.run.engine->system();
-    // N_I^2 pi w dt / (2 V_I) candidates per layer with acceptance <|g|>/w: ~N/100 collisions for
-    // dt = 0.01 * 2 V_I / (N_I <|g|> pi) with N_I = N/M, <|g|> = 4 sqrt(T/pi) (000 Eq. 2.15).
-    const double n_layer = static_cast<double>(sys.particles) / static_cast<double>(sys.cells);
-    const double mean_g = 4.0 * std::sqrt(kT0 / M_PI);
-    const double dt = 2.0 * kCollisionFractionPerCall * s.grid.cell_volume() / (n_layer * mean_g * M_PI * kSigma * kSigma);
-    s.reorder();  // untimed: the collision stage sees storage as the engine keeps it
-    const std::uint64_t a0 = s.accepted, c0 = s.candidates;
-    for (auto _ : st) s.collide(dt);
-    const double acc = static_cast<double>(s.accepted - a0), cand = static_cast<double>(s.candidates - c0);
-    st.counters["collisions/s"] = benchmark::Counter(acc, benchmark::Counter::kIsRate);
-    st.counters["candidates/s"] = benchmark::Counter(cand, benchmark::Counter::kIsRate);
-    st.counters["coll/call"] = benchmark::Counter(acc, benchmark::Counter::kAvgIterations);
-  });
-}
-BENCHMARK(BM_SlabCollideLayers)->ArgName("N")->Arg(100000)->Arg(1000000);
-
-// Engine::step of the slab pipeline: forcings (none), flight and walls, sort, collisions, moments.
-// (N, threads), real time.
-void BM_SlabEngineStep(benchmark::State& state) {
-  SlabRun* run = cached_or_skip<SlabRun>(state, "slab_engine");
-  if (!run) return;
-  const std::uint64_t c0 = run->engine->context().collisions;
-  using Stage = host::Engine::Stage;
-  const host::Engine::StageSeconds before = run->engine->stage_seconds();
-  for (auto _ : state) run->engine->step();
-  // Where a step's time goes (Engine::stage_seconds), in ms per step: what limits the figure.
-  for (Stage s : {Stage::flight, Stage::sort, Stage::reorder, Stage::collisions, Stage::moments})
-    state.counters[std::string(host::Engine::stage_name(s)) + "_ms"] =
-        1e3 * (run->engine->stage_seconds(s) - before[static_cast<std::size_t>(s)]) / static_cast<double>(state.iterations());
-  const double n = static_cast<double>(run->engine->system().particles);
-  state.counters["moves/s"] = benchmark::Counter(n * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  state.counters["collisions/s"] =
-      benchmark::Counter(static_cast<double>(run->engine->context().collisions - c0), benchmark::Counter::kIsRate);
-}
-void slab_engine_args(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"N", "threads"})->UseRealTime();
-  for (std::int64_t threads : {1, 2})
-    for (std::int64_t n : {10000, 100000, 1000000, 10000000}) b->Args({n, threads});
-}
-BENCHMARK(BM_SlabEngineStep)->Apply(slab_engine_args);
-
-// What this machine's memory gives one and two cores, as the slab step uses it: six arrays of N
-// doubles (48 MB at 10^6: 48 bytes per particle, of the slab's 64) in blocks of Mover::kBlock on
-// the engine's WorkPool. "read" sums them, "write" fills them, "flight" is x,y,z += v dt (reads
-// 48 MB, writes 24 MB): streams, whose 2-thread speed-up is the ceiling for the memory-bound
-// stages of a slab step (issue 13; on the 2-core machine here 1.4-1.7x). "pairs" tests N random
-// candidate pairs in the three velocity arrays and writes 1 in 4, as collisions do: random
-// access, latency-bound. "compute" is N turns of an xorshift and a multiply-add in registers.
-// Those two show whether the cores themselves, or their random misses, gain less than 2x from a
-// second thread (here they gain 1.9-2.0x). (N, threads), real time; bytes/s (streams) or items/s.
-template <int Pattern>
-void BM_MemoryStream(benchmark::State& state) {
-  const std::size_t n = static_cast<std::size_t>(state.range(0));
-  host::WorkPool pool(static_cast<unsigned>(state.range(1)));
-  std::vector<std::vector<double>> a(6, std::vector<double>(n, 1.0));
-  std::vector<double> sums((n + host::Mover::kBlock - 1) / host::Mover::kBlock);
-  const double dt = 1e-3;
-  for (auto _ : state) {
-    pool.run(sums.size(), [&](std::size_t k) {
-      const std::size_t b = k * host::Mover::kBlock, e = std::min(n, b + host::Mover::kBlock);
-      double s = 0;
-      std::uint64_t x = 0x9E3779B97F4A7C15ull * (k + 1);  // xorshift64 of the block (patterns 3, 4)
-      for (std::size_t i = b; i < e; ++i) {
-        if constexpr (Pattern >= 3) {
-          x ^= x << 13;
-          x ^= x >> 7;
-          x ^= x << 17;
-        }
-        // A candidate pair anywhere in the velocities, 1 in 4 written (two blocks may write one
-        // particle at once: the values are never used, only the traffic is measured).
-        if constexpr (Pattern == 3) {
-          const std::size_t p = ((x & 0xFFFFFFFFu) * n) >> 32, q = ((x >> 32) * n) >> 32;  // in [0, n)
-          const double dx = a[3][p] - a[3][q], dy = a[4][p] - a[4][q], dz = a[5][p] - a[5][q];
-          s += dx * dx + dy * dy + dz * dz;
-          if ((x >> 62) == 0) {
-            a[3][p] -= 1e-9 * dx;
-            a[3][q] += 1e-9 * dx;
-            a[4][p] -= 1e-9 * dy;
-            a[4][q] += 1e-9 * dy;
-            a[5][p] -= 1e-9 * dz;
-            a[5][q] += 1e-9 * dz;
-          }
-        }
-        if constexpr (Pattern == 4) s = s * 0.999999 + static_cast<double>(x >> 40) * 1e-9;  // registers only
-        if constexpr (Pattern == 0) s += a[0][i] + a[1][i] + a[2][i] + a[3][i] + a[4][i] + a[5][i];
-        if constexpr (Pattern == 1)
-          for (int j = 0; j < 6; ++j) a[j][i] = static_cast<double>(i);
-        if constexpr (Pattern == 2)
-          for (int j = 0; j < 3; ++j) a[j][i] += a[j + 3][i] * dt;
-      }
-      sums[k] = s;
-    });
-    benchmark::DoNotOptimize(sums.data());
-    benchmark::ClobberMemory();
-  }
-  if constexpr (Pattern <= 2) {
-    const double bytes = (Pattern == 2 ? 72.0 : 48.0) * static_cast<double>(n);
-    state.counters["bytes/s"] = benchmark::Counter(bytes * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  } else {
-    state.counters["items/s"] = benchmark::Counter(static_cast<double>(n) * static_cast<double>(state.iterations()),
-                                                   benchmark::Counter::kIsRate);
-  }
-}
-void memory_args(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"N", "threads"})->UseRealTime();
-  for (std::int64_t threads : {1, 2})
-    for (std::int64_t n : {100000, 1000000, 10000000}) b->Args({n, threads});
-}
-BENCHMARK_TEMPLATE(BM_MemoryStream, 0)->Name("BM_MemoryRead")->Apply(memory_args);
-BENCHMARK_TEMPLATE(BM_MemoryStream, 1)->Name("BM_MemoryWrite")->Apply(memory_args);
-BENCHMARK_TEMPLATE(BM_MemoryStream, 2)->Name("BM_MemoryFlight")->Apply(memory_args);
-BENCHMARK_TEMPLATE(BM_MemoryStream, 3)->Name("BM_MemoryPairs")->Apply(memory_args);
-BENCHMARK_TEMPLATE(BM_MemoryStream, 4)->Name("BM_CoreCompute")->Apply(memory_args);
 
 // ---------------------------------------------------------------------------------------------
 // The random-number primitives (per call; items/s = calls per second).
