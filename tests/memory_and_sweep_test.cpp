@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "engine/cells.hpp"
+#include "engine/engine.hpp"
+#include "engine/particle_store.hpp"
 #include "engine/memory_estimate.hpp"
 #include "study/cases.hpp"
 #include "test_support.hpp"
@@ -36,6 +38,32 @@ ShellResult under_limit(const fs::path& cwd, const std::string& kib, const std::
 
 // ---------------------------------------------------------------------------------------------
 // Memory
+
+// The particle arrays: one of a huge page (2 MiB) or more starts on a huge page, so the kernel can
+// back it with them (huge_page_allocator.hpp); smaller ones and growth across the threshold keep
+// their values, and the store's span shows the arrays it allocated.
+TEST(MemoryCheck, ParticleArraysOfAHugePageOrMoreStartOnOneAndKeepTheirValuesAcrossGrowth) {
+  host::ParticleStore store;
+  const std::size_t n = host::kHugePage / sizeof(std::uint32_t) + 1000;  // every array over 2 MiB
+  store.allocate(n, {}, false);
+  const ParticleSpan span = store.span();
+  for (const double* a : {span.vx, span.vy, span.vz})
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a) % host::kHugePage, 0u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(span.id) % host::kHugePage, 0u);
+  EXPECT_EQ(span.id[n - 1], n - 1);
+  EXPECT_EQ(span.x, nullptr);  // a homogeneous store has no positions
+  host::ParticleArray<double> grown;
+  for (std::size_t k = 0; k < 2 * n; ++k) grown.push_back(static_cast<double>(k));  // through both allocation paths
+  for (std::size_t k = 0; k < 2 * n; k += 4099) ASSERT_EQ(grown[k], static_cast<double>(k));
+  grown.resize(10);
+  grown.shrink_to_fit();
+  EXPECT_EQ(grown[9], 9.0);
+}
+
+// The engine keeps a reference to its pipeline, so a temporary one does not compile.
+static_assert(!std::is_constructible_v<host::Engine, host::Pipeline>);
+static_assert(!std::is_constructible_v<host::Engine, host::Pipeline, std::uint32_t, unsigned>);
+static_assert(std::is_constructible_v<host::Engine, const host::Pipeline&, std::uint32_t, unsigned>);
 
 // 4e9 particles need 104 GiB: refused at run.particles with the estimate, what drives it, the
 // memory available and how many particles would fit, by validate and run alike (no std::bad_alloc,

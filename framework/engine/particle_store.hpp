@@ -12,9 +12,14 @@
 #include <gdsmc/particles.hpp>
 #include <gdsmc/state.hpp>
 
+#include "engine/huge_page_allocator.hpp"
 #include "engine/work_pool.hpp"
 
 namespace gdsmc::host {
+
+// An array of one particle quantity (huge pages: see huge_page_allocator.hpp).
+template <class T>
+using ParticleArray = std::vector<T, HugePageAllocator<T>>;
 
 class ParticleStore {
  public:
@@ -124,15 +129,16 @@ class ParticleStore {
   // Checkpoints: every array of the allocated store (identities, layers, positions where they
   // exist, velocities, attributes by name), read back into a store allocated alike.
   void save(StateWriter& out) const {
-    out.write("particles.id", id_);
-    out.write("particles.cell", cell_);
-    out.write("particles.x", x_);
-    out.write("particles.y", y_);
-    out.write("particles.z", z_);
-    out.write("particles.vx", vx_);
-    out.write("particles.vy", vy_);
-    out.write("particles.vz", vz_);
-    for (std::size_t a = 0; a < specs_.size(); ++a) out.write("particles.attribute." + specs_[a].name, data_[a]);
+    const auto write = [&](const std::string& name, const auto& v) { out.write(name, v.data(), v.size()); };
+    write("particles.id", id_);
+    write("particles.cell", cell_);
+    write("particles.x", x_);
+    write("particles.y", y_);
+    write("particles.z", z_);
+    write("particles.vx", vx_);
+    write("particles.vy", vy_);
+    write("particles.vz", vz_);
+    for (std::size_t a = 0; a < specs_.size(); ++a) write("particles.attribute." + specs_[a].name, data_[a]);
   }
   void load(StateReader& in) {
     in.read("particles.id", id_.data(), id_.size());
@@ -152,13 +158,13 @@ class ParticleStore {
 
  private:
   std::size_t n_ = 0;
-  std::vector<std::uint32_t> id_;
-  std::vector<std::uint32_t> cell_;
-  std::vector<double> x_, y_, z_, vx_, vy_, vz_;
+  ParticleArray<std::uint32_t> id_;
+  ParticleArray<std::uint32_t> cell_;
+  ParticleArray<double> x_, y_, z_, vx_, vy_, vz_;
   std::vector<AttributeSpec> specs_;
-  std::vector<std::vector<double>> data_;
+  std::vector<ParticleArray<double>> data_;
   std::vector<double*> pointers_;
-  std::vector<std::uint32_t> scratch_;  // permute(): 4 bytes per particle, allocated at the first reordering (a slab only)
+  ParticleArray<std::uint32_t> scratch_;  // permute(): 4 bytes per particle, allocated at the first reordering (a slab only)
 };
 
 }  // namespace gdsmc::host
