@@ -68,6 +68,7 @@
 #include "engine/collision_stage.hpp"
 #include "engine/engine.hpp"
 #include "engine/majorant.hpp"
+#include "engine/particle_store.hpp"
 #include "engine/streams.hpp"
 #include "plugins/loader.hpp"
 #include "bench_support.hpp"
@@ -180,10 +181,12 @@ struct BenchIHS {
 // ---------------------------------------------------------------------------------------------
 // A homogeneous cell and the host side of its collision stage (as Engine::collide).
 
+// Its arrays are allocated as the engine's store allocates them (huge pages), so that the hand
+// loop, the plugin and the engine are compared on the same memory.
 struct Cell {
-  std::vector<std::uint32_t> id;     // particle identities 0..N-1 (ParticleSpan::id)
-  std::vector<std::uint32_t> cell;   // all in cell 0 (ParticleSpan::cell)
-  std::vector<double> vx, vy, vz;    // never reallocated: a rule bound to span() stays valid
+  host::ParticleArray<std::uint32_t> id;    // particle identities 0..N-1 (ParticleSpan::id)
+  host::ParticleArray<std::uint32_t> cell;  // all in cell 0 (ParticleSpan::cell)
+  host::ParticleArray<double> vx, vy, vz;   // never reallocated: a rule bound to span() stays valid
   std::uint32_t n;
   double volume;
   double temperature = kT0;  // followed exactly from the declared energy changes (m = 1, u = 0)
