@@ -7,20 +7,21 @@
 //
 //   BM_PluginCollideCell  the IHS plugin (.so loaded at run time with gdsmc::host::load_plugin +
 //                         create_object, bound once to the particles with CollisionRule::bind),
-//                         one virtual const collide_cell(CellCollision&) call per step, driven
-//                         exactly as Engine::collide drives it (cell index 0, the cell's stream
-//                         StreamFactory::rng(collisions, 0, cell) at each step).
-//   BM_StaticAdapter      the same SDK loop (CollisionRuleAdapter) instantiated inside this
-//                         executable with a copy of the IHS rule: separates "SDK loop" from
-//                         "loaded through a .so".
+//                         driven by the host's scheme (host::CollisionStage, one cell): the host
+//                         draws the candidates and hands them to the plugin's pair kernel in
+//                         batches, one virtual collide_batch(PairBatch&) call per batch.
+//   BM_StaticAdapter      the same, with the SDK's kernel (CollisionRuleAdapter) instantiated
+//                         inside this executable with a copy of the IHS rule: separates "the
+//                         kernel" from "loaded through a .so".
 //   BM_HandLoop           one plain function of the same physics and the same algorithm (same
-//                         candidate count, pair selection in prefetched batches of 32,
-//                         acceptance |g|/w, impact direction
-//                         normalize(g_hat + u), Eq. 2.8 update) and the same generator
-//                         (gdsmc::Rng, Philox4x32-10, from the host's StreamFactory) drawn in the
-//                         same order. Started from the same state with the same streams it
-//                         produces bit-identical velocities (checked at start-up; see
-//                         verify_same_trajectory).
+//                         candidate count, pairs drawn in prefetched batches of 32 and taken in
+//                         order, acceptance |g|/w, impact direction normalize(g_hat + u), Eq. 2.8
+//                         update) and the same generators (gdsmc::Rng, Philox4x32-10, from the
+//                         host's StreamFactory: the cell's selection stream and its kernel
+//                         stream) drawn in the same order. Started from the same state with the
+//                         same streams it produces bit-identical velocities (checked at start-up;
+//                         see verify_same_trajectory): where the host ends its batches changes
+//                         nothing.
 //   BM_EngineStep         Engine::step() of the HCS pipeline configs/hcs.yaml (collisions in
 //                         sub-populations, moment updates every 4 steps, five diagnostics), dt
 //                         set for ~N/100 collisions; (N, threads), real time.
@@ -61,7 +62,7 @@
 #include <vector>
 
 #include <gdsmc/collision.hpp>
-#include <gdsmc/moments.hpp>
+#include <gdsmc/physics/moments.hpp>
 
 #include "config/pipeline.hpp"
 #include "engine/cells.hpp"
@@ -79,7 +80,7 @@ using namespace gdsmc;
 using namespace gdsmc::bench;
 
 // ---------------------------------------------------------------------------------------------
-// The hand-written loop: one function, plain doubles, gdsmc::Rng drawn in the SDK loop's order.
+// The hand-written loop: one function, plain doubles, gdsmc::Rng drawn in the host scheme's order.
 
 struct HandStats {
   std::uint64_t candidates = 0, accepted = 0, exceeded = 0;
@@ -87,34 +88,35 @@ struct HandStats {
 };
 
 void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pairs, double volume, double sigma,
-                  double dt, double w, double alpha, double& remainder, Rng& rng, HandStats& st) {
+                  double dt, double w, double alpha, double& remainder, Rng& select, Rng& kernel, HandStats& st) {
   if (n < 2 || w <= 0) {
     remainder = 0;
     return;
   }
   // 000 Eqs. 4.13 / 4.23: P sigma^2 pi w dt / V candidates with P the cell's pair count
   // (N (N - 1) / 2 by default; Omega_B = pi for hard spheres).
-  const double expected = pairs * sigma * sigma * M_PI * w * dt / volume + remainder;
+  const double expected = pairs * sigma * sigma * M_PI * w / volume * dt + remainder;
   const auto candidates = static_cast<std::uint64_t>(expected);
   remainder = expected - static_cast<double>(candidates);
   const double half_one_plus_alpha = 0.5 * (1.0 + alpha);
   const double loss = -0.25 * (1.0 - alpha * alpha);
   std::uint64_t accepted = 0, exceeded = 0;
   double max_rate = st.max_rate, energy = 0;
-  // Batches of 32 candidates: pairs and acceptance numbers drawn first and their velocities
-  // prefetched, then tested and collided in order (the SDK loop's order).
+  // Batches of 32 candidates: pairs and acceptance numbers drawn first (selection stream) and their
+  // velocities prefetched, then tested and collided in order, each on the current velocities,
+  // the impact directions from the kernel stream.
   constexpr std::uint32_t kBatch = 32;
   std::uint32_t bi[kBatch], bj[kBatch];
   double bu[kBatch];
   for (std::uint64_t k0 = 0; k0 < candidates; k0 += kBatch) {
    const auto m = static_cast<std::uint32_t>(std::min<std::uint64_t>(kBatch, candidates - k0));
    for (std::uint32_t q = 0; q < m; ++q) {
-    const std::uint32_t a = rng.below(n);
-    std::uint32_t b = rng.below(n - 1);
+    const std::uint32_t a = select.below(n);
+    std::uint32_t b = select.below(n - 1);
     b += (b >= a);
     bi[q] = a;
     bj[q] = b;
-    bu[q] = rng.uniform32();
+    bu[q] = select.uniform32();
     for (const double* v : {vx, vy, vz}) {
       __builtin_prefetch(v + a, 1, 3);
       __builtin_prefetch(v + b, 1, 3);
@@ -135,8 +137,8 @@ void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pa
     // (Marsaglia: a point uniform in the unit disc mapped to the sphere).
     double eu, ev, es;
     do {
-      eu = 2.0 * rng.uniform32() - 1.0;
-      ev = 2.0 * rng.uniform32() - 1.0;
+      eu = 2.0 * kernel.uniform32() - 1.0;
+      ev = 2.0 * kernel.uniform32() - 1.0;
       es = eu * eu + ev * ev;
     } while (es >= 1.0 || es == 0.0);
     const double ef = 2.0 * std::sqrt(1.0 - es);
@@ -165,7 +167,7 @@ void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pa
   st.energy_change += energy;
 }
 
-// A copy of plugins/collision/inelastic_hard_spheres for the statically instantiated SDK loop.
+// A copy of plugins/collision/inelastic_hard_spheres for the statically instantiated SDK kernel.
 struct BenchIHS {
   explicit BenchIHS(double a) : alpha(a), half_one_plus_alpha(0.5 * (1.0 + a)) {}
   double collide(Vec3& v1, Vec3& v2, const Vec3& s, PairContext&) const {
@@ -190,8 +192,10 @@ struct Cell {
   std::uint32_t n;
   double volume;
   double temperature = kT0;  // followed exactly from the declared energy changes (m = 1, u = 0)
-  double majorant_ratio = gdsmc::host::kInitialMajorantRatio;
+  double majorant_ratio = gdsmc::host::kInitialMajorantRatio;  // the hand loop's (the host's stage keeps its own)
   double remainder = 0;
+  host::CellGrid grid;            // one homogeneous cell
+  host::CollisionStage scheme;    // the host's scheme, for the plugin paths
   host::StreamFactory streams;       // the run's streams, as the engine holds them
   std::uint64_t step = 0;
   std::uint64_t candidates = 0, accepted = 0, exceeded = 0, rescales = 0;
@@ -199,6 +203,7 @@ struct Cell {
   explicit Cell(std::uint32_t particles, std::uint32_t realization = 0)
       : id(particles), cell(particles, 0u), vx(particles), vy(particles), vz(particles), n(particles),
         volume(particles / kDensity), streams(kSeed, realization) {
+    grid.homogeneous(particles, volume);
     // Each particle from its own initial-state stream (as Streams::for_particle in a plugin).
     const Streams initial = streams.streams(StreamPurpose::initial_state, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -237,48 +242,35 @@ struct Cell {
     const double mean_g = 4.0 * std::sqrt(temperature / M_PI);
     return 2.0 * kCollisionFractionPerCall / (kDensity * M_PI * kSigma * kSigma * mean_g);
   }
-  // One collision stage through `collide(CellCollision&)`, with Engine::collide's bookkeeping:
-  // the step's key, then the stream of cell 0 for the collisions at this step.
-  template <class F>
-  void stage(F&& collide) {
+  // One collision stage of `rule` by the host's scheme, as Engine::collide drives it (the step's
+  // key; the majorant from the cell's temperature).
+  void collide_with(const CollisionRule& rule) {
     streams.set_step(step);
-    Rng rng = streams.rng(StreamPurpose::collisions, 0, 0);
-    CellCollision c;
-    c.particles = span();
-    c.members = nullptr;
-    c.count = n;
-    c.pairs = host::pair_count(host::PairCount::distinct, n);
-    c.index = 0;
-    c.volume = volume;
-    c.sigma = kSigma;
-    c.dt = dt();
-    const double thermal_speed = std::sqrt(temperature);
-    c.majorant = majorant_ratio * thermal_speed;
-    c.remainder = remainder;
-    c.rng = &rng;
-    collide(c);
-    remainder = c.remainder;
-    if (c.max_rate > c.majorant) majorant_ratio = gdsmc::host::kMajorantHeadroom * c.max_rate / thermal_speed;
-    candidates += c.candidates;
-    accepted += c.accepted;
-    exceeded += c.majorant_exceeded;
-    temperature += (2.0 / 3.0) * c.energy_change / n;  // E = 3/2 N T
+    const host::CollisionStage::Totals t = scheme.run(rule, span(), grid, nullptr, temperature, 1.0, kSigma, dt(), streams);
+    account(t.candidates, t.accepted, t.majorant_exceeded, t.energy_change);
+  }
+  void account(std::uint64_t cand, std::uint64_t acc, std::uint64_t exc, double energy_change) {
+    candidates += cand;
+    accepted += acc;
+    exceeded += exc;
+    temperature += (2.0 / 3.0) * energy_change / n;  // E = 3/2 N T
     ++step;
   }
 };
 
+// One collision stage by the hand loop, on the streams and with the majorant bookkeeping of the
+// host's scheme (host::CollisionStage) for one cell.
 void hand_stage(Cell& cell, double alpha) {
-  cell.stage([&](CellCollision& c) {
-    HandStats st;
-    st.max_rate = c.max_rate;
-    hand_collide(c.particles.vx, c.particles.vy, c.particles.vz, c.count, c.pairs, c.volume, c.sigma, c.dt, c.majorant,
-                 alpha, c.remainder, *c.rng, st);
-    c.candidates = st.candidates;
-    c.accepted = st.accepted;
-    c.majorant_exceeded = st.exceeded;
-    c.max_rate = st.max_rate;
-    c.energy_change = st.energy_change;
-  });
+  cell.streams.set_step(cell.step);
+  Rng select = cell.streams.rng(StreamPurpose::collisions, 0, 0);
+  Rng kernel = cell.streams.rng(StreamPurpose::collisions, 2, 0);
+  const double thermal_speed = std::sqrt(cell.temperature / 1.0);
+  const double w = cell.majorant_ratio * thermal_speed;
+  HandStats st;
+  hand_collide(cell.vx.data(), cell.vy.data(), cell.vz.data(), cell.n, host::pair_count(host::PairCount::distinct, cell.n),
+               cell.volume, kSigma, cell.dt(), w, alpha, cell.remainder, select, kernel, st);
+  if (st.max_rate > w) cell.majorant_ratio = gdsmc::host::kMajorantHeadroom * st.max_rate / thermal_speed;
+  cell.account(st.candidates, st.accepted, st.exceeded, st.energy_change);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -300,8 +292,8 @@ std::shared_ptr<PluginObject> make_ihs(double alpha) {
   return host::create_object(ihs_plugin(), params);
 }
 
-// The plugin's rule, bound once to the cell's particles (SDK 2.0: bind at set-up, then only const
-// collide_cell calls). The descriptor says collision_rule, so the cast is exact (as in Engine).
+// The plugin's rule, bound once to the cell's particles (bind at set-up, then only const
+// collide_batch calls). The descriptor says collision_rule, so the cast is exact (as in Engine).
 CollisionRule* bound_rule(PluginObject* object, Cell& cell) {
   auto* rule = static_cast<CollisionRule*>(object);
   rule->bind(cell.span());
@@ -352,7 +344,7 @@ void BM_PluginCollideCell(benchmark::State& state) {
     return;
   }
   const CollisionRule* rule = pc->rule;
-  run_cell(state, pc->cell, [&] { pc->cell.stage([&](CellCollision& c) { rule->collide_cell(c); }); });
+  run_cell(state, pc->cell, [&] { pc->cell.collide_with(*rule); });
 }
 
 void BM_StaticAdapter(benchmark::State& state) {
@@ -364,7 +356,7 @@ void BM_StaticAdapter(benchmark::State& state) {
   }
   const CollisionRule* rule = ac.rule.get();
   benchmark::DoNotOptimize(rule);  // keep the call virtual, as for the plugin
-  run_cell(state, ac.cell, [&] { ac.cell.stage([&](CellCollision& c) { rule->collide_cell(c); }); });
+  run_cell(state, ac.cell, [&] { ac.cell.collide_with(*rule); });
 }
 
 void BM_HandLoop(benchmark::State& state) {
@@ -548,7 +540,7 @@ void verify_same_trajectory() {
   }
   const CollisionRule* rule = bound_rule(obj.get(), a);
   for (int k = 0; k < calls; ++k) {
-    a.stage([&](CellCollision& c) { rule->collide_cell(c); });
+    a.collide_with(*rule);
     hand_stage(b, 0.9);
     if (a.temperature < kRescaleBelow * kT0) a.rescale();
     if (b.temperature < kRescaleBelow * kT0) b.rescale();
@@ -647,7 +639,7 @@ int profile(int argc, char** argv) {
     return 2;
   }
   for (long k = 0; k < calls; ++k) {
-    if (rule) cell.stage([&](CellCollision& c) { rule->collide_cell(c); });
+    if (rule) cell.collide_with(*rule);
     else hand_stage(cell, alpha);
     if (cell.temperature < kRescaleBelow * kT0) cell.rescale();
   }

@@ -88,7 +88,7 @@ struct SlabPieces {
   void reorder() {
     run.engine->reorder_by_layer();
     ParticleSpan span = run.engine->particles();
-    grid.assign_and_sort(span.y, const_cast<std::uint32_t*>(span.cell), span.count);
+    grid.assign_and_sort(span.y.data, const_cast<std::uint32_t*>(span.cell), span.count);
   }
   void stream_and_sort() {
     ParticleSpan span = run.engine->particles();

@@ -258,7 +258,7 @@ TEST(Conformance, WrongLossRulesPassDefaultsAndBoundsAndFailInside) {
     const Outcome r = run("conformance '" + test_plugin(plugin) + "'");
     EXPECT_EQ(r.status, 1) << r.out;
     for (const char* c : {"defaults_construct", "parameter_bounds", "determinism", "collision.finite", "collision.mass",
-                          "collision.momentum", "collision.energy", "collision.rate", "collision.cell"})
+                          "collision.momentum", "collision.energy", "collision.rate", "collision.acceptance", "collision.cell"})
       EXPECT_EQ(line_of(r.out, c).rfind("PASS", 0), 0u) << c << ":\n" << r.out;
     EXPECT_EQ(line_of(r.out, "parameter_interior").rfind("FAIL", 0), 0u) << r.out;
     const Outcome again = run("conformance '" + test_plugin(plugin) + "' --only parameter_interior");

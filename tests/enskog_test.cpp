@@ -79,7 +79,7 @@ TEST(enskog, CollisionsConserveMomentumAndTransferTensorIsSymmetric) {
   b.rule->bind(p);
   host::CellGrid grid;
   grid.homogeneous(n, b.sys.volume);
-  grid.assign_and_sort(p.y, store.cells(), n);
+  grid.assign_and_sort(p.y.data, store.cells(), n);
   host::CollisionStage stage;
   stage.reset(1);
   stage.set_tally_count(names.size());

@@ -47,6 +47,8 @@ TEST(Loader, WrongAbiMajorIsRefused) {
   EXPECT_TRUE(contains(message, plugin_version)) << message;
   EXPECT_TRUE(contains(message, host_version)) << message;
   EXPECT_TRUE(contains(message, "rebuild")) << message;
+  // An older major (every 5.x plugin since SDK 6.0) is pointed at the porting guide.
+  EXPECT_TRUE(contains(message, "Porting to SDK 6.0")) << message;
   // Named explicitly on the search path: an error; found by scanning a directory: a warning.
   PluginRegistry explicit_file;
   EXPECT_THROW(explicit_file.add(file), PluginLoadError);
@@ -204,10 +206,28 @@ TEST(Loader, ObjectKeepsItsLibraryAlive) {
   span.vx = vx.data(); span.vy = vy.data(); span.vz = vz.data();
   rule->bind(span);
   gdsmc::Rng rng = gdsmc::host::StreamFactory::standalone(1, 0);
-  const double de = rule->collide_pair(span, 0, 1, {1.0, 0.0, 0.0}, 1.0, rng);
-  EXPECT_EQ(vx[0], 0.25);
-  EXPECT_EQ(vx[1], 0.75);
-  EXPECT_EQ(de, -0.1875);
+  // The pair kernel on a batch of one pair with its impact direction given.
+  const std::uint32_t i = 0, j = 1;
+  gdsmc::Vec3 v1{vx[0], vy[0], vz[0]}, v2{vx[1], vy[1], vz[1]};
+  const gdsmc::Vec3 s{1.0, 0.0, 0.0};
+  const double u = 0;
+  std::uint8_t accepted = 0;
+  gdsmc::PairBatch batch;
+  batch.count = 1;
+  batch.i = &i;
+  batch.j = &j;
+  batch.v1 = &v1;
+  batch.v2 = &v2;
+  batch.u = &u;
+  batch.direction = &s;
+  batch.accepted = &accepted;
+  batch.particles = &span;
+  batch.rng = &rng;
+  rule->collide_batch(batch);
+  EXPECT_EQ(accepted, 1);
+  EXPECT_EQ(v1.x, 0.25);
+  EXPECT_EQ(v2.x, 0.75);
+  EXPECT_EQ(batch.energy_change, -0.1875);
   object.reset();  // the library may now be unloaded; nothing of it is used again
 }
 

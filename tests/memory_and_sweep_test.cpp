@@ -47,11 +47,11 @@ TEST(MemoryCheck, ParticleArraysOfAHugePageOrMoreStartOnOneAndKeepTheirValuesAcr
   const std::size_t n = host::kHugePage / sizeof(std::uint32_t) + 1000;  // every array over 2 MiB
   store.allocate(n, {}, false);
   const ParticleSpan span = store.span();
-  for (const double* a : {span.vx, span.vy, span.vz})
+  for (const double* a : {span.vx.data, span.vy.data, span.vz.data})
     EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a) % host::kHugePage, 0u);
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(span.id) % host::kHugePage, 0u);
   EXPECT_EQ(span.id[n - 1], n - 1);
-  EXPECT_EQ(span.x, nullptr);  // a homogeneous store has no positions
+  EXPECT_EQ(span.x.data, nullptr);  // a homogeneous store has no positions
   host::ParticleArray<double> grown;
   for (std::size_t k = 0; k < 2 * n; ++k) grown.push_back(static_cast<double>(k));  // through both allocation paths
   for (std::size_t k = 0; k < 2 * n; k += 4099) ASSERT_EQ(grown[k], static_cast<double>(k));

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include <gdsmc/series.hpp>
+#include <gdsmc/physics/series.hpp>
 
 #include "output/hdf5_file.hpp"
 #include "study/study.hpp"

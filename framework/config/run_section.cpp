@@ -275,8 +275,8 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
     c.error("run", run, "expected a mapping");
   } else {
     c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
-                              "realizations", "average_after", "candidate_pairs", "threads", "subpopulation",
-                              "checkpoint"});
+                              "realizations", "average_after", "candidate_pairs", "pair_selection", "threads",
+                              "subpopulation", "checkpoint"});
     if (const YAML::Node cp = run["checkpoint"]) parse_checkpoint(c, cp, p);
     if (const YAML::Node cp = run["candidate_pairs"]) {
       if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;
@@ -284,6 +284,14 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
         c.error("run.candidate_pairs", cp,
                 "valid: distinct (N_c (N_c - 1)/2 pairs per cell, the default: the Boltzmann collision rate whatever "
                 "the cell's occupation) or squared (N_c^2/2, as paper 000 Eq. 4.13 writes it: 1/N_c more collisions)");
+    }
+    if (const YAML::Node ps = run["pair_selection"]) {
+      if (ps.IsScalar() && ps.Scalar() == "uniform") p.pair_selection_uniform = true;
+      else if (!(ps.IsScalar() && ps.Scalar() == "weighted"))
+        c.error("run.pair_selection", ps,
+                "valid: weighted (the default: a slab layer draws its pairs in proportion to their particles' "
+                "peculiar speeds, so a hot particle raises only its own pairs' bounds) or uniform (every pair alike "
+                "against one layer majorant, as before gdsmc 0.4)");
     }
     if (run["realizations"]) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {

@@ -1,4 +1,5 @@
-// Collision-rule checks: pair properties and collide_cell on a population.
+// Collision-rule checks: the pair kernel (collide_batch) on a grid of pairs, and the host's collision
+// stage with the rule on a population.
 #include "conformance/internal.hpp"
 
 namespace gdsmc::host::conformance {
@@ -9,7 +10,7 @@ namespace gdsmc::host::conformance {
 struct PairCase {
   Vec3 v1, v2, s;
   const char* what;
-  double sigma = 1;  // the diameter handed to collide_pair
+  double sigma = 1;  // the diameter handed to the kernel (PairBatch::sigma)
 };
 
 
@@ -170,6 +171,35 @@ void check_energy(const PairCase& pc, double declared, const Vec3& w1, const Vec
   }
 }
 
+// One collision of slots i and j with the impact direction s, through the rule's pair kernel: a
+// batch of one pair whose direction is given (PairBatch::direction). Writes the velocities back
+// and returns the declared energy change.
+double collide_with_direction(const CollisionRule& rule, const ParticleSpan& p, std::uint32_t i, std::uint32_t j,
+                              const Vec3& s, double sigma, Rng& rng, std::vector<double>& tally) {
+  Vec3 v1 = p.velocity(i), v2 = p.velocity(j);
+  const double u = 0;
+  std::uint8_t accepted = 0;
+  PairBatch b;
+  b.count = 1;
+  b.i = &i;
+  b.j = &j;
+  b.v1 = &v1;
+  b.v2 = &v2;
+  b.u = &u;
+  b.direction = &s;
+  b.accepted = &accepted;
+  b.sigma = sigma;
+  b.particles = &p;
+  b.rng = &rng;
+  b.tally = tally.empty() ? nullptr : tally.data();
+  rule.collide_batch(b);
+  if (accepted) {
+    p.set_velocity(i, v1);
+    p.set_velocity(j, v2);
+  }
+  return b.energy_change;
+}
+
 }  // namespace
 
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
@@ -185,6 +215,7 @@ PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& att
   const ParticleSpan p = store.span();
   const ParticleSpan b = before_store.span();
   rule.bind(p);  // once: the 4 particles stay where they are
+  std::vector<double> tally(rule.tallies().size());  // the sums are not checked here
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const PairCase& pc = cases[c];
     const std::uint32_t i = c % 2 ? 3 : 0, j = c % 2 ? 1 : 2;  // vary the slots
@@ -192,7 +223,7 @@ PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& att
     copy_all(p, b);
     if (r.rate.empty()) check_rate(rule, pc, case_rng, r);
 
-    const double declared = rule.collide_pair(p, i, j, pc.s, pc.sigma, rule_rng);
+    const double declared = collide_with_direction(rule, p, i, j, pc.s, pc.sigma, rule_rng, tally);
     ++r.cases;
     const Vec3 w1 = p.velocity(i), w2 = p.velocity(j);
     if (r.nonfinite.empty()) check_finite(p, pc, declared, w1, w2, r);
@@ -214,17 +245,28 @@ std::string pair_failure(const PairReport& r) {
 
 constexpr std::size_t kRandomPairs = 20000;
 
-// The pair suite on a fresh rule built from its defaults (each collision.* check reads one
-// property); pair_suite binds it to its own particles.
-PairReport pair_report(const Subject& s) {
+// A fresh rule built from its defaults, begun as in a run: after the context's plugins published
+// (e.g. a shear rate), on the system of a 16-particle test pipeline.
+struct BegunRule {
+  std::shared_ptr<PluginObject> object;
+  SystemInfo system;
+  CollisionRule& rule() const { return *static_cast<CollisionRule*>(object.get()); }
+};
+BegunRule begun_rule(const Subject& s) {
   const auto p = load_test_pipeline(s, base_assignment(s), 16);
-  auto obj = create_object(*p->collision.plugin, p->collision.params);
-  // The rule begins as in a run: after the context's plugins published (e.g. a shear rate).
+  BegunRule r{create_object(*p->collision.plugin, p->collision.params), p->system_info(16, 0)};
   QuantityBoard board;
-  obj->publish(board);
+  r.object->publish(board);
   for (const auto& f : p->forcings) create_object(*f.plugin, f.params)->publish(board);
-  static_cast<CollisionRule*>(obj.get())->begin(p->system_info(16, 0), board);
-  return pair_suite(*static_cast<CollisionRule*>(obj.get()), obj->attributes(), s.cfg.seed, kRandomPairs);
+  r.rule().begin(r.system, board);
+  return r;
+}
+
+// The pair suite on a fresh rule (each collision.* check reads one property); pair_suite binds it
+// to its own particles.
+PairReport pair_report(const Subject& s) {
+  const BegunRule r = begun_rule(s);
+  return pair_suite(r.rule(), r.object->attributes(), s.cfg.seed, kRandomPairs);
 }
 
 Result check_collision_finite(const Subject& s) {
@@ -236,7 +278,7 @@ Result check_collision_finite(const Subject& s) {
 
 Result check_collision_mass(const Subject& s) {
   const PairReport r = pair_report(s);
-  if (!r.locality.empty()) return fail("mass: collide_pair " + r.locality);
+  if (!r.locality.empty()) return fail("mass: collide_batch " + r.locality);
   return pass(fmt("%zu pairs: the particle count is fixed and only the colliding pair changes (mass conserved)", r.cases));
 }
 
@@ -261,8 +303,83 @@ Result check_collision_rate(const Subject& s) {
   return pass(fmt("pair_rate finite, >= 0 and <= rate_bound(|g|) for %zu pairs in 3 directions each", r.cases));
 }
 
-// collide_cell on a population: three stages at the system's diameter and three at 2.5 times it
-// (CellCollision::sigma reaches the rule's PairContext), each on its own collision stream.
+// The pair kernel's acceptance, on a grid of relative speeds |g| = f w (f from 0.05 to 1.5: the tail
+// above the majorant included), 4000 pairs of one g each (the batch's pairs share nothing, so each
+// is an independent trial): the fraction accepted must be the probability the kernel form promises,
+// min(1, |g|/w) (hard sphere) or the mean over uniform directions of min(1, B(g, s)/W) (general,
+// estimated from pair_rate on 20000 directions), within 5 standard errors; every candidate above
+// its bound must be reported (exceeded, max_rate).
+Result check_collision_acceptance(const Subject& s) {
+  const BegunRule begun = begun_rule(s);
+  CollisionRule& rule = begun.rule();
+  constexpr std::uint32_t pairs = 4000;
+  Particles store;
+  store.allocate(2 * pairs, begun.object->attributes());
+  const ParticleSpan span = store.span();
+  rule.bind(span);
+  Rng host_rng = StreamFactory::standalone(s.cfg.seed, 7, StreamPurpose::host);
+  Rng rule_rng = StreamFactory::standalone(s.cfg.seed, 0, StreamPurpose::collisions);
+  std::vector<std::uint32_t> is(pairs), js(pairs);
+  std::vector<Vec3> v1(pairs), v2(pairs);
+  std::vector<double> u(pairs), tally(rule.tallies().size());
+  std::vector<std::uint8_t> accepted(pairs);
+  for (std::uint32_t q = 0; q < pairs; ++q) is[q] = 2 * q, js[q] = 2 * q + 1;
+  const bool general = rule.kernel_form() == KernelForm::general;
+  const double w = 1.0, bound = rule.rate_bound(w);
+  std::vector<std::string> rows;
+  for (const double f : {0.05, 0.3, 0.7, 0.95, 1.2, 1.5}) {
+    const Vec3 g = f * host_rng.unit_vector();
+    double promised = 0;  // the acceptance probability the kernel form promises
+    if (general) {
+      constexpr int directions = 20000;
+      for (int k = 0; k < directions; ++k) promised += std::min(1.0, rule.pair_rate(g, host_rng.unit_vector()) / bound);
+      promised /= directions;
+    } else {
+      promised = std::min(1.0, norm(g) / w);
+    }
+    for (std::uint32_t q = 0; q < pairs; ++q) {
+      const Vec3 c = host_rng.normal() * host_rng.unit_vector();  // any centre of mass
+      v1[q] = c + 0.5 * g;
+      v2[q] = c - 0.5 * g;
+      u[q] = host_rng.uniform32();
+    }
+    PairBatch b;
+    b.count = pairs;
+    b.i = is.data();
+    b.j = js.data();
+    b.v1 = v1.data();
+    b.v2 = v2.data();
+    b.u = u.data();
+    b.accepted = accepted.data();
+    b.speed_bound = w;
+    b.rate_bound = bound;
+    b.sigma = begun.system.sigma;
+    b.particles = &span;
+    b.rng = &rule_rng;
+    b.tally = tally.empty() ? nullptr : tally.data();
+    rule.collide_batch(b);
+    std::uint64_t flagged = 0;
+    for (std::uint32_t q = 0; q < pairs; ++q) flagged += accepted[q] != 0;
+    if (flagged != b.collided)
+      return fail(fmt("collide_batch flagged %llu pairs accepted but counted %llu (|g| = %.2f w)",
+                      static_cast<unsigned long long>(flagged), static_cast<unsigned long long>(b.collided), f));
+    const double fraction = static_cast<double>(b.collided) / pairs;
+    const double error = std::sqrt(std::max(promised * (1 - promised), 1.0 / pairs) / pairs);
+    if (std::fabs(fraction - promised) > 5 * error)
+      return fail(fmt("collide_batch accepted %.4f of %u candidates with |g| = %.2f w, where its kernel form (%s) "
+                      "promises %.4f (5 standard errors: %.4f)",
+                      fraction, pairs, f, general ? "general" : "hard sphere", promised, 5 * error));
+    if (!general && f > 1 && (b.exceeded != pairs || b.max_rate < norm(g) * (1 - 1e-12)))
+      return fail(fmt("collide_batch reported %llu of %u candidates above the majorant (|g| = %.2f w) and the largest "
+                      "rate %.4g w: every one must be reported, with max_rate >= |g|",
+                      static_cast<unsigned long long>(b.exceeded), pairs, f, b.max_rate));
+    rows.push_back(fmt("%.2f: %.3f (promised %.3f)", f, fraction, promised));
+  }
+  return pass(fmt("%u candidates at each |g|/w, accepted fraction: ", pairs) + join(rows, ", "));
+}
+
+// the collision stage on a population: three stages at the system's diameter and three at 2.5 times it
+// (PairBatch::sigma reaches the rule's PairContext), each on its own collision stream.
 Result check_collision_cell(const Subject& s) {
   constexpr std::size_t n = 2000;
   auto h = make_harness(s, base_assignment(s), n);
@@ -284,19 +401,19 @@ Result check_collision_cell(const Subject& s) {
                       (static_cast<double>(n) * static_cast<double>(n) * sigma * sigma * M_PI * w);
     std::uint64_t acc = 0, cand = 0;
     for (int k = 0; k < 3; ++k) {
-      const CellCollision c = h->collide(dt, sigma);
+      const CollisionStage::Totals c = h->collide(dt, sigma);
       ++h->ctx.step;
       if (c.accepted > c.candidates)
-        return fail(fmt("collide_cell reports %llu accepted of %llu candidates (sigma = %g)",
+        return fail(fmt("the collision stage reports %llu accepted of %llu candidates (sigma = %g)",
                         static_cast<unsigned long long>(c.accepted), static_cast<unsigned long long>(c.candidates), sigma));
-      if (!std::isfinite(c.energy_change) || !std::isfinite(c.remainder) || !std::isfinite(c.max_rate) || c.max_rate < 0)
-        return fail(fmt("collide_cell reports a non-finite or negative result (energy_change %g, remainder %g, max_rate %g; "
-                        "sigma = %g)", c.energy_change, c.remainder, c.max_rate, sigma));
+      if (!std::isfinite(c.energy_change) || !c.finite_remainders || !std::isfinite(c.max_rate) || c.max_rate < 0)
+        return fail(fmt("the collision stage reports a non-finite or negative result (energy_change %g, remainders finite %d, max_rate %g; "
+                        "sigma = %g)", c.energy_change, int(c.finite_remainders), c.max_rate, sigma));
       cand += c.candidates;
       acc += c.accepted;
       declared += c.energy_change;
       const std::string bad = nonfinite_in(p);
-      if (!bad.empty()) return fail(fmt("not finite after collide_cell (sigma = %g): ", sigma) + bad);
+      if (!bad.empty()) return fail(fmt("not finite after the collision stage (sigma = %g): ", sigma) + bad);
     }
     candidates += cand;
     accepted += acc;
@@ -306,15 +423,15 @@ Result check_collision_cell(const Subject& s) {
   totals(p1, e1, a1);
   const double ptol = 64 * kEps * (a0 + a1) * std::max(1.0, std::sqrt(static_cast<double>(accepted) / n));
   if (norm(p1 - p0) > ptol)
-    return fail(fmt("momentum not conserved by collide_cell on %zu particles: total momentum changed by %s (|dp| = %.3g, "
+    return fail(fmt("momentum not conserved by the collision stage on %zu particles: total momentum changed by %s (|dp| = %.3g, "
                     "round-off tolerance %.3g) in %llu collisions", n, vec_text(p1 - p0).c_str(), norm(p1 - p0), ptol,
                     static_cast<unsigned long long>(accepted)));
   const double etol = 64 * kEps * (e0 + e1) * std::max(1.0, static_cast<double>(accepted) / n);
   if (std::fabs((e1 - e0) - declared) > etol)
-    return fail(fmt("energy change differs from the declared one in collide_cell: kinetic energy changed by %.10g, "
+    return fail(fmt("energy change differs from the declared one in the collision stage: kinetic energy changed by %.10g, "
                     "the rule declared %.10g (tolerance %.3g) over %llu collisions", e1 - e0, declared, etol,
                     static_cast<unsigned long long>(accepted)));
-  return pass(fmt("collide_cell on %zu particles: %llu collisions of %llu candidates (%s); momentum conserved "
+  return pass(fmt("the collision stage on %zu particles: %llu collisions of %llu candidates (%s); momentum conserved "
                   "(|dp| = %.2g), energy change %.6g as declared", n, static_cast<unsigned long long>(accepted),
                   static_cast<unsigned long long>(candidates), join(per_sigma, "; ").c_str(), norm(p1 - p0), e1 - e0));
 }

@@ -421,7 +421,8 @@ std::string compare_outputs(const DiagnosticOutput& a, const DiagnosticOutput& b
 
 std::string compare_particles(const ParticleSpan& a, const ParticleSpan& b) {
   const std::pair<const char*, std::pair<const double*, const double*>> arrays[] = {
-      {"x", {a.x, b.x}}, {"y", {a.y, b.y}}, {"z", {a.z, b.z}}, {"vx", {a.vx, b.vx}}, {"vy", {a.vy, b.vy}}, {"vz", {a.vz, b.vz}}};
+      {"x", {a.x.data, b.x.data}}, {"y", {a.y.data, b.y.data}}, {"z", {a.z.data, b.z.data}},
+      {"vx", {a.vx.data, b.vx.data}}, {"vy", {a.vy.data, b.vy.data}}, {"vz", {a.vz.data, b.vz.data}}};
   for (const auto& [name, d] : arrays) {
     if (!d.first || !d.second) continue;  // a homogeneous system keeps no positions
     for (std::size_t k = 0; k < a.count; ++k)

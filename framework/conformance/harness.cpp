@@ -8,8 +8,8 @@ Snapshot Particles::save() {
   Snapshot s;
   auto copy = [&](const double* d) { return d ? std::vector<double>(d, d + p.count) : std::vector<double>(); };
   s.id.assign(p.id, p.id + p.count);
-  s.x = copy(p.x); s.y = copy(p.y); s.z = copy(p.z);
-  s.vx = copy(p.vx); s.vy = copy(p.vy); s.vz = copy(p.vz);
+  s.x = copy(p.x.data); s.y = copy(p.y.data); s.z = copy(p.z.data);
+  s.vx = copy(p.vx.data); s.vy = copy(p.vy.data); s.vz = copy(p.vz.data);
   for (std::size_t a = 0; a < p.attribute_count; ++a)
     s.attributes.emplace_back(p.attribute_data[a], p.attribute_data[a] + p.count * p.attribute_specs[a].components);
   return s;
@@ -44,24 +44,17 @@ void Harness::randomize_zero_attributes(Rng& rng) {
   }
 }
 
-CellCollision Harness::collide(double dt, double sigma) {
+CollisionStage::Totals Harness::collide(double dt, double sigma) {
   const auto* rule = static_cast<const CollisionRule*>(collision.get());
   factory.set_step(ctx.step);
   const CollisionStage::Totals t = stage.run(*rule, span(), grid, grid.is_slab() ? cells.data() : nullptr,
                                              global.temperature, sys.mass, sigma > 0 ? sigma : sys.sigma, dt, factory);
-  CellCollision sum;
-  sum.candidates = t.candidates;
-  sum.accepted = t.accepted;
-  sum.majorant_exceeded = t.majorant_exceeded;
-  sum.max_rate = t.max_rate;
-  sum.energy_change = t.energy_change;
-  if (!t.finite_remainders) sum.remainder = std::nan("");
-  ctx.collisions += sum.accepted;
-  ctx.candidates += sum.candidates;
-  ctx.majorant_exceeded += sum.majorant_exceeded;
-  ctx.collision_energy_change += sum.energy_change;
+  ctx.collisions += t.accepted;
+  ctx.candidates += t.candidates;
+  ctx.majorant_exceeded += t.majorant_exceeded;
+  ctx.collision_energy_change += t.energy_change;
   update_moments();
-  return sum;
+  return t;
 }
 
 std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std::size_t n) {
@@ -109,7 +102,7 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
   static_cast<InitialState*>(h->initial.get())
       ->generate(h->sys, h->board, h->span(), h->factory.streams(StreamPurpose::initial_state, 0));
   static_cast<CollisionRule*>(h->collision.get())->bind(h->span());  // once: the storage never moves
-  h->grid.assign_and_sort(h->span().y, h->particles.cells(), n);
+  h->grid.assign_and_sort(h->span().y.data, h->particles.cells(), n);
   h->update_moments();
   ctx.cells = h->cells.data();
   ctx.cell_count = h->cells.size();
@@ -171,7 +164,7 @@ std::unique_ptr<SlabHarness> make_slab(const Subject& s, const Assignment& a, st
   sample_maxwellian(sys, h->span(), SlabHarness::kTemperature,
                     StreamFactory::standalone_streams(s.cfg.seed, StreamPurpose::host, 0));
   h->grid.slab(n, sys.cells, sys.box[1], sys.cross_section());
-  h->grid.assign_and_sort(h->span().y, h->particles.cells(), n);
+  h->grid.assign_and_sort(h->span().y.data, h->particles.cells(), n);
   h->factory = StreamFactory(s.cfg.seed, 0);
   return h;
 }
@@ -184,8 +177,8 @@ bool all_finite(const double* d, std::size_t n) {
 
 // First non-finite entry of the particle state, or "" when everything is finite.
 std::string nonfinite_in(const ParticleSpan& p, bool positions) {
-  const std::pair<const char*, const double*> arrays[] = {{"x", p.x}, {"y", p.y}, {"z", p.z},
-                                                           {"vx", p.vx}, {"vy", p.vy}, {"vz", p.vz}};
+  const std::pair<const char*, const double*> arrays[] = {{"x", p.x.data}, {"y", p.y.data}, {"z", p.z.data},
+                                                           {"vx", p.vx.data}, {"vy", p.vy.data}, {"vz", p.vz.data}};
   for (const auto& [name, d] : arrays) {
     if ((!positions && name[0] != 'v') || !d) continue;
     for (std::size_t k = 0; k < p.count; ++k)

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <gdsmc/moments.hpp>
+#include <gdsmc/physics/moments.hpp>
 #include <gdsmc/plugin.hpp>
 
 #include "config/pipeline.hpp"
@@ -90,7 +90,7 @@ struct Harness {
   Snapshot save() { return particles.save(); }
   void restore(const Snapshot& s, const std::vector<std::uint32_t>* perm = nullptr) {
     particles.restore(s, perm);
-    grid.assign_and_sort(span().y, particles.cells(), span().count);  // cells follow the particles
+    grid.assign_and_sort(span().y.data, particles.cells(), span().count);  // cells follow the particles
     update_moments();
   }
   // Attributes that the initial state left at zero get random values (so that rules and
@@ -99,7 +99,7 @@ struct Harness {
   // One collision stage of the filler (or tested) collision rule in every cell (the whole
   // population, or each layer of a slab; particles do not move), on the cells' collision streams
   // of the current step; `sigma` overrides the system's diameter. Returns the cells' sums.
-  CellCollision collide(double dt, double sigma = 0);
+  CollisionStage::Totals collide(double dt, double sigma = 0);
 };
 
 // A boundary under test, wrapped so that every hit it serves is recorded (the Mover does not

@@ -30,7 +30,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <gdsmc/collision.hpp>
-#include <gdsmc/moments.hpp>
+#include <gdsmc/physics/moments.hpp>
 
 #include "config/params.hpp"
 #include "config/pipeline.hpp"
@@ -148,6 +148,7 @@ Result check_collision_mass(const Subject& s);
 Result check_collision_momentum(const Subject& s);
 Result check_collision_energy(const Subject& s);
 Result check_collision_rate(const Subject& s);
+Result check_collision_acceptance(const Subject& s);
 Result check_collision_cell(const Subject& s);
 Result check_forcing_conservation(const Subject& s);
 Result check_forcing_energy(const Subject& s);

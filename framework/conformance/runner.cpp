@@ -36,7 +36,10 @@ Checks (by kind):
   collision    collision.finite, collision.mass, collision.momentum, collision.energy,
                collision.rate (finite, >= 0 and within rate_bound(|g|); on random pairs and
                edge cases: zero relative velocity, grazing, huge and tiny speeds),
-               collision.cell (collide_cell on a population)
+               collision.acceptance (collide_batch accepts each candidate with probability
+               rate/bound on a grid of relative speeds up to 1.5 times the majorant, tails
+               included, and reports the candidates above it), collision.cell (the host's
+               collision stage with the rule on a population)
   forcing      forcing.conservation (what conserves() declares), forcing.energy (the energy
                apply() returns equals the measured change), forcing.expected_energy (a
                forcing that declares expected_energy_rate(): the mean measured energy input
@@ -95,6 +98,7 @@ std::vector<Check> checks_for(PluginKind kind) {
                          {"collision.momentum", check_collision_momentum},
                          {"collision.energy", check_collision_energy},
                          {"collision.rate", check_collision_rate},
+                         {"collision.acceptance", check_collision_acceptance},
                          {"collision.cell", check_collision_cell}});
       break;
     case PluginKind::forcing:

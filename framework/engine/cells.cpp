@@ -1,6 +1,6 @@
 #include "engine/cells.hpp"
 
-#include <gdsmc/moments.hpp>
+#include <gdsmc/physics/moments.hpp>
 
 #include <algorithm>
 #include <cmath>

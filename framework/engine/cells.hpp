@@ -8,7 +8,7 @@
 #include <vector>
 
 #include <gdsmc/context.hpp>
-#include <gdsmc/moments.hpp>
+#include <gdsmc/physics/moments.hpp>
 #include <gdsmc/particles.hpp>
 
 #include "engine/work_pool.hpp"

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "engine/interrupt.hpp"
 #include "engine/majorant.hpp"
@@ -21,10 +22,13 @@ void CollisionStage::reset(std::size_t cells) {
   speed_.assign(cells, 0.0);
   estimate_.assign(cells, 0.0);
   max_rate_.assign(cells, 0.0);
+  missed_.assign(cells, 0.0);
   counts_.assign(3 * cells, 0);
   groups_.assign(cells, Group{});
   cell_tallies_.assign(cells * tally_count_, 0.0);
 }
+
+void CollisionStage::reset_majorants() { std::fill(ratio_.begin(), ratio_.end(), kInitialMajorantRatio); }
 
 void CollisionStage::set_tally_count(std::size_t count) {
   tally_count_ = count;
@@ -105,51 +109,254 @@ void CollisionStage::set_layer_majorants(const CellMoments* cells, const double*
   }
 }
 
+namespace {
+// Particle a of a group without a member list: (first + a * stride) mod n, by a Barrett reduction
+// (barrett = floor((2^64 - 1) / n), computed once per group), so no division per candidate.
+inline std::uint32_t strided_particle(std::uint64_t first, std::uint64_t stride, std::uint32_t a, std::uint64_t n,
+                                      std::uint64_t barrett) {
+  const std::uint64_t x = first + static_cast<std::uint64_t>(a) * stride;
+  const auto q = static_cast<std::uint64_t>((static_cast<unsigned __int128>(x) * barrett) >> 64);
+  std::uint64_t r = x - q * n;
+  while (r >= n) r -= n;
+  return static_cast<std::uint32_t>(r);
+}
+
+inline void prefetch(const double* a) {
+#if defined(__GNUC__)
+  __builtin_prefetch(a, 1, 3);  // written if the pair collides
+#else
+  (void)a;
+#endif
+}
+
+// One batch of candidates being drawn: at most kPairBatch pairs with no particle twice (a set of
+// the cell's local indices, hashed into kSeenBits bits: a clash, real or of the hash, closes the
+// batch early). Since the rule draws from its own stream and takes the pairs in order on the
+// current velocities, where a batch ends changes only the speed, never a result.
+constexpr std::uint32_t kPairBatch = 32;
+constexpr std::uint32_t kSeenBits = 4096;
+struct BatchScratch {
+  std::uint32_t i[kPairBatch], j[kPairBatch];
+  Vec3 v1[kPairBatch], v2[kPairBatch];
+  double u[kPairBatch], w[kPairBatch];
+  std::uint8_t accepted[kPairBatch];
+  std::uint64_t seen[kSeenBits / 64];
+  bool holds(std::uint32_t a) const { return (seen[(a & (kSeenBits - 1)) >> 6] >> (a & 63)) & 1; }
+  void add(std::uint32_t a) { seen[(a & (kSeenBits - 1)) >> 6] |= std::uint64_t{1} << (a & 63); }
+};
+}  // namespace
+
+// Pairs drawn with probability proportional to c_a + c_b, c the peculiar speeds |v - u| of the
+// layer's particles (u the layer's mean velocity) at the start of the step, and accepted with
+// probability |g| / (c_a + c_b) <= 1 (the triangle inequality): the hard-sphere rate exactly, and
+// a hot particle raises only its own pairs' bounds, where one uniform majorant would be raised for
+// every pair (a clustered channel's cold centre: 0.9 % of uniform candidates accepted). Particle a
+// is drawn with probability c_a / S: a class k of speeds [2^(k-1), 2^k) times kUnit c-bar with
+// probability n_k 2^k kUnit c-bar / total, a member of it uniformly, kept with probability
+// c_a / (2^k kUnit c-bar) >= 1/2; class 0 holds every speed below kUnit c-bar.
+struct CollisionStage::WeightedLayer {
+  static constexpr int kClasses = 24;
+  static constexpr double kUnit = 1.0 / 256.0;  // class 0: below c-bar / 256
+  std::vector<double> speed;                     // c_a, by local index
+  std::vector<std::uint32_t> by_class;           // local indices, class by class
+  std::uint32_t start[kClasses + 1] = {};
+  double bound[kClasses] = {}, cumulative[kClasses] = {};
+  double sum = 0;  // S
+  int top = 0;     // classes 0 .. top - 1 hold particles
+
+  // The weights of the `count` particles `particle(a)`; false if none moves relative to the others.
+  template <class Particle>
+  bool build(const ParticleSpan& p, std::uint32_t count, Particle&& particle) {
+    speed.resize(count);
+    by_class.resize(count);
+    double u[3] = {0, 0, 0};
+    for (std::uint32_t a = 0; a < count; ++a) {
+      const std::uint32_t i = particle(a);
+      u[0] += p.vx.data[i], u[1] += p.vy.data[i], u[2] += p.vz.data[i];
+    }
+    for (double& x : u) x /= count;
+    sum = 0;
+    for (std::uint32_t a = 0; a < count; ++a) {
+      const std::uint32_t i = particle(a);
+      const double dx = p.vx.data[i] - u[0], dy = p.vy.data[i] - u[1], dz = p.vz.data[i] - u[2];
+      speed[a] = std::sqrt(dx * dx + dy * dy + dz * dz);
+      sum += speed[a];
+    }
+    if (!(sum > 0) || !std::isfinite(sum)) return false;
+    const double unit = kUnit * sum / count;
+    std::uint32_t n[kClasses] = {};
+    const auto class_of = [&](double c) {
+      if (c < unit) return 0;
+      const int k = std::ilogb(c / unit) + 1;  // c in [2^(k-1), 2^k) units
+      return k < kClasses ? k : kClasses - 1;
+    };
+    double largest = 0;
+    for (std::uint32_t a = 0; a < count; ++a) ++n[class_of(speed[a])], largest = std::max(largest, speed[a]);
+    start[0] = 0;
+    for (int k = 0; k < kClasses; ++k) start[k + 1] = start[k] + n[k];
+    std::uint32_t next[kClasses];
+    std::copy(start, start + kClasses, next);
+    for (std::uint32_t a = 0; a < count; ++a) by_class[next[class_of(speed[a])]++] = a;
+    double total = 0;
+    top = 0;
+    for (int k = 0; k < kClasses; ++k) {
+      // The last class is open above: its bound is the largest speed.
+      bound[k] = k == kClasses - 1 ? std::max(largest, std::ldexp(unit, k)) : std::ldexp(unit, k);
+      total += n[k] * bound[k];
+      cumulative[k] = total;
+      if (n[k]) top = k + 1;
+    }
+    return true;
+  }
+  // A local index drawn with probability speed[a] / sum.
+  std::uint32_t draw(Rng& rng) const {
+    for (;;) {
+      const double x = rng.uniform() * cumulative[top - 1];
+      int k = 0;
+      while (k < top - 1 && x >= cumulative[k]) ++k;
+      const std::uint32_t n = start[k + 1] - start[k];
+      if (n == 0) continue;  // x fell on the edge of an empty class (round-off)
+      const std::uint32_t a = by_class[start[k] + rng.below(n)];
+      if (rng.uniform32() * bound[k] < speed[a]) return a;
+    }
+  }
+};
+
+CollisionStage::CollisionStage(PairCount scheme) : scheme_(scheme) {}
+CollisionStage::~CollisionStage() = default;
+
+void CollisionStage::collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                                        std::uint64_t candidates, Rng& select, PairBatch& batch,
+                                        const WeightedLayer* weights) const {
+  const Group& group = groups_[c];
+  const std::uint32_t* const members = group.members;
+  const std::uint64_t first = group.first, stride = group.stride, total = particles.count;
+  const std::uint64_t barrett = total ? ~std::uint64_t{0} / total : 0;
+  const std::uint32_t count = group.count;
+  // Particle a of the group: a member list (slab layers), a contiguous range, or a strided one
+  // (the sub-populations of a homogeneous system).
+  auto particle = [&](std::uint32_t a) -> std::uint32_t {
+    if (members) return members[a];
+    if (stride == 1) return static_cast<std::uint32_t>(first + a);
+    return strided_particle(first, stride, a, total, barrett);
+  };
+  double* const vx = particles.vx.data;
+  double* const vy = particles.vy.data;
+  double* const vz = particles.vz.data;
+  BatchScratch s;
+  std::memset(s.seen, 0, sizeof s.seen);
+  batch.i = s.i;
+  batch.j = s.j;
+  batch.v1 = s.v1;
+  batch.v2 = s.v2;
+  batch.u = s.u;
+  batch.accepted = s.accepted;
+  batch.speed_bounds = weights ? s.w : nullptr;
+  std::uint32_t m = 0;
+  // The batch's velocities (prefetched as its pairs were drawn) to the rule, and the accepted
+  // pairs' back to storage.
+  const auto flush = [&] {
+    for (std::uint32_t q = 0; q < m; ++q) {
+      const std::uint32_t i = s.i[q], j = s.j[q];
+      s.v1[q] = Vec3{vx[i], vy[i], vz[i]};
+      s.v2[q] = Vec3{vx[j], vy[j], vz[j]};
+    }
+    batch.count = m;
+    rule.collide_batch(batch);
+    for (std::uint32_t q = 0; q < m; ++q) {
+      if (!s.accepted[q]) continue;
+      const std::uint32_t i = s.i[q], j = s.j[q];
+      vx[i] = s.v1[q].x; vy[i] = s.v1[q].y; vz[i] = s.v1[q].z;
+      vx[j] = s.v2[q].x; vy[j] = s.v2[q].y; vz[j] = s.v2[q].z;
+    }
+    std::memset(s.seen, 0, sizeof s.seen);
+    m = 0;
+  };
+  for (std::uint64_t k = 0; k < candidates; ++k) {
+    const std::uint32_t a = weights ? weights->draw(select) : select.below(count);
+    std::uint32_t b = select.below(count - 1);
+    b += (b >= a);
+    const double u = select.uniform32();
+    if (m > 0 && (s.holds(a) || s.holds(b))) flush();
+    s.add(a);
+    s.add(b);
+    const std::uint32_t i = particle(a), j = particle(b);
+    s.i[m] = i;
+    s.j[m] = j;
+    s.u[m] = u;
+    if (weights) s.w[m] = weights->speed[a] + weights->speed[b];
+    prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
+    prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
+    if (++m == kPairBatch) flush();
+  }
+  if (m > 0) flush();
+}
+
 void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma,
                                    double dt, const StreamFactory& streams) {
   poll_interrupt(interrupt_);
-  Rng rng = streams.rng(StreamPurpose::collisions, 0, c);
+  // Two streams per group: the scheme's (which pairs, their acceptance numbers) and the rule's
+  // (impact directions, its own draws), so that neither depends on how the candidates are batched.
+  Rng select = streams.rng(StreamPurpose::collisions, 0, c);
+  Rng kernel = streams.rng(StreamPurpose::collisions, 2, c);
+  const Group& group = groups_[c];
   const double majorant = ratio_[c] * speed_[c];
-  // Slices of dt for a large group (4 x the estimate: a general kernel's solid angle is 4 pi);
-  // one slice, the whole dt, otherwise.
-  const double upper = 4.0 * estimate_[c];
-  const double slices = upper > kCandidatesPerSlice ? std::ceil(upper / kCandidatesPerSlice) : 1.0;
-  CellCollision cell;
-  cell.remainder = remainder_[c];
   double* const tally = tally_count_ ? cell_tallies_.data() + c * tally_count_ : nullptr;
   if (tally) std::fill(tally, tally + tally_count_, 0.0);
-  double max_rate = 0, energy = 0;
   std::uint64_t* const counts = counts_.data() + 3 * c;
   counts[0] = counts[1] = counts[2] = 0;
-  for (double s = 0; s < slices; ++s) {
-    if (s > 0) poll_interrupt(interrupt_);
-    const double remainder = cell.remainder;
-    cell = CellCollision{};
-    cell.particles = particles;
-    cell.members = groups_[c].members;
-    cell.first = groups_[c].first;
-    cell.stride = groups_[c].stride;
-    cell.count = groups_[c].count;
-    cell.pairs = pair_count(scheme_, cell.count);
-    cell.index = static_cast<std::uint32_t>(c);
-    cell.volume = groups_[c].volume;
-    cell.sigma = sigma;
-    cell.dt = dt / slices;
-    cell.majorant = majorant;
-    cell.remainder = remainder;
-    cell.rng = &rng;
-    cell.tally = tally;  // summed over the slices
-    rule.collide_cell(cell);
-    counts[0] += cell.candidates;
-    counts[1] += cell.accepted;
-    counts[2] += cell.majorant_exceeded;
-    max_rate = std::max(max_rate, cell.max_rate);
-    energy += cell.energy_change;
+  max_rate_[c] = 0;
+  energy_[c] = 0;
+  missed_[c] = 0;
+  if (group.count < 2 || !(majorant > 0)) {
+    remainder_[c] = 0;
+    return;
   }
-  remainder_[c] = cell.remainder;
-  if (max_rate > majorant) ratio_[c] = kMajorantHeadroom * max_rate / speed_[c];
-  max_rate_[c] = max_rate;
-  energy_[c] = energy;
+  // Candidates of the step (000 Eqs. 4.13, 4.23): P_c sigma^2 Omega_B W dt / V_c, W the rule's
+  // bound of its kernel for |g| <= w, Omega_B = pi (hard-sphere form) or 4 pi (general). With
+  // weighted pairs (a layer, the hard-sphere form), w is the mean pair bound 2 S / N_c.
+  const WeightedLayer* weights = nullptr;
+  double w = majorant;
+  if (weighted_ && group.members) {
+    thread_local WeightedLayer layer;
+    const std::uint32_t* members = group.members;
+    if (!layer.build(particles, group.count, [members](std::uint32_t a) { return members[a]; })) {
+      remainder_[c] = 0;
+      return;
+    }
+    weights = &layer;
+    w = 2.0 * layer.sum / group.count;
+  }
+  const double bound = rule.rate_bound(w);
+  const double per_time = pair_count(scheme_, group.count) * sigma * sigma * solid_angle_ * bound / group.volume;
+  PairBatch batch;
+  batch.cell = static_cast<std::uint32_t>(c);
+  batch.speed_bound = w;
+  batch.rate_bound = bound;
+  batch.sigma = sigma;
+  batch.particles = &particles;
+  batch.rng = &kernel;
+  batch.tally = tally;  // summed over the slices
+  // Slices of dt for a large group (4 x the estimate: a general kernel's solid angle is 4 pi),
+  // each with a check for an interrupt; one slice, the whole dt, otherwise.
+  const double upper = 4.0 * estimate_[c];
+  const double slices = upper > kCandidatesPerSlice ? std::ceil(upper / kCandidatesPerSlice) : 1.0;
+  double remainder = remainder_[c];
+  for (double k = 0; k < slices; ++k) {
+    if (k > 0) poll_interrupt(interrupt_);
+    const double expected = per_time * (dt / slices) + remainder;
+    const auto candidates = static_cast<std::uint64_t>(expected);
+    remainder = expected - static_cast<double>(candidates);
+    collide_candidates(rule, particles, c, candidates, select, batch, weights);
+    counts[0] += candidates;
+  }
+  counts[1] = batch.collided;
+  counts[2] = batch.exceeded;
+  remainder_[c] = remainder;
+  if (!weights && batch.max_rate > majorant) ratio_[c] = kMajorantHeadroom * batch.max_rate / speed_[c];
+  max_rate_[c] = weights ? 0.0 : batch.max_rate;
+  energy_[c] = batch.energy_change;
+  missed_[c] = batch.missed;
 }
 
 void CollisionStage::scatter_and_collide(const CollisionRule& rule, const ParticleSpan& particles,
@@ -211,6 +418,10 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
                                            const PendingMembers* pending) {
   const std::size_t n = grid.is_slab() ? grid.count() : subpopulation_count(particles.count, subpopulation_);
   if (ratio_.size() != n) reset(n);
+  if (particles.vx.stride != 1 || particles.vy.stride != 1 || particles.vz.stride != 1)
+    throw std::logic_error("CollisionStage: velocities are expected in arrays of stride 1");
+  solid_angle_ = rule.kernel_form() == KernelForm::general ? 4.0 * M_PI : M_PI;
+  weighted_ = selection_ == PairSelection::weighted && rule.kernel_form() == KernelForm::hard_sphere;
   make_groups(grid, particles.count, streams);
   // Every group's majorant and hard-sphere candidate estimate first, so that a step whose work is
   // not finite or is absurd is refused before any pair is tested (the rule would cast the count
@@ -247,6 +458,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     sum.max_rate = std::max(sum.max_rate, max_rate_[c]);
     sum.finite_remainders = sum.finite_remainders && std::isfinite(remainder_[c]);
     sum.energy_change += energy_[c];
+    sum.missed += missed_[c];
   }
   if (tally_count_) {
     std::fill(step_tallies_.begin(), step_tallies_.end(), 0.0);

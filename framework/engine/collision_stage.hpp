@@ -1,9 +1,10 @@
-// The collision stage of one step: every cell with its own majorant w_I, candidate remainder and
-// random stream (000 Eq. 4.13), so the cells are independent and their processing order does not
+// The collision stage of one step, the host's DSMC scheme: every cell with its own majorant w_I,
+// candidate remainder and random streams (000 Eq. 4.13), so the cells are independent and their processing order does not
 // change any result. The engine, the conformance harness and the benchmark all drive collisions
 // through this one class.
 #pragma once
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -33,9 +34,19 @@ inline double pair_count(PairCount scheme, std::uint32_t n) {
 // the thread count.
 std::size_t subpopulation_count(std::size_t particles, std::size_t size);
 
+// How a layer of a slab draws its candidate pairs (homogeneous sub-populations always draw uniform
+// pairs against the group majorant: their particles are scattered over storage, and a pass over
+// them would cost more than the candidates it saves).
+enum class PairSelection : std::uint32_t {
+  weighted = 0,  // hard-sphere form: pairs weighted by the peculiar speeds (CollisionStage::WeightedLayer)
+  uniform = 1,   // every pair alike, against the layer majorant w_I
+};
+
 class CollisionStage {
  public:
-  explicit CollisionStage(PairCount scheme = PairCount::distinct) : scheme_(scheme) {}
+  explicit CollisionStage(PairCount scheme = PairCount::distinct);
+  ~CollisionStage();
+  void set_pair_selection(PairSelection selection) { selection_ = selection; }
   void set_pair_count(PairCount scheme) { scheme_ = scheme; }
   // Particles per sub-population of a homogeneous system (Pipeline::subpopulation; 0, the default
   // here: one population).
@@ -47,6 +58,7 @@ class CollisionStage {
     double energy_change = 0;  // summed in cell order, whatever the processing order
     const double* tallies = nullptr;  // this step's sum of each of the rule's tallies (cell order)
     double max_rate = 0;
+    double missed = 0;  // collisions the bounds missed (PairBatch::missed), summed in cell order
     bool finite_remainders = true;
   };
   // A step whose candidate estimate is not finite or beyond kMaxCandidatesPerStep or
@@ -57,6 +69,8 @@ class CollisionStage {
   };
   // Majorant ratios back to their initial value and remainders to 0, for `cells` cells.
   void reset(std::size_t cells);
+  // Majorant ratios back to kInitialMajorantRatio (a homogeneous system's moment update).
+  void reset_majorants();
   // Checkpoints: each group's majorant ratio and candidate remainder.
   void save(StateWriter& out) const {
     out.write("collisions.majorant_ratio", ratio_);
@@ -90,7 +104,8 @@ class CollisionStage {
   // layer's own temperature T_I (`cells` null, or a layer of fewer than 2 particles or T_I = 0 at
   // the last moment update: the mean one); a candidate above w_I raises ratio_I
   // (kMajorantHeadroom), and set_layer_majorants re-sets the ratios at every moment update.
-  // The stream of group c is streams.rng(collisions, 0, c) at the factory's current step; the
+  // Group c draws its pairs and acceptance numbers from streams.rng(collisions, 0, c) and hands the
+  // rule streams.rng(collisions, 2, c) (PairBatch::rng) at the factory's current step; the
   // rotation of the sub-populations is drawn from streams.rng(collisions, 1, 0).
   // Throws Overload if the step's work is unbounded or absurd; a cell with more candidates than
   // kCandidatesPerSlice is handed to the rule in slices of dt (its remainder and stream carried
@@ -116,7 +131,10 @@ class CollisionStage {
   std::size_t tally_count_ = 0;
   std::vector<double> cell_tallies_, step_tallies_;  // [cell * tally_count_ + k], [k]
   std::vector<double> speed_, estimate_;  // this step's sqrt(T_ref/m) and candidate estimate per cell
-  std::vector<double> max_rate_;          // per group, this step
+  std::vector<double> max_rate_, missed_;  // per group, this step
+  struct WeightedLayer;
+  PairSelection selection_ = PairSelection::weighted;
+  bool weighted_ = false;  // this step: weighted pairs in the layers
   // T_ref of group c: its own temperature if it had >= 2 particles and T > 0, else `temperature`.
   static double reference_temperature(const CellMoments* cells, std::size_t c, double temperature);
   std::vector<std::uint64_t> counts_;     // per group: candidates, accepted, exceeded
@@ -131,9 +149,14 @@ class CollisionStage {
   std::size_t subpopulation_ = 0;
   WorkPool* pool_ = nullptr;
   void make_groups(const CellGrid& grid, std::size_t particles, const StreamFactory& streams);
-  // The collisions of group c: its stream, majorant, remainder and slices (run()'s piece).
+  // The collisions of group c: its streams, majorant, remainder and slices (run()'s piece).
   void collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma, double dt,
                      const StreamFactory& streams);
+  // `candidates` candidate pairs of group c drawn from `select`, handed to the rule in batches.
+  void collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                          std::uint64_t candidates, Rng& select, PairBatch& batch,
+                          const WeightedLayer* weights) const;
+  double solid_angle_ = M_PI;  // Omega_B of the rule's kernel form (pi: hard sphere; 4 pi: general)
   // run() with pending members: the pieces in order (block b < blocks, or blocks + layer), and
   // each block's stamp once it is scattered (the run's number: nothing to clear between steps).
   void scatter_and_collide(const CollisionRule& rule, const ParticleSpan& particles, const PendingMembers& pending,

@@ -59,6 +59,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   const std::size_t cells = system_.cells;
   collisions_.reset(cells);
   collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
+  collisions_.set_pair_selection(p.pair_selection_uniform ? PairSelection::uniform : PairSelection::weighted);
   collisions_.set_tally_count(tallies_total_.size());
   collisions_.set_subpopulation(p.subpopulation);
   collisions_.set_pool(&pool_);
@@ -199,7 +200,7 @@ void Engine::generate_initial_state() {
                                  " at (" + std::to_string(span.x[i]) + ", " + std::to_string(span.y[i]) + ", " +
                                  std::to_string(span.z[i]) + "), outside the slab [0, Lx) x [-Ly/2, Ly/2] x [0, Lz)");
   }
-  if (system_.geometry == Geometry::slab) grid_.assign_and_sort(span.y, store_.cells(), span.count);
+  if (system_.geometry == Geometry::slab) grid_.assign_and_sort(span.y.data, store_.cells(), span.count);
   else shuffle_subpopulations();
   grid_.cell_moments(span, system_.number_density, cells_, global_, &pool_);
   grid_.sampled_moments(span, system_.number_density, sampled_, &pool_);
@@ -264,6 +265,7 @@ void Engine::update_moments() {
     if (grid_.is_slab())
       collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
   }
+  if (!grid_.is_slab()) collisions_.reset_majorants();
 }
 
 void Engine::measure_sampled_moments() {
@@ -419,7 +421,7 @@ void Engine::stream(double dt) {
 void Engine::reorder_by_layer() {
   if (!grid_.is_slab()) return;
   const ParticleSpan span = store_.span();
-  grid_.assign_and_sort(span.y, store_.cells(), span.count);  // from the positions as they are now
+  grid_.assign_and_sort(span.y.data, store_.cells(), span.count);  // from the positions as they are now
   permute_by_layer();
 }
 
@@ -447,6 +449,7 @@ void Engine::collide(double dt) {
   ctx_.collisions += t.accepted;
   ctx_.candidates += t.candidates;
   ctx_.majorant_exceeded += t.majorant_exceeded;
+  missed_collisions_ += t.missed;
   ctx_.collision_energy_change += t.energy_change;
   ledger_[0].energy = ctx_.collision_energy_change;
   for (std::size_t k = 0; k < tallies_total_.size(); ++k) tallies_total_[k].value += t.tallies[k];
@@ -611,6 +614,7 @@ CaseOutput Engine::output() {
              {"collisions_per_particle", ctx_.collisions_per_particle()},
              {"candidates", static_cast<double>(ctx_.candidates)},
              {"majorant_exceeded", static_cast<double>(ctx_.majorant_exceeded)},
+             {"collisions_missed_by_majorant", missed_collisions_},
              {"collision_energy_change", ctx_.collision_energy_change},
              {"kinetic_energy_initial", initial_energy_},
              {"kinetic_energy_final", sampled_.kinetic_energy},

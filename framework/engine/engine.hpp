@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <gdsmc/moments.hpp>
+#include <gdsmc/physics/moments.hpp>
 #include <gdsmc/plugin.hpp>
 
 #include "config/pipeline.hpp"
@@ -197,6 +197,9 @@ class Engine {
   std::vector<std::string> ledger_names_;
   std::vector<EnergyLedgerEntry> ledger_;  // [0] collisions, [1 + k] forcing k, then y_min, y_max
   double initial_energy_ = 0;
+  // Collisions the majorants missed since the start (CollisionStage::Totals::missed): candidates
+  // whose rate exceeded their bound were accepted once where their rate asked for more.
+  double missed_collisions_ = 0;
   std::vector<DiagnosticSlot> slots_;
   std::vector<DiagnosticOutput> outputs_;
   std::vector<std::string> summary_;

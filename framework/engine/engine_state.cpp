@@ -27,6 +27,7 @@ void Engine::save(StateWriter& out) const {
   const std::uint8_t flags[2] = {ctx_.in_average_window, steady_};
   out.write("engine.flags", flags, 2);
   out.write("engine.wall_seconds", wall_seconds_);
+  out.write("engine.missed_collisions", missed_collisions_);
   out.write("engine.stage_seconds", stage_seconds_.data(), kStages);
   // A finished run keeps its particles only when they are part of the output.
   const std::uint8_t particles = !finished_ || pipeline_.output_particles;
@@ -95,6 +96,7 @@ void Engine::load(StateReader& in) {
   ctx_.in_average_window = flags[0] != 0;
   steady_ = flags[1] != 0;
   in.read("engine.wall_seconds", wall_seconds_);
+  in.read("engine.missed_collisions", missed_collisions_);
   in.read("engine.stage_seconds", stage_seconds_.data(), kStages);
   std::uint8_t particles = 0;
   in.read("engine.has_particles", particles);

@@ -73,12 +73,12 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
                          const StreamFactory& streams, StreamingTally& tally) const {
   // The grid and the mover as locals: a store through a particle array may alias a member, so
   // the loop would re-read them per particle.
-  double* const x = p.x;
-  double* const y = p.y;
-  double* const z = p.z;
-  double* const vx = p.vx;
-  double* const vy = p.vy;
-  double* const vz = p.vz;
+  double* const x = p.x.data;
+  double* const y = p.y.data;
+  double* const z = p.z.data;
+  double* const vx = p.vx.data;
+  double* const vy = p.vy.data;
+  double* const vz = p.vz.data;
   const CellGrid::LayerIndex layer_of = grid.layer_index();
   const double half = half_, lx = lx_, lz = lz_;
   const Vec3 g = g_;

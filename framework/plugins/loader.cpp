@@ -147,7 +147,11 @@ AbiCheck check_abi(const PluginEntry& entry) {
   c.versions = versions.str();
   if (entry.abi_major != sdk_abi_major) {
     c.problem = "built against an incompatible gdsmc SDK";
-    c.remedy = "rebuild the plugin against this gdsmc's SDK";
+    c.remedy = entry.abi_major < sdk_abi_major
+                   ? "rebuild the plugin against this gdsmc's SDK; one written for an SDK before " +
+                         std::to_string(sdk_abi_major) + ".0 needs porting first (plugin author guide, section "
+                         "'Porting to SDK 6.0': a collision rule no longer carries the candidate loop, the host does)"
+                   : "rebuild the plugin against this gdsmc's SDK";
   } else if (entry.abi_minor > sdk_abi_minor) {
     c.problem = "built against a newer gdsmc SDK than this host";
     c.remedy = "upgrade gdsmc or rebuild the plugin against this SDK";

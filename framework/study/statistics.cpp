@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <functional>
 
-#include <gdsmc/series.hpp>
+#include <gdsmc/physics/series.hpp>
 
 #include "util/text.hpp"
 

@@ -1,5 +1,6 @@
 // Fully diffuse thermal wall (004 Eqs. 6-9).
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 
@@ -17,7 +18,7 @@ class DiffuseWall final : public gdsmc::Boundary {
       "v_y pointing into the gas. |v_y| = sqrt(-2 (T_w/m) ln U) with U uniform on (0, 1], never 0. The\n"
       "host then streams the remaining flight time of the step under the body acceleration, which is\n"
       "the a t_post of Eq. 6 and Eqs. 10-12. The physics is gdsmc::ThermalWall / diffuse_emission in\n"
-      "gdsmc/walls.hpp. For a partially diffuse wall (accommodation coefficient between specular and\n"
+      "gdsmc/physics/walls.hpp. For a partially diffuse wall (accommodation coefficient between specular and\n"
       "diffuse, 004 Sec. VI) use maxwell_wall; accommodation 1 there reproduces this wall bit for bit.\n"
       "Parameters: temperature T_w > 0 (bare numbers: T_w / T0; default 1), velocity_x and velocity_z\n"
       "the wall's velocity u in its plane (any real; bare numbers in units of sqrt(2 T0/m); default 0:\n"

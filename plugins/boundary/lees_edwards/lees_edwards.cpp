@@ -3,6 +3,7 @@
 #include <string>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

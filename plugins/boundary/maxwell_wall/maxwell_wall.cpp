@@ -2,6 +2,7 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 
@@ -19,7 +20,7 @@ class MaxwellWall final : public gdsmc::Boundary {
       "p(v) = (m v / T_w) exp(-m v^2 / 2 T_w), never 0), otherwise reflected specularly (v_y -> -v_y);\n"
       "v_y points into the gas either way. The host then streams the remaining flight time of the step\n"
       "under the body acceleration (Eqs. 10-12). The physics is gdsmc::maxwell_reflection in\n"
-      "gdsmc/walls.hpp. accommodation = 1 draws exactly as diffuse_wall and 0 exactly as specular_wall\n"
+      "gdsmc/physics/walls.hpp. accommodation = 1 draws exactly as diffuse_wall and 0 exactly as specular_wall\n"
       "(no extra random number is drawn at either end), so both limits reproduce those walls bit for bit.\n"
       "Parameters: accommodation alpha in [0, 1] (required); temperature T_w > 0 (bare numbers: T_w / T0;\n"
       "default 1); velocity_x and velocity_z the wall's velocity u in its plane (any real; bare numbers in\n"

@@ -1,5 +1,6 @@
 // Periodic boundary along y: a particle leaving through one plane re-enters through the other.
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -1,5 +1,6 @@
 // Specular wall: v_y -> -v_y.
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 
@@ -12,7 +13,7 @@ class SpecularWall final : public gdsmc::Boundary {
       "Specularly reflecting wall (the accommodation coefficient 0 limit of paper 004, Sec. VI; see\n"
       "maxwell_wall). At the exact crossing time the particle stays on the plane and its normal velocity\n"
       "is reversed, v_y -> -v_y, pointing into the gas; v_x, v_z are unchanged\n"
-      "(gdsmc::specular_reflection in gdsmc/walls.hpp). The host then streams the remaining flight\n"
+      "(gdsmc::specular_reflection in gdsmc/physics/walls.hpp). The host then streams the remaining flight\n"
       "time of the step (under the body acceleration, if any). No parameters. Conserves mass, energy\n"
       "and the tangential (x, z) momentum exactly: every speed is kept to the last bit; the gas\n"
       "receives the normal momentum 2 m |v_y| per hit (the pressure on the wall). A v_y that is exactly\n"

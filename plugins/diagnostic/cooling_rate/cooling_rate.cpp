@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

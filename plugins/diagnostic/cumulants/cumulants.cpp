@@ -1,5 +1,6 @@
 // Fourth and sixth cumulants of the velocity distribution.
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 
@@ -64,16 +65,17 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
   double homogeneous_rate(const gdsmc::StepContext& ctx) const {
     return beta_ / (std::sqrt(M_PI) * gdsmc::characteristic_time(lambda0_, ctx.moments->local.temperature));
   }
-  // ds0/dt = (beta/2)(2/sqrt(pi)) (1/(n-bar L)) sum_I n_I delta_y / tau_I (Eq. 3.11).
+  // ds0/dt = (beta/2)(2/sqrt(pi)) (1/(n-bar L)) sum_I n_I delta_y_I / tau_I (Eq. 3.11).
   double layer_rate(const gdsmc::StepContext& ctx) const {
     const gdsmc::SystemInfo& sys = *ctx.system;
-    double sum = 0;  // sum_I n_I / tau_I
+    double sum = 0;  // sum_I n_I delta_y_I / tau_I
     for (std::size_t I = 0; I < ctx.cell_count; ++I) {
       const gdsmc::CellMoments& c = ctx.cells[I];
       if (c.count < 2 || !(c.temperature > 0) || !(c.number_density > 0)) continue;
-      sum += c.number_density / gdsmc::characteristic_time(lambda0_ * sys.number_density / c.number_density, c.temperature);
+      sum += c.number_density * sys.layer_width(I) /
+             gdsmc::characteristic_time(lambda0_ * sys.number_density / c.number_density, c.temperature);
     }
-    return 0.5 * beta_ * (2.0 / std::sqrt(M_PI)) * sum * sys.layer_width() / (sys.number_density * sys.box[1]);
+    return 0.5 * beta_ * (2.0 / std::sqrt(M_PI)) * sum / (sys.number_density * sys.box[1]);
   }
   void finish(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
     out.scalar("s0_final", s0_, "1", "s0 at the last sample");

@@ -1,5 +1,6 @@
 // Kinetic pressure tensor of the whole system (the mean P-bar of 000 Eq. 4.9 in a slab).
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 
@@ -47,8 +48,11 @@ class SlabAverages final : public gdsmc::Diagnostic {
     layers_ = sys.cells;
     if (layers_ < 3)
       throw std::runtime_error("slab_averages: needs at least 3 layers (system.cells), got " + std::to_string(layers_));
+    if (sys.layer_edges)
+      throw std::runtime_error("slab_averages: needs layers of equal width (the groups of 000 Sec. IV.A are counted "
+                               "in layer widths); this run sizes its layers otherwise");
     half_ = 0.5 * sys.box[1];
-    dy_ = sys.layer_width();
+    dy_ = sys.layer_width(0);
     layer_volume_ = dy_ * sys.cross_section();
     mass_ = sys.mass;
     n0_ = sys.number_density;

@@ -1,5 +1,6 @@
 // Granular temperature of the whole system.
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

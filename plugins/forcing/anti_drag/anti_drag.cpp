@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -46,7 +46,7 @@ class BodyAcceleration final : public gdsmc::Forcing {
 
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     const double dv = a_ * ctx.dt;  // g dt along the axis
-    double* const v = axis_ == 0 ? p.vx : axis_ == 1 ? p.vy : p.vz;
+    const gdsmc::Column<double> v = axis_ == 0 ? p.vx : axis_ == 1 ? p.vy : p.vz;
     double sum_v = 0;
     for (std::size_t i = 0; i < p.count; ++i) {
       sum_v += v[i];

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 
@@ -17,11 +18,12 @@ class VelocityGrid {
  public:
   void build(const gdsmc::ParticleSpan& p, std::size_t cells_per_axis) {
     g_ = cells_per_axis;
-    const double* v[3] = {p.vx, p.vy, p.vz};
+    const gdsmc::Column<double> v[3] = {p.vx, p.vy, p.vz};
     for (int d = 0; d < 3; ++d) {
-      const auto [lo, hi] = std::minmax_element(v[d], v[d] + p.count);
-      lo_[d] = *lo;
-      width_[d] = std::max((*hi - *lo) / static_cast<double>(g_), 1e-300) * (1.0 + 1e-12);
+      double lo = v[d][0], hi = v[d][0];
+      for (std::size_t i = 1; i < p.count; ++i) lo = std::min(lo, v[d][i]), hi = std::max(hi, v[d][i]);
+      lo_[d] = lo;
+      width_[d] = std::max((hi - lo) / static_cast<double>(g_), 1e-300) * (1.0 + 1e-12);
     }
     cell_of_.resize(p.count);
     start_.assign(g_ * g_ * g_ + 1, 0);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -35,8 +35,7 @@ class UniformShear final : public gdsmc::Forcing {
 
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     const double k = a_ * ctx.dt;
-    double* const vx = p.vx;
-    const double* const vy = p.vy;
+    const gdsmc::Column<double> vx = p.vx, vy = p.vy;
     double energy = 0;  // sum (1/2)(V_x'^2 - V_x^2) = sum dV_x (V_x + dV_x/2), m = 1
     for (std::size_t i = 0; i < p.count; ++i) {
       const double dvx = -k * vy[i];  // Eq. (4.21)

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

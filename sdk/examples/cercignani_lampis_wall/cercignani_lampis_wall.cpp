@@ -21,7 +21,7 @@
 #include <cmath>
 
 #include <gdsmc/gdsmc.hpp>
-#include <gdsmc/walls.hpp>
+#include <gdsmc/physics/walls.hpp>
 
 namespace {
 

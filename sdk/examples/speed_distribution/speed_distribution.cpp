@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

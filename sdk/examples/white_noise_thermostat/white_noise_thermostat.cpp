@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 

@@ -1,6 +1,7 @@
-// gdsmc SDK: collision rules written as a small struct; the SDK instantiates the per-cell DSMC
-// loop (candidate count from the majorant, acceptance, the rule's update) inside the plugin, so
-// the physics is inlined and the host makes one call per cell.
+// gdsmc SDK: collision rules written as a small struct. The host owns the DSMC scheme (how many
+// candidates a cell tests, which pairs, the majorant); the SDK turns the struct into a
+// CollisionRule whose pair kernel, collide_batch, the host calls once per batch of candidate pairs,
+// with the rule's physics inlined inside.
 //
 // A rule struct provides:
 //   static constexpr const char* name, version, summary, documentation;
@@ -32,9 +33,10 @@
 
 namespace gdsmc {
 
-// What a rule's collide() may use besides the two velocities: the pair's indices (to read or
-// update extra attributes), the diameter, the cell's random stream and the rule's tallies (one
-// entry per name of tallies(), to which the collision adds its contribution; nullptr if none).
+// What a rule's collide() may use besides the two velocities: the pair's storage indices (to read
+// or update extra attributes, or the species: particles.species_of(i)), the pair's diameter, the
+// cell's kernel stream and the rule's tallies (one entry per name of tallies(), to which the
+// collision adds its contribution; nullptr if none).
 struct PairContext {
   const ParticleSpan& particles;
   std::uint32_t i, j;
@@ -110,6 +112,10 @@ class CollisionRuleAdapter final : public CollisionRule {
     else return scale() * speed;
   }
 
+  KernelForm kernel_form() const override {
+    return detail::HasGeneralKernel<Rule> ? KernelForm::general : KernelForm::hard_sphere;
+  }
+
   double pair_rate(const Vec3& g, const Vec3& s) const override {
     if constexpr (detail::HasGeneralKernel<Rule>) {
       return rule_.rate(g, s);
@@ -124,123 +130,61 @@ class CollisionRuleAdapter final : public CollisionRule {
     else (void)p;
   }
 
-  double collide_pair(const ParticleSpan& p, std::uint32_t i, std::uint32_t j, const Vec3& s, double sigma,
-                      Rng& rng) const override {
-    Vec3 v1 = p.velocity(i), v2 = p.velocity(j);
-    std::vector<double> scratch(tallies().size());  // conformance only: the sums are discarded
-    PairContext pair{p, i, j, sigma, rng, scratch.empty() ? nullptr : scratch.data()};
-    const double de = rule_.collide(v1, v2, s, pair);
-    p.set_velocity(i, v1);
-    p.set_velocity(j, v2);
-    return de;
-  }
-
-  // Majorant-frequency scheme (000 Eqs. 4.13, 4.23): 2 P_c sigma^2 Omega_B w dt / (2 V_c)
-  // candidate pairs, with P_c = c.pairs the host's pair count (N_c (N_c - 1)/2 or N_c^2/2), each accepted with probability rate / w. For the hard-sphere kernel the
-  // sigma_hat-integrated rate pi |g| is used for acceptance (Omega_B = pi) and sigma_hat is then
-  // drawn from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly (Omega_B = 4 pi) and
-  // is accepted against W = rate_bound(w), its own bound for |g| <= w.
-  void collide_cell(CellCollision& c) const override {
-    if (c.count < 2 || c.majorant <= 0) {
-      c.remainder = 0;
-      return;
-    }
+  // The pair kernel (KernelForm): the hard-sphere form accepts a pair with probability |g| / w
+  // (the sigma_hat-integrated rate pi scale |g| against its bound pi scale w) and then draws sigma_hat
+  // from Theta(g.s)(g.s); a general kernel draws sigma_hat uniformly and accepts with probability
+  // rate(g, s) / W. A candidate above its bound is accepted and reported (exceeded, max_rate).
+  void collide_batch(PairBatch& b) const override {
     constexpr bool general = detail::HasGeneralKernel<Rule>;
-    const double solid_angle = general ? 4.0 * M_PI : M_PI;
-    const double w = c.majorant;
-    // The bound the candidates are drawn and accepted against: |g| <= w (hard-sphere kernel, the
-    // scale multiplies the candidate count), or the rule's own bound of rate(g, s).
-    const double bound = general ? rate_bound(w) : w;
-    const double expected =
-        c.pairs * c.sigma * c.sigma * solid_angle * (general ? 1.0 : scale()) * bound * c.dt / c.volume + c.remainder;
-    const auto candidates = static_cast<std::uint64_t>(expected);
-    c.remainder = expected - static_cast<double>(candidates);
-
-    const ParticleSpan& p = c.particles;
-    const std::uint32_t* members = c.members;
-    const std::uint64_t first = c.first, stride = c.stride, total = p.count;
-    const std::uint64_t barrett = total ? ~std::uint64_t{0} / total : 0;
-    const std::uint32_t count = c.count;
-    // Particle a of the cell: a member list (slab layers), a contiguous range, or a strided one
-    // (the sub-populations of a homogeneous system).
-    auto particle = [&](std::uint32_t a) -> std::uint32_t {
-      if (members) return members[a];
-      if (stride == 1) return static_cast<std::uint32_t>(first + a);
-      return strided_particle(first, stride, a, total, barrett);
-    };
-    // A local copy of the stream (written back below): its state then stays in registers instead
-    // of being reloaded and stored through c.rng around every draw (~9% fewer instructions).
-    Rng rng = *c.rng;
-    double* const vx = p.vx;
-    double* const vy = p.vy;
-    double* const vz = p.vz;
-    std::uint64_t accepted = 0, exceeded = 0;
-    double max_rate = c.max_rate, energy = 0;
-    // Candidates in batches: each batch's pairs (and acceptance numbers) are drawn first and their
-    // velocities prefetched, so the memory of a large cell is fetched kBatch pairs at a time
-    // instead of one; the candidates are then tested and collided in order, each on the current
-    // velocities, exactly as one at a time.
-    std::uint32_t batch_i[kBatch], batch_j[kBatch];
-    double batch_u[kBatch];
-    for (std::uint64_t k = 0; k < candidates; k += kBatch) {
-      const auto m = static_cast<std::uint32_t>(std::min<std::uint64_t>(kBatch, candidates - k));
-      for (std::uint32_t q = 0; q < m; ++q) {
-        const std::uint32_t a = rng.below(count);
-        std::uint32_t b = rng.below(count - 1);
-        b += (b >= a);
-        const std::uint32_t i = particle(a);
-        const std::uint32_t j = particle(b);
-        batch_i[q] = i;
-        batch_j[q] = j;
-        batch_u[q] = rng.uniform32();
-        prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
-        prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
-      }
-      for (std::uint32_t q = 0; q < m; ++q) {
-        const std::uint32_t i = batch_i[q], j = batch_j[q];
-        Vec3 v1{vx[i], vy[i], vz[i]}, v2{vx[j], vy[j], vz[j]};
-        const Vec3 g = v1 - v2;
+    // A local copy of the stream (written back below): its state then stays in registers.
+    Rng rng = *b.rng;
+    std::uint64_t collided = 0, exceeded = 0;
+    double max_rate = b.max_rate, energy = 0, missed = 0;
+    for (std::uint32_t q = 0; q < b.count; ++q) {
+      Vec3 v1 = b.v1[q], v2 = b.v2[q];
+      const Vec3 g = v1 - v2;
+      Vec3 s;
+      if (b.direction) {
+        s = b.direction[q];
+      } else {
+        const double w = b.speed_bounds ? b.speed_bounds[q] : b.speed_bound;
+        double bound;
+        if constexpr (general) bound = b.speed_bounds ? rate_bound(w) : b.rate_bound;
+        else bound = w;
         double rate;
-        Vec3 s;
         if constexpr (general) {
           s = rng.unit_vector();
           rate = rule_.rate(g, s);
         } else {
           rate = norm(g);
         }
-        const double u = batch_u[q];
         if (rate > bound) {
           ++exceeded;
           // In units of w (what the host raises): the same factor over the bound.
           max_rate = std::max(max_rate, general ? w * rate / bound : rate);
-        } else if (u * bound >= rate) {
+          missed += rate / bound - 1.0;
+        } else if (b.u[q] * bound >= rate) {
+          b.accepted[q] = 0;
           continue;
         }
         if constexpr (!general) s = hard_sphere_impact_direction(g, rate, rng);
-        PairContext pair{p, i, j, c.sigma, rng, c.tally};
-        energy += rule_.collide(v1, v2, s, pair);
-        vx[i] = v1.x; vy[i] = v1.y; vz[i] = v1.z;
-        vx[j] = v2.x; vy[j] = v2.y; vz[j] = v2.z;
-        ++accepted;
       }
+      PairContext pair{*b.particles, b.i[q], b.j[q], b.sigma, rng, b.tally};
+      energy += rule_.collide(v1, v2, s, pair);
+      b.v1[q] = v1;
+      b.v2[q] = v2;
+      b.accepted[q] = 1;
+      ++collided;
     }
-    *c.rng = rng;
-    c.candidates += candidates;
-    c.accepted += accepted;
-    c.majorant_exceeded += exceeded;
-    c.max_rate = max_rate;
-    c.energy_change += energy;
+    *b.rng = rng;
+    b.collided += collided;
+    b.exceeded += exceeded;
+    b.max_rate = max_rate;
+    b.energy_change += energy;
+    b.missed += missed;
   }
 
  private:
-  static constexpr std::uint32_t kBatch = 32;
-  static void prefetch(const double* a) {
-#if defined(__GNUC__)
-    __builtin_prefetch(a, 1, 3);  // written if the pair collides
-#else
-    (void)a;
-#endif
-  }
   double scale() const {
     if constexpr (detail::HasRateScale<Rule>) return rule_.rate_scale();
     else return 1.0;

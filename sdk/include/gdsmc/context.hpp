@@ -13,7 +13,16 @@ namespace gdsmc {
 
 enum class Geometry : std::uint32_t { homogeneous = 0, slab = 1 };
 
-// Fixed for a run. Reduced units: m = 1, k_B = 1, lengths in the same unit as sigma.
+// One species of the gas (a mixture lists several; SystemInfo::species).
+struct SpeciesInfo {
+  const char* name = "";
+  double mass = 1;
+  double diameter = 1;
+  double fraction = 1;  // number fraction
+};
+
+// Fixed for a run. Reduced units: m = 1, k_B = 1, lengths in the same unit as sigma. Like every
+// struct the host hands to plugins it grows only at its end within a major version.
 struct SystemInfo {
   std::size_t particles = 0;
   double number_density = 0;       // n (mean)
@@ -27,17 +36,37 @@ struct SystemInfo {
   // Box edges Lx, Ly, Lz. Slab: x in [0, Lx) and z in [0, Lz) periodic, y in [-Ly/2, Ly/2]
   // bounded by the y_min and y_max boundaries. Homogeneous: a cube of volume N/n.
   double box[3] = {0, 0, 0};
-  std::size_t cells = 1;           // collision cells: the M layers of width Ly/M along y (slab)
+  std::size_t cells = 1;           // collision cells: the M layers along y (slab)
   std::size_t bins = 1;            // sampling bins of profiles: equal widths Ly/bins along y
   std::uint64_t seed = 0;
   std::uint32_t realization = 0;
+  // The layers' edges along y, cells + 1 values from -Ly/2 to +Ly/2; nullptr: M layers of equal
+  // width Ly/M. Read them through layer_lower/layer_upper/layer_of, which serve both.
+  const double* layer_edges = nullptr;
+  // The species (species_count entries); nullptr: one species of mass `mass` and diameter `sigma`.
+  std::size_t species_count = 1;
+  const SpeciesInfo* species = nullptr;
 
-  double layer_width() const { return box[1] / static_cast<double>(cells); }   // delta y
+  double layer_lower(std::size_t I) const {
+    return layer_edges ? layer_edges[I] : -0.5 * box[1] + static_cast<double>(I) * uniform_layer_width();
+  }
+  double layer_upper(std::size_t I) const { return I + 1 == cells ? 0.5 * box[1] : layer_lower(I + 1); }
+  double layer_width(std::size_t I) const { return layer_upper(I) - layer_lower(I); }  // delta y_I
   double bin_width() const { return box[1] / static_cast<double>(bins); }
   double bin_centre(std::size_t b) const { return -0.5 * box[1] + (static_cast<double>(b) + 0.5) * bin_width(); }
   double cross_section() const { return box[0] * box[2]; }                      // A of 000 Eq. 4.2
   // The layer / sampling bin holding a position y (clamped into range, y = +Ly/2 in the last one).
-  std::size_t layer_of(double y) const { return index_along_y(y, cells); }
+  // With uniform layers this is the host's own arithmetic, to the last bit.
+  std::size_t layer_of(double y) const {
+    if (!layer_edges) return index_along_y(y, cells);
+    std::size_t lo = 0, hi = cells;  // the last edge below or at y: edges[lo] <= y < edges[hi]
+    while (hi - lo > 1) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (layer_edges[mid] <= y) lo = mid;
+      else hi = mid;
+    }
+    return lo;
+  }
   std::size_t bin_of(double y) const { return index_along_y(y, bins); }
   std::size_t index_along_y(double y, std::size_t divisions) const {
     const double f = (y + 0.5 * box[1]) / box[1] * static_cast<double>(divisions);
@@ -45,6 +74,9 @@ struct SystemInfo {
     const auto k = static_cast<std::size_t>(f);
     return k < divisions ? k : divisions - 1;
   }
+
+ private:
+  double uniform_layer_width() const { return box[1] / static_cast<double>(cells); }
 };
 
 // Velocity moments of a set of particles (000 Eqs. 4.15-4.18); V is the peculiar velocity.

@@ -1,5 +1,5 @@
-// gdsmc SDK: the particles as structure-of-arrays spans. The host owns the storage; plugins see
-// pointers to contiguous arrays and work on whole spans at once.
+// gdsmc SDK: the particles as the host hands them over. The host owns the storage and its layout;
+// plugins index columns and work on whole spans at once.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -21,26 +21,41 @@ struct AttributeSpec {
   std::string doc;
 };
 
+// One per-particle quantity in the host's storage: element i is data[i * stride]. The host chooses
+// the layout (separate arrays, stride 1, or the components of one particle side by side, stride
+// > 1) and may change it without an ABI change, so index through the column, never through a raw
+// pointer taken from it.
+template <class T>
+struct Column {
+  T* data = nullptr;
+  std::size_t stride = 1;
+  Column() = default;
+  Column(T* d, std::size_t s = 1) : data(d), stride(s) {}  // NOLINT: a plain array is a column of stride 1
+  T& operator[](std::size_t i) const { return data[i * stride]; }
+  explicit operator bool() const { return data != nullptr; }
+};
+
+// The particles as the host hands them to plugins (SDK 6.0). Like every struct the host hands
+// over, it grows only at its end within a major version: read the fields you know.
 struct ParticleSpan {
   std::size_t count = 0;
   // Each particle's identity, 0 .. N-1 (N < 2^32): fixed for the whole run whatever the storage
-  // order (key of its random streams, Streams::for_particle). 32 bits since SDK 5.0.
+  // order (key of its random streams, Streams::for_particle).
   const std::uint32_t* id = nullptr;
   // The collision cell (slab: the layer along y, 000 Eq. 4.3) each particle sat in at the last
   // sort; all 0 in a homogeneous system.
   const std::uint32_t* cell = nullptr;
   // Positions (reduced length units). Slab: x in [0, Lx), y in [-Ly/2, Ly/2], z in [0, Lz).
-  // Homogeneous systems do not move particles; positions are then only what the initial state
-  // wrote.
-  double* x = nullptr;
-  double* y = nullptr;
-  double* z = nullptr;
+  // Homogeneous systems do not move particles and may store none (the columns are then empty).
+  Column<double> x, y, z;
   // Velocities (reduced units, m = 1): laboratory velocities, or peculiar velocities in the
   // Lagrangian frame of a homogeneous system.
-  double* vx = nullptr;
-  double* vy = nullptr;
-  double* vz = nullptr;
-  // Extra attributes declared by plugins.
+  Column<double> vx, vy, vz;
+  // The species of each particle (SystemInfo::species), owned by the host; nullptr while the run
+  // has a single species. Read it through species_of().
+  const std::uint32_t* species = nullptr;
+  // Extra attributes declared by plugins: component c of particle i of attribute k at
+  // attribute_data[k][c * count + i].
   std::size_t attribute_count = 0;
   const AttributeSpec* attribute_specs = nullptr;
   double* const* attribute_data = nullptr;
@@ -48,6 +63,7 @@ struct ParticleSpan {
   Vec3 velocity(std::size_t i) const { return {vx[i], vy[i], vz[i]}; }
   void set_velocity(std::size_t i, const Vec3& v) const { vx[i] = v.x; vy[i] = v.y; vz[i] = v.z; }
   Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }
+  std::uint32_t species_of(std::size_t i) const { return species ? species[i] : 0u; }
 
   // The data of an attribute, or nullptr if no plugin declared it. Look it up once per call, not
   // per particle.

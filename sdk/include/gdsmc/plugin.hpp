@@ -2,6 +2,7 @@
 // registration macro.
 #pragma once
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <type_traits>
@@ -59,50 +60,62 @@ class GDSMC_API PluginObject {
   // conformance` (check `checkpoint`) finds one that forgot a member: its resumed run differs.
   virtual void save_state(StateWriter& out) const { (void)out; }
   virtual void load_state(StateReader& in) { (void)in; }
+  // [setup] The capability query (as CLAP's get_extension): a pointer to the interface named `id`
+  // that this object offers, or nullptr. Capabilities added after SDK 6.0 arrive this way, as minor
+  // versions, so that plugins built before them keep loading; the SDK header that defines an
+  // interface names its id (a string "gdsmc.<kind>.<name>"). The pointer must stay valid as long as
+  // the object lives.
+  virtual const void* extension(const char* id) const { (void)id; return nullptr; }
 };
 
-// One cell's collision stage, as the host hands it to a collision rule (000 Eqs. 4.13, 4.23).
-struct CellCollision {
-  ParticleSpan particles;
-  const std::uint32_t* members = nullptr;  // indices of the cell's particles; nullptr: particle a
-                                           // (a = 0 .. count - 1) of the cell is
-                                           // (first + a * stride) mod particles.count
-                                           // (CellCollision::particle)
-  std::uint32_t first = 0;
-  std::uint64_t stride = 1;                // 1: the contiguous range first .. first + count - 1
-  std::uint32_t count = 0;                 // N_c
-  double pairs = 0;                        // P_c, the pair count the candidate number is built on,
-                                           // chosen by the host: N_c (N_c - 1) / 2 (distinct pairs,
-                                           // the default) or N_c^2 / 2 (000 Eq. 4.13 as written)
-  std::uint32_t index = 0;                 // the cell (layer) index
-  double volume = 0;                       // cell volume (slab: A delta y)
-  double sigma = 1;                        // diameter
-  double dt = 0;
-  double majorant = 0;                     // w: upper estimate of the acceptance rate in this cell
-  double remainder = 0;                    // fractional candidate carried between steps (in/out)
-  Rng* rng = nullptr;                      // this cell's stream at this step
-  // The rule's tallies (CollisionRule::tallies(), in that order): zeroed by the host before the
-  // call; the rule adds each accepted collision's contribution. nullptr when it declares none.
+// The form of a collision rule's kernel B(g, s) (rate per unit solid angle, in units of
+// sigma^2 x speed), which tells the host how to draw candidates for it (000 Eqs. 4.13, 4.23):
+//   hard_sphere: B = scale Theta(g.s)(g.s); the host draws P sigma^2 pi W dt / V candidates with
+//                W = rate_bound(w) = scale w; a candidate is accepted with probability |g| / w and
+//                sigma_hat then drawn from Theta(g.s)(g.s);
+//   general:     any B; the host draws P sigma^2 4 pi W dt / V candidates; sigma_hat is drawn
+//                uniformly and the pair accepted with probability B(g, s) / W.
+enum class KernelForm : std::uint32_t { hard_sphere = 0, general = 1 };
+
+// One batch of candidate pairs of one cell, as the host hands it to a collision rule. The host
+// owns the scheme: how many candidates a cell tests, which pairs, the majorant w and its
+// updates, remainders, sub-populations and slicing. No particle appears twice in a batch, so the
+// pairs may be taken in any order within it; the host takes the batches in order. Host-owned: it
+// grows only at its end within a major version.
+struct PairBatch {
+  std::uint32_t count = 0;            // pairs in the batch
+  std::uint32_t cell = 0;             // the cell (layer) they belong to
+  const std::uint32_t* i = nullptr;   // storage index of each pair's first particle (attributes,
+  const std::uint32_t* j = nullptr;   //   species: ParticleSpan::species_of) and of its second
+  Vec3* v1 = nullptr;                 // velocities of the pair (in); after the collision (out,
+  Vec3* v2 = nullptr;                 //   read by the host for accepted pairs only)
+  const double* u = nullptr;          // acceptance numbers, uniform in [0, 1), one per pair
+  // Impact directions given by the caller (conformance): every pair then collides with its own
+  // direction, whatever its rate. nullptr in a run: the rule draws them.
+  const Vec3* direction = nullptr;
+  std::uint8_t* accepted = nullptr;   // out: 1 for a pair that collided, 0 otherwise
+  double speed_bound = 0;             // w: the host's majorant of |g| in this cell
+  double rate_bound = 0;              // W = CollisionRule::rate_bound(w)
+  // Per-pair majorants w_q of |g| (pairs drawn with probability proportional to them), instead of
+  // speed_bound for every pair; nullptr: speed_bound. A general kernel then bounds its rate by
+  // rate_bound(w_q). The host uses them with the hard-sphere form only.
+  const double* speed_bounds = nullptr;
+  double sigma = 1;                   // the pairs' diameter
+  const ParticleSpan* particles = nullptr;
+  Rng* rng = nullptr;                 // the cell's kernel stream at this step (sigma_hat, the rule's
+                                      // own draws), continued from batch to batch
+  // The rule's tallies (CollisionRule::tallies(), in that order), zeroed by the host per cell:
+  // the rule adds each accepted collision's contribution. nullptr when it declares none.
   double* tally = nullptr;
-  // Results, written by the rule:
-  std::uint64_t candidates = 0;
-  std::uint64_t accepted = 0;
-  std::uint64_t majorant_exceeded = 0;     // candidates whose rate exceeded w (accepted with p = 1)
-  double max_rate = 0;                     // largest rate seen (the host raises w from it)
-  double energy_change = 0;                // sum over accepted collisions of the declared change of
-                                           // kinetic energy (m = 1)
+  // Results, added to by the rule:
+  std::uint64_t collided = 0;         // pairs accepted
+  std::uint64_t exceeded = 0;         // candidates whose rate exceeded the bound (accepted with p = 1)
+  double max_rate = 0;                // the largest rate seen, in units of w (the host raises w)
+  double energy_change = 0;           // sum of the declared kinetic-energy changes (m = 1)
+  // Sum over the exceeded candidates of rate / bound - 1: the collisions the bound missed (each
+  // was accepted once where its rate asked for more), which the host reports beside `collided`.
+  double missed = 0;
 };
-
-// Particle a of a cell without a member list: (first + a * stride) mod n, by a Barrett reduction
-// (barrett = floor((2^64 - 1) / n), computed once per cell), so no division per candidate.
-inline std::uint32_t strided_particle(std::uint64_t first, std::uint64_t stride, std::uint32_t a, std::uint64_t n,
-                                      std::uint64_t barrett) {
-  const std::uint64_t x = first + static_cast<std::uint64_t>(a) * stride;
-  const auto q = static_cast<std::uint64_t>((static_cast<unsigned __int128>(x) * barrett) >> 64);
-  std::uint64_t r = x - q * n;
-  while (r >= n) r -= n;
-  return static_cast<std::uint32_t>(r);
-}
 
 class GDSMC_API CollisionRule : public PluginObject {
  public:
@@ -112,28 +125,27 @@ class GDSMC_API CollisionRule : public PluginObject {
   // serve (throw ParameterError naming the parameter), and publish what it derives (e.g. the
   // contact value chi of an Enskog gas) for the plugins that begin after it.
   virtual void begin(const SystemInfo& system, QuantityBoard& quantities) { (void)system; (void)quantities; }
-  // [setup] Names of the per-collision sums the rule accumulates in CellCollision::tally (e.g. the
+  // [setup] Names of the per-collision sums the rule accumulates in PairBatch::tally (e.g. the
   // collisional transfer of momentum). The host sums them over cells and steps and hands the
   // running totals to every plugin as StepContext::collision_tallies.
   virtual std::vector<std::string> tallies() const { return {}; }
   // [setup] Look up per-particle attributes once. The host never moves particle storage during a
   // run, so pointers taken here stay valid.
   virtual void bind(const ParticleSpan& particles) = 0;
-  // [worker] The whole collision stage of one cell: called once per cell per step; cells are
-  // independent and may be processed in any order or concurrently.
-  virtual void collide_cell(CellCollision& cell) const = 0;
-  // The collision kernel for one pair, B(g, sigma_hat) >= 0 (the rate per unit solid angle,
-  // in units of sigma^2 * speed). For conformance checks and diagnostics, not for the hot loop.
+  // [setup] How the host draws candidates for this rule's kernel (KernelForm).
+  virtual KernelForm kernel_form() const = 0;
+  // The kernel B(g, sigma_hat) >= 0 for one pair (rate per unit solid angle, in units of
+  // sigma^2 * speed). For conformance checks and diagnostics, not for the hot loop.
   virtual double pair_rate(const Vec3& g, const Vec3& sigma_hat) const = 0;
   // An upper bound of pair_rate(g, s) over every direction s and every |g| <= speed: the host's
   // majorant w bounds |g|, and the rule turns it into a bound of its own kernel (hard-sphere
   // kernel of scale c: c * speed; a kernel shifted by a shear, a * sigma, adds that). Checked by
   // conformance (collision.rate).
   virtual double rate_bound(double speed) const = 0;
-  // One collision of particles i and j with impact direction sigma_hat; returns the kinetic
-  // energy change the rule declares. For conformance checks, not for the hot loop (bind first).
-  virtual double collide_pair(const ParticleSpan& particles, std::uint32_t i, std::uint32_t j,
-                              const Vec3& sigma_hat, double sigma, Rng& rng) const = 0;
+  // [worker] The pair kernel: accept or reject each candidate of the batch and collide the accepted
+  // ones (KernelForm says how). One call per batch; batches of different cells run concurrently,
+  // so it must not modify the rule.
+  virtual void collide_batch(PairBatch& batch) const = 0;
 };
 
 // What a forcing promises to conserve (checked by the conformance suite).
@@ -242,9 +254,9 @@ struct PluginDescriptor {
 // The interfaces a plugin is compiled against, as text: any change to a virtual signature above
 // must be written here too, so that the fingerprint changes with it.
 inline constexpr const char abi_interfaces[] =
-    "PluginObject{attributes,publish,save_state(StateWriter&)const,load_state(StateReader&)};"
-    "CollisionRule{begin(SystemInfo,QuantityBoard&),tallies,bind(ParticleSpan),collide_cell(CellCollision&)const,"
-    "pair_rate(Vec3,Vec3),rate_bound(double)const,collide_pair(ParticleSpan,u32,u32,Vec3,double,Rng&)const};"
+    "PluginObject{attributes,publish,save_state(StateWriter&)const,load_state(StateReader&),extension(const char*)const};"
+    "CollisionRule{begin(SystemInfo,QuantityBoard&),tallies,bind(ParticleSpan),kernel_form,"
+    "pair_rate(Vec3,Vec3),rate_bound(double)const,collide_batch(PairBatch&)const};"
     "Forcing{stage,acceleration(Vec3&),apply(StepContext,ParticleSpan)->double,conserves,order,"
     "expected_energy_rate(StepContext,ParticleSpan,double&)const->bool};"
     "Boundary{begin(SystemInfo,QuantityBoard,Vec3),transfers,interact(StepContext,WallHit&,Rng&)const};"
@@ -253,20 +265,37 @@ inline constexpr const char abi_interfaces[] =
     "OutputSink{series,append,profile,append_profile,array,histogram,scalar,attribute,summary}";
 
 // A fingerprint of what silently breaks layouts between a host and a plugin built apart: struct
-// sizes, the standard library's ABI, and the interface text above. It does not name the
+// layouts, the standard library's ABI, and the interface text above. It does not name the
 // compiler: g++ and clang++ on the same libstdc++ produce the same layouts.
+//
+// How the contract grows without a major version (SDK 6.0 on):
+// - a struct the host owns and hands over by pointer or reference (ParticleSpan, SystemInfo,
+//   StepContext, SampledMoments, PairBatch, WallHit) grows only at its end: the fingerprint holds
+//   the offset of its last field of 6.0, so an appended field keeps old plugins loading;
+// - a struct that is an array element or that plugins build or copy (CellMoments, BoundaryTally,
+//   SpeciesInfo, Rng, ParamSpec, PluginDescriptor, ...) is frozen: its size is in the fingerprint;
+// - a new capability is an extension (PluginObject::extension), a new virtual of a host-implemented
+//   interface (OutputSink) is appended at its end; both are minor versions, and the interface text
+//   above stays that of 6.0.
 constexpr std::uint64_t abi_fingerprint() {
   std::uint64_t h = 1469598103934665603ull;
   auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
-  mix(sizeof(ParticleSpan));
-  mix(sizeof(StepContext));
-  mix(sizeof(SystemInfo));
-  mix(sizeof(CellCollision));
+  // Host-owned, growing at the end: the 6.0 prefix.
+  mix(offsetof(ParticleSpan, attribute_data));
+  mix(offsetof(SystemInfo, species));
+  mix(offsetof(StepContext, quantities));
+  mix(offsetof(SampledMoments, kinetic_energy));
+  mix(offsetof(PairBatch, missed));
+  mix(offsetof(WallHit, remaining));
+  // Frozen.
+  mix(sizeof(Column<double>));
   mix(sizeof(CellMoments));
-  mix(sizeof(SampledMoments));
+  mix(sizeof(VelocityMoments));
   mix(sizeof(BoundaryTally));
-  mix(sizeof(WallHit));
+  mix(sizeof(EnergyLedgerEntry));
   mix(sizeof(CollisionTally));
+  mix(sizeof(SpeciesInfo));
+  mix(sizeof(Vec3));
   mix(sizeof(Rng));
   mix(sizeof(Streams));
   mix(sizeof(AttributeSpec));

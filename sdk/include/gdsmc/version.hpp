@@ -2,11 +2,14 @@
 #pragma once
 #include <cstdint>
 
-#define GDSMC_VERSION_STRING "0.3.1"
-// ABI major: bump on any change to a struct layout or virtual interface in sdk/include/gdsmc.
-// ABI minor: bump when something is added that older plugins can ignore (a new optional virtual
-// at the end of an interface is NOT such a change: it is a major bump).
-#define GDSMC_SDK_ABI_MAJOR 5
+#define GDSMC_VERSION_STRING "0.4.0"
+// ABI major: bump on a change that breaks built plugins: a field of a host-owned struct moved or
+// removed, a frozen struct changed, a virtual of a plugin interface added, removed or changed
+// (see "How the contract grows" in plugin.hpp).
+// ABI minor: bump when something is added that older plugins can ignore: a field at the end of a
+// host-owned struct, an extension id (PluginObject::extension), a virtual appended to OutputSink.
+// A plugin built against a newer minor than the host's is refused.
+#define GDSMC_SDK_ABI_MAJOR 6
 #define GDSMC_SDK_ABI_MINOR 0
 
 #if defined(_WIN32)

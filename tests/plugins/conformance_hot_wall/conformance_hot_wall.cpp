@@ -2,6 +2,7 @@
 // `temperature` parameter) but re-emits at 1.5 T_w. `gdsmc conformance` must report
 // boundary.wall_flux FAIL.
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 class HotWall final : public gdsmc::Boundary {

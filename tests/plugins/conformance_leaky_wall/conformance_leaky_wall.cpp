@@ -2,6 +2,7 @@
 // particle beyond its plane (position.y outside the box), one in 70 returns it still moving
 // outward. `gdsmc conformance` must report boundary.containment FAIL.
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics.hpp>
 
 namespace {
 class LeakyWall final : public gdsmc::Boundary {
