@@ -14,6 +14,9 @@ namespace gdsmc::host {
 // written to /run/collisions_missed_by_majorant), while <|g|>/w = 32 % of the candidates collide
 // (6 sqrt(2), the value before SDK 6.0: 1e-7, 27 %). Exceedances raise the ratio until the update.
 constexpr double kInitialMajorantRatio = 7.0;
+// The collisions a homogeneous group may miss between two moment updates, as a fraction of those it
+// makes, and still return to kInitialMajorantRatio (CollisionStage::reset_majorants).
+constexpr double kMissedCollisionsTolerance = 1e-5;
 // Factor over the largest rate seen when the majorant was exceeded.
 constexpr double kMajorantHeadroom = 1.05;
 
