@@ -1,7 +1,8 @@
 // No silent unit (issue 34): `validate` says what every dimensional value written as a bare number
 // was read as, with the dimensionless numbers of the system and those the diagnostics state as
 // they begin; `units: explicit` refuses bare dimensional numbers; and the last-mile messages (a
-// missing section, a misspelled stop key).
+// missing section, a misspelled stop key, --version, the help of validate --resume, inspect's
+// run counts).
 #include <gtest/gtest.h>
 
 #include <regex>
@@ -168,6 +169,39 @@ TEST(UnitsVerdict, AMissingSectionShowsAMinimalValidOne) {
     const ProcessResult fixed = validate(dir, replace_once(kSmallHcsPipeline, text, "") + example + "\n");
     EXPECT_EQ(fixed.exit_code, 0) << example << "\n" << fixed.describe();
   }
+}
+
+TEST(UnitsVerdict, VersionNamesTheBuild) {
+  TempDir dir;
+  const ProcessResult r = run_gdsmc({"--version"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out.rfind(std::string("gdsmc ") + version_string + "\n", 0), 0u) << r.out;
+  EXPECT_TRUE(contains(r.out, "SDK ABI " + std::to_string(sdk_abi_major) + "." + std::to_string(sdk_abi_minor))) << r.out;
+  EXPECT_EQ(lines_starting(r.out, "MPI: ").size(), 1u) << r.out;
+  EXPECT_EQ(lines_starting(r.out, "build: ").size(), 1u) << r.out;
+  EXPECT_EQ(lines_starting(r.out, "HDF5: ").size(), 1u) << r.out;
+  // CITATION.cff cites this version.
+  EXPECT_EQ(lines_starting(read_text(source_dir() / "CITATION.cff"), std::string("version: ") + version_string).size(), 1u);
+}
+
+// The top-level help says what validate --resume does, as `gdsmc help validate` does.
+TEST(UnitsVerdict, ValidateResumeIsDescribedAlike) {
+  TempDir dir;
+  const ProcessResult top = run_gdsmc({"--help"}, dir.path());
+  const std::string validate_section = top.out.substr(top.out.find("gdsmc validate"), top.out.find("gdsmc plugins") - top.out.find("gdsmc validate"));
+  EXPECT_TRUE(contains(validate_section, "--resume               also check that the checkpoint")) << validate_section;
+  EXPECT_FALSE(contains(validate_section, "ignored")) << validate_section;
+}
+
+// inspect says that the counts are realization 0's and the wall time every realization's.
+TEST(UnitsVerdict, InspectSeparatesRunCountsFromTheWallTime) {
+  TempDir dir;
+  dir.write("p.yaml", replace_once(kSmallHcsPipeline, "  seed: 3\n", "  seed: 3\n  realizations: 3\n"));
+  ASSERT_EQ(run_gdsmc({"run", "p.yaml", "--quiet"}, dir.path()).exit_code, 0);
+  const ProcessResult r = run_gdsmc({"inspect", "out.h5"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_EQ(lines_starting(r.out, "  run (realization 0) ").size(), 1u) << r.out;
+  EXPECT_EQ(lines_starting(r.out, "  wall time (all 3 realizations) ").size(), 1u) << r.out;
 }
 
 }  // namespace
