@@ -413,6 +413,48 @@ void expect_datasets_documented(const fs::path& file, std::map<std::string, std:
   }
 }
 
+// The attribute names of `object`.
+std::vector<std::string> attribute_names(hid_t file, const std::string& object) {
+  std::vector<std::string> names;
+  auto cb = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+    return 0;
+  };
+  H5Aiterate_by_name(file, object.c_str(), H5_INDEX_NAME, H5_ITER_INC, nullptr, cb, &names, H5P_DEFAULT);
+  return names;
+}
+
+// Every `/run/NAME` and `/plugins/ROLE@NAME` the documents cite (NAME may be a family: <stage>,
+// *) is an attribute of `file`, a slab run's output.
+void expect_cited_attributes_exist(const fs::path& file) {
+  const File f(file);
+  static const std::regex kCited(R"(`(/run|/plugins/[^`@ ]+)[/@]([^` ]+)`)");
+  std::size_t cited = 0;
+  for (const auto& doc : documents()) {
+    const std::string text = read_text(doc);
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), kCited); it != std::sregex_iterator(); ++it) {
+      ++cited;
+      auto family = [](std::string t) {
+        t = std::regex_replace(t, std::regex(R"([.^$|()\[\]{}+?\\])"), "\\$&");
+        return std::regex(std::regex_replace(std::regex_replace(t, std::regex("<[a-z_]+>"), ".+"), std::regex("\\*"), ".+"));
+      };
+      const std::regex object = family((*it)[1]), attribute = family((*it)[2]);
+      bool found = false;
+      std::vector<std::string> objects{"/run"};
+      if ((*it)[1] != "/run") {
+        objects.clear();
+        for (const auto& role : members(f.id(), "/plugins")) objects.push_back("/plugins/" + role);
+      }
+      for (const auto& o : objects)
+        if (std::regex_match(o, object))
+          for (const auto& a : attribute_names(f.id(), o)) found = found || std::regex_match(a, attribute);
+      EXPECT_TRUE(found) << fs::relative(doc, source_dir()).string() << " cites " << it->str() << ", which "
+                         << file.filename().string() << " does not hold";
+    }
+  }
+  EXPECT_GE(cited, 5u);
+}
+
 // The output files in `dir`.
 std::vector<fs::path> outputs(const fs::path& dir) {
   std::vector<fs::path> files;
@@ -479,7 +521,8 @@ TEST(Docs, EveryCommandLineAndRecipeWorks) {
 
 // The diagnostics the documents' runs do not use name their datasets too: the Poiseuille channel
 // (the issue's user had to guess T_centre for T(0)) with the slab diagnostics, the heat flux and
-// the Enskog viscosity, each in a run of a second.
+// the Enskog viscosity, each in a run of a second. The /run attributes the documents cite exist in
+// the slab run's file.
 TEST(Docs, OtherDiagnosticsNameTheirDatasets) {
   TempDir dir;
   const std::vector<std::vector<std::string>> runs = {
@@ -502,4 +545,5 @@ TEST(Docs, OtherDiagnosticsNameTheirDatasets) {
                              "enskog_shear_viscosity"})
     EXPECT_TRUE(docs.count(plugin)) << plugin << " was not in the runs";
   EXPECT_TRUE(contains(docs["poiseuille_channel"], "T_centre [T_w] (T(0))")) << docs["poiseuille_channel"];
+  expect_cited_attributes_exist(dir / "poiseuille.h5");
 }
