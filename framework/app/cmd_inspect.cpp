@@ -140,9 +140,13 @@ void print_run(hid_t root) {
   if (!has_group(root, "run")) return;
   Id run(H5Gopen2(root, "run", H5P_DEFAULT), H5Gclose);
   auto number = [&](const char* name) { return attribute(run, name, "%.6g"); };
-  field("run", number("steps") + " steps to t = " + number("final_time_tau0") + " tau0, s = " +
-                   number("collisions_per_particle") + " collisions per particle, " + number("collisions") +
-                   " collisions, " + number("wall_seconds") + " s of wall time");
+  // The counts are realization 0's; the wall time is that of every realization (output-format.md).
+  const std::string realizations = attribute(run, "realizations", "%.0f");
+  const bool several = !realizations.empty() && realizations != "1";
+  field(several ? "run (realization 0)" : "run",
+        number("steps") + " steps to t = " + number("final_time_tau0") + " tau0, s = " +
+            number("collisions_per_particle") + " collisions per particle, " + number("collisions") + " collisions");
+  field(several ? "wall time (all " + realizations + " realizations)" : "wall time", number("wall_seconds") + " s");
   // Where the steps' time went (/run/stage_seconds.*; files from before them have none).
   Engine::StageSeconds stages{};
   bool any = false;

@@ -1,7 +1,9 @@
 // `gdsmc run` and `gdsmc validate`.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +12,7 @@
 
 #include "app/commands.hpp"
 #include "app/progress.hpp"
+#include "config/reading.hpp"
 #include "output/hdf5_file.hpp"
 #include "study/checkpoint.hpp"
 #include "study/study.hpp"
@@ -71,7 +74,8 @@ N x 28 bytes homogeneous, N x 60 slab, per run under way).
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
 
-Before anything runs, the pipeline is checked as `validate` checks it, the memory the study needs
+Before anything runs, the pipeline is checked as `validate` checks it (and what validate says
+about the numbers as read goes to stderr, unless --quiet), the memory the study needs
 is estimated and the run is refused when it cannot fit in the memory available (see validate).
 )";
 
@@ -85,6 +89,12 @@ reported with file:line:column. The output file is checked as `run` checks it (a
 is created beside it and removed at once; an existing file a run would replace is named).
 Exit 0 when valid, 1 otherwise. Plugin files on the search path that could not be loaded (and
 are therefore shadowed or missing) are reported as warnings.
+
+Before the verdict it prints every dimensional value written as a bare number, what it was read
+as (a length in lambda0, a time in tau0, ...) and its value in the other common units, then the
+dimensionless numbers of each case (n sigma^3 and phi, Kn = lambda0/Ly and particles per layer
+of a slab, dt over the mean free time) and those its diagnostics state as they begin (a_hat,
+epsilon_star, ...). `units: explicit` in the pipeline makes a bare dimensional number an error.
 
 The verdict gives the memory the study is estimated to need (particles, attributes, every
 diagnostic's records, what each sweep case keeps until the file is written); a study that needs
@@ -143,12 +153,47 @@ std::vector<RunInput> run_inputs(const Pipeline& p, const std::vector<StudyCase>
   return in;
 }
 
+// The dimensionless values the diagnostics stated as they began (scalars of unit 1 and numeric
+// attributes: a_hat, epsilon_star, packing_fraction, shear_rate_tau0, theory values).
+std::string stated_text(const std::vector<DiagnosticOutput>& begun) {
+  std::string text;
+  for (const auto& d : begun) {
+    std::vector<std::string> values;
+    for (const auto& s : d.scalars)
+      if (s.unit == "1") values.push_back(s.name + " = " + fmt("%.4g", s.value));
+    for (const auto& [name, value] : d.attributes) {
+      char* end = nullptr;
+      const double v = std::strtod(value.c_str(), &end);
+      if (!value.empty() && end && *end == '\0') values.push_back(name + " = " + fmt("%.4g", v));
+    }
+    if (!values.empty()) text += "; " + d.group() + ": " + join(values, ", ");
+  }
+  return text;
+}
+
+// How the numbers of every case were read: each bare dimensional value once (config/reading.hpp),
+// then per case the system's dimensionless numbers and what its diagnostics stated as they began.
+std::vector<std::string> reading_report(const std::vector<StudyCase>& cases,
+                                        const std::vector<std::vector<DiagnosticOutput>>& begun) {
+  std::vector<std::string> bare, lines;
+  for (const auto& c : cases)
+    for (const auto& line : bare_value_lines(c.pipeline))
+      if (std::find(bare.begin(), bare.end(), line) == bare.end()) bare.push_back(line);
+  lines.push_back(bare.empty() ? "units: no dimensional value is written as a bare number"
+                               : "units: the dimensional values written as bare numbers, and what they were read as:");
+  for (const auto& line : bare) lines.push_back("  " + line);
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    lines.push_back((cases.size() > 1 ? "case " + std::to_string(k) + " (" + cases[k].label + "): " : "system: ") +
+                    system_numbers_line(cases[k].pipeline) + stated_text(begun[k]));
+  return lines;
+}
+
 // Load the pipeline and every case of its sweep, check the output path (validate also creates
 // and removes a temporary file beside it), set each case up once and estimate the memory before
 // anything runs (a run builds every engine; validate only the plugin objects). Returns 0, or the
 // exit status.
 int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases, OutputTarget& target,
-            MemoryEstimate& memory) {
+            MemoryEstimate& memory, std::vector<std::string>& reading) {
   try {
     p = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
   } catch (const PipelineError& e) {
@@ -184,8 +229,12 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
     }
     memory = check_cases(cases, progress);
     estimated = true;
-    if (run_it)
-      for (const auto& c : cases) Engine check(c.pipeline, 0);
+    std::vector<std::vector<DiagnosticOutput>> begun;
+    for (const auto& c : cases) {
+      if (run_it) begun.push_back(Engine(c.pipeline, 0).diagnostics());
+      else begun.push_back(Engine::check_setup(c.pipeline));
+    }
+    reading = reading_report(cases, begun);
   } catch (const PipelineError& e) {
     print_errors(e.messages());
     return 1;
@@ -214,7 +263,10 @@ int cmd_run(const Options& o, bool run_it) {
   std::vector<StudyCase> cases;
   OutputTarget target;
   MemoryEstimate memory;
-  if (const int status = prepare(o, run_it, p, cases, target, memory)) return status;
+  std::vector<std::string> reading;
+  if (const int status = prepare(o, run_it, p, cases, target, memory, reading)) return status;
+  if (run_it && !o.quiet)
+    for (const auto& line : reading) std::cerr << line << "\n";
   const std::string notice = target.replacement_notice(run_it);
   // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
   std::optional<CheckpointStore> checkpoints;
@@ -239,6 +291,7 @@ int cmd_run(const Options& o, bool run_it) {
       std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->describe(cases)
                 << ")\n";
     if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
+    for (const auto& line : reading) std::cout << line << "\n";
     std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
               << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
               << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string()

@@ -1,5 +1,7 @@
 // gdsmc: the host executable. Reads a pipeline, loads the plugins it names, runs, writes HDF5.
 // This file only dispatches to the subcommands (app/cmd_*.cpp, conformance/runner.cpp).
+#include <hdf5.h>
+
 #include <iostream>
 #include <string>
 
@@ -42,7 +44,8 @@ gdsmc validate PIPELINE.yaml [options]
   -q, --quiet            as for run: no progress lines (validate prints its verdict and problems)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            the runs at once the memory estimate assumes
-  --resume               accepted (and ignored) so that a run's command line can be checked
+  --resume               also check that the checkpoint beside the output belongs to this
+                         pipeline, gdsmc and plugins, and say how many runs it holds
   -h, --help             the help of `validate`
 
 gdsmc plugins [NAME | FILE.so]... [options]
@@ -80,7 +83,8 @@ gdsmc help [COMMAND]
   This text, or the help of COMMAND (run, validate, plugins, conformance, plot, inspect).
   No options.
 
-gdsmc --version          the release and the plugin SDK ABI version
+gdsmc --version          the release, the plugin SDK ABI and the build options (MPI, build
+                         type, compiler, HDF5); CITATION.cff says how to cite gdsmc
 gdsmc --help, -h         this text
 
 Plugins are shared libraries found on the search path: --plugin-path entries, the pipeline's
@@ -91,6 +95,33 @@ references.md, plugin-author-guide.md and examples/, one plugin project of each 
 Exit status: 0 success, 1 invalid input or failed run (nothing written), 2 bad command line,
 130 interrupted (nothing written). A failure of output.plots is a warning: the run exits 0.
 )";
+
+// `gdsmc --version`: what a bug report or a methods section needs to name this build.
+std::string version_text() {
+  std::string s = std::string("gdsmc ") + version_string + "\n";
+  s += "SDK ABI " + std::to_string(sdk_abi_major) + "." + std::to_string(sdk_abi_minor) + " (plugins must be built against it)\n";
+#ifdef GDSMC_WITH_MPI
+  s += "MPI: yes\n";
+#else
+  s += "MPI: no\n";
+#endif
+#if defined(__OPTIMIZE__) && defined(NDEBUG)
+  s += "build: optimized, assertions off\n";
+#elif defined(__OPTIMIZE__)
+  s += "build: optimized, assertions on\n";
+#else
+  s += "build: not optimized (debug), assertions on\n";
+#endif
+#if defined(__clang__)
+  s += std::string("compiler: clang ") + __clang_version__ + "\n";
+#elif defined(__GNUC__)
+  s += std::string("compiler: g++ ") + __VERSION__ + "\n";
+#endif
+  s += "HDF5: " + std::to_string(H5_VERS_MAJOR) + "." + std::to_string(H5_VERS_MINOR) + "." +
+       std::to_string(H5_VERS_RELEASE) + "\n";
+  s += "cite: CITATION.cff of the gdsmc sources; the papers it reproduces: references.md (<prefix>/share/doc/gdsmc/)\n";
+  return s;
+}
 
 }  // namespace
 
@@ -105,7 +136,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (cmd == "--version") {
-    std::cout << "gdsmc " << version_string << " (SDK ABI " << sdk_abi_major << "." << sdk_abi_minor << ")\n";
+    std::cout << version_text();
     return 0;
   }
   if (cmd == "help") {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <set>
 
+#include "config/sections.hpp"
 #include "config/suggest.hpp"
 #include "config/units.hpp"
 #include "util/text.hpp"
@@ -102,7 +103,7 @@ bool check_entry_keys(Checker& c, const Pipeline& p, const YAML::Node& map, cons
 }
 
 // A real parameter given as a number (reference units) or as {value, unit}.
-bool convert_real(Checker& c, const Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
+bool convert_real(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
                   const std::string& who, PluginUse& use) {
   const SourceLocation at = c.where(sub, v);
   std::optional<double> value;
@@ -129,6 +130,7 @@ bool convert_real(Checker& c, const Pipeline& p, const ParamSpec& spec, const YA
   } else {
     auto num = c.real(v, sub);
     if (!num) return false;
+    if (!spec.dimension.dimensionless() && !read_bare(c, p, sub, v, *num, spec.dimension)) return false;
     reference_value = *num;
     value = *num * reference_factor(spec.dimension, p);
   }
@@ -144,7 +146,7 @@ bool convert_real(Checker& c, const Pipeline& p, const ParamSpec& spec, const YA
 }
 
 // One given parameter value, checked against its spec and stored in reduced units.
-bool convert_param(Checker& c, const Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
+bool convert_param(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
                    const std::string& name, PluginUse& use) {
   const SourceLocation at = c.where(sub, v);
   const std::string who = "parameter '" + spec.name + "' of plugin '" + name + "'";
@@ -221,7 +223,7 @@ bool test_construct(Checker& c, const LoadedPlugin& lp, const std::string& path,
 
 }  // namespace
 
-std::optional<PluginUse> check_plugin(Checker& c, const Pipeline& p, const YAML::Node& node, const std::string& path,
+std::optional<PluginUse> check_plugin(Checker& c, Pipeline& p, const YAML::Node& node, const std::string& path,
                                       PluginKind kind) {
   PluginUse use;
   use.path = path;

@@ -19,7 +19,7 @@ const std::vector<std::string>& all_reserved_keys();
 
 // Check one plugin entry (a bare name or {plugin: NAME, ...}) and test-construct the plugin.
 // Returns nullopt after recording every problem in `c`.
-std::optional<PluginUse> check_plugin(Checker& c, const Pipeline& p, const YAML::Node& node, const std::string& path,
+std::optional<PluginUse> check_plugin(Checker& c, Pipeline& p, const YAML::Node& node, const std::string& path,
                                       PluginKind kind);
 
 }  // namespace gdsmc::host

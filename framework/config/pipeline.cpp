@@ -1,6 +1,7 @@
 #include "config/pipeline.hpp"
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <yaml-cpp/yaml.h>
@@ -108,6 +109,22 @@ void build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
   for (const auto& w : p.registry->warnings()) p.warnings.push_back(w);
 }
 
+// The section `key` of the document; when it is missing, an error that shows a minimal valid one.
+YAML::Node required_section(Checker& c, const YAML::Node& root, const fs::path& file, const std::string& key) {
+  static const std::map<std::string, std::string> kExample = {
+      {"run", "run: {particles: 10000, time_step: {value: 0.01, unit: tau0}, stop: {collisions_per_particle: 50}}"},
+      {"system", "system: {density: 1.0e-3, temperature: 1.0}   (n sigma^3 and T0; a homogeneous system)"},
+      {"initial_state", "initial_state: maxwellian"},
+      {"collision", "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}"},
+  };
+  YAML::Node n = root[key];
+  if (!n)
+    c.error(SourceLocation{file.string(), 1, 1}, key,
+            "missing required section '" + key + "'; a minimal one: " + kExample.at(key) +
+                " (docs/user-guide.md, \"The pipeline\", lists every key)");
+  return n;
+}
+
 // boundaries: {y_min: PLUGIN, y_max: PLUGIN} or {y: PLUGIN} for both planes of a slab.
 void parse_boundaries(Checker& c, const YAML::Node& root, Pipeline& p) {
   const YAML::Node b = root["boundaries"];
@@ -143,11 +160,7 @@ void parse_boundaries(Checker& c, const YAML::Node& root, Pipeline& p) {
 
 // initial_state, collision, forcings, boundaries and diagnostics, checked against their plugins.
 void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pipeline& p) {
-  auto need = [&](const char* key) -> YAML::Node {
-    YAML::Node n = root[key];
-    if (!n) c.error(SourceLocation{file.string(), 1, 1}, key, std::string("missing required section '") + key + "'");
-    return n;
-  };
+  auto need = [&](const char* key) { return required_section(c, root, file, key); };
   if (YAML::Node n = need("initial_state"))
     if (auto u = check_plugin(c, p, n, "initial_state", PluginKind::initial_state)) p.initial_state = *u;
   if (YAML::Node n = need("collision"))
@@ -187,17 +200,14 @@ void check_document(Checker& c, const YAML::Node& root, const std::vector<fs::pa
                     std::shared_ptr<PluginRegistry> registry, Pipeline& p) {
   const fs::path& file = p.file;
   c.check_keys(root, "", {"run", "system", "initial_state", "collision", "forcings", "boundaries", "diagnostics",
-                          "output", "plugins", "sweep"});
-  auto need = [&](const char* key) -> YAML::Node {
-    YAML::Node n = root[key];
-    if (!n) c.error(SourceLocation{file.string(), 1, 1}, key, std::string("missing required section '") + key + "'");
-    return n;
-  };
+                          "output", "plugins", "sweep", "units"});
+  auto need = [&](const char* key) { return required_section(c, root, file, key); };
   if (registry) {
     p.registry = std::move(registry);
   } else {
     build_registry(c, root, file, extra_plugin_paths, p);
   }
+  if (const YAML::Node u = root["units"]) parse_units(c, u, p);  // first: it decides how the others read
   if (const YAML::Node run = need("run")) {
     parse_run(c, run, p);
     if (run.IsMap() && run["particles"]) p.particles_where = c.where("run.particles", run["particles"]);

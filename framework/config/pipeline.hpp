@@ -52,6 +52,15 @@ struct SteadyStop {
   double tolerance = 0;
 };
 
+// A dimensional value given as a bare number, read in the reference unit of its dimension
+// (config/units.hpp): what the verdict says it was read as.
+struct BareValue {
+  std::string path;   // "forcings[0].acceleration", "system.box.y"
+  SourceLocation where;
+  double value = 0;   // as written, in reference_unit(dimension)
+  Dimensions dimension;
+};
+
 struct Pipeline {
   std::filesystem::path file;
   std::string source_text;    // the file as read
@@ -90,6 +99,11 @@ struct Pipeline {
   std::optional<double> average_after_collisions_per_particle;
   std::optional<double> average_after_time_tau0;
   std::vector<SweepAxis> sweep;
+
+  // units: explicit refuses a dimensional value given as a bare number (default: reference, a
+  // bare number is in the reference unit of its dimension). Every bare one read is listed.
+  bool units_explicit = false;
+  std::vector<BareValue> bare_values;
 
   // system (reduced units)
   double number_density = 0;

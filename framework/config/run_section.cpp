@@ -16,8 +16,20 @@ namespace gdsmc::host {
 namespace {
 
 // A time in tau0: a bare number or {value: T, unit: tau0}, at `key` (e.g. "run.stop.time").
-std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::string& key) {
-  if (!t.IsMap()) return c.real(t, key);
+// A value without its unit is a bare number in tau0 (listed, or refused with units: explicit).
+std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::string& key, Pipeline& p) {
+  if (!t.IsMap() || !t["unit"]) {
+    const YAML::Node v = t.IsMap() ? t["value"] : t;
+    const std::string path = t.IsMap() ? key + ".value" : key;
+    if (!v) {
+      c.error(key, t, "expected a number of tau0 or {value: T, unit: tau0}");
+      return std::nullopt;
+    }
+    if (t.IsMap()) c.check_keys(t, key, {"value", "unit"});
+    const std::optional<double> value = c.real(v, path);
+    if (value && !read_bare(c, p, path, v, *value, dimensions_of(Dimension::time))) return std::nullopt;
+    return value;
+  }
   c.check_keys(t, key, {"value", "unit"});
   if (t["unit"] && t["unit"].Scalar() != "tau0")
     c.error(key + ".unit", t["unit"], "unknown unit '" + t["unit"].Scalar() + "' (valid: tau0)");
@@ -39,7 +51,7 @@ void parse_average_after(Checker& c, const YAML::Node& aa, Pipeline& p) {
         else p.average_after_collisions_per_particle = *v;
       }
     if (aa["time"])
-      if (auto v = time_in_tau0(c, aa["time"], "run.average_after.time")) {
+      if (auto v = time_in_tau0(c, aa["time"], "run.average_after.time", p)) {
         if (*v < 0) c.error("run.average_after.time", aa["time"], "must be >= 0 (tau0)");
         else p.average_after_time_tau0 = *v;
       }
@@ -110,6 +122,9 @@ void parse_time_step(Checker& c, const YAML::Node& run, Pipeline& p) {
   } else {
     v = c.real(ts, "run.time_step");
   }
+  if (v && !(ts.IsMap() && ts["unit"]) && !read_bare(c, p, ts.IsMap() ? "run.time_step.value" : "run.time_step",
+                                                     ts.IsMap() ? ts["value"] : ts, *v, dimensions_of(Dimension::time)))
+    v.reset();
   if (unit != "tau0") c.error("run.time_step.unit", ts["unit"], "unknown unit '" + unit + "' (valid: tau0)");
   if (v && *v <= 0) c.error("run.time_step", ts, "time step must be > 0, got " + value_text(*v));
   else if (v) p.time_step_tau0 = *v;
@@ -156,7 +171,7 @@ void parse_stop(Checker& c, const YAML::Node& st, Pipeline& p) {
   if (!st.IsMap()) {
     c.error("run.stop", st, "expected {collisions_per_particle: S} and/or {time: T (tau0)}");
   } else {
-    c.check_keys(st, "run.stop", {"collisions_per_particle", "time", "steady"});
+    const bool known_keys = c.check_keys(st, "run.stop", {"collisions_per_particle", "time", "steady"});
     if (const YAML::Node sd = st["steady"]) parse_steady(c, st, sd, p);
     if (st["collisions_per_particle"])
       if (auto v = c.real(st["collisions_per_particle"], "run.stop.collisions_per_particle")) {
@@ -164,19 +179,19 @@ void parse_stop(Checker& c, const YAML::Node& st, Pipeline& p) {
         else p.stop_collisions_per_particle = *v;
       }
     if (st["time"])
-      if (auto v = time_in_tau0(c, st["time"], "run.stop.time")) {
+      if (auto v = time_in_tau0(c, st["time"], "run.stop.time", p)) {
         if (*v <= 0) c.error("run.stop.time", st["time"], "must be > 0");
         else p.stop_time_tau0 = *v;
       }
-    if (!st["collisions_per_particle"] && !st["time"])
-      c.error("run.stop", st, "give collisions_per_particle and/or time");
+    // A misspelled key was reported with its close spellings: not a second message about it.
+    if (!st["collisions_per_particle"] && !st["time"] && known_keys)
+      c.error("run.stop", st, "give collisions_per_particle and/or time, e.g. stop: {collisions_per_particle: 50}");
   }
 }
 
-// The hard-sphere mean free time at T0 in tau0: lambda0 / <|v|> with <|v|> = sqrt(8 T0 / (pi m)).
-// The time-step checks below estimate with it (and the candidate count with the initial
-// majorant): for other kernels they are approximate, which is all a warning or a bound needs.
-const double kMeanFreeTimeTau0 = 0.5 * std::sqrt(M_PI);
+// The time-step checks below estimate with the hard-sphere mean free time kMeanFreeTimeTau0 (and
+// the candidate count with the initial majorant): for other kernels they are approximate, which is
+// all a warning or a bound needs.
 
 // What one step of c tau0 means at T0, checked before anything runs: a step beyond the mean free
 // time is refused (free flight and forcings are split from collisions, which needs dt well below
@@ -222,7 +237,7 @@ void check_step(Checker& c, const YAML::Node& run, Pipeline& p) {
     stop = fmt("run.stop.collisions_per_particle %.6g, at about %.3g per step at T0", *p.stop_collisions_per_particle,
                s_per_step);
   }
-  if (steps > kMaxSteps) {
+  if (!stop.empty() && steps > kMaxSteps) {  // empty: no stop was read (already reported)
     c.error(path, at, fmt("a step of %.3g tau0 reaches the stop (%s) only after about %.3g steps, more than %.0e: the "
                           "run would never end; use a larger time step or an earlier stop",
                           dt, stop.c_str(), steps, kMaxSteps));

@@ -12,5 +12,13 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p);
 void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p);
 void parse_output(Checker& c, const YAML::Node& out, Pipeline& p);
 void parse_sweep(Checker& c, const YAML::Node& sw, Pipeline& p);
+// units: reference (default) or explicit.
+void parse_units(Checker& c, const YAML::Node& u, Pipeline& p);
+
+// A dimensional value written as a bare number (`value`, in the reference unit of `d`) at `path`:
+// listed in p.bare_values for the verdict; with units: explicit an error saying how to write it
+// with its unit (returns false).
+bool read_bare(Checker& c, Pipeline& p, const std::string& path, const YAML::Node& node, double value,
+               const Dimensions& d);
 
 }  // namespace gdsmc::host

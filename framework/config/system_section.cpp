@@ -14,7 +14,7 @@ namespace gdsmc::host {
 namespace {
 
 // A length: a bare number in lambda0, or {value: X, unit: lambda0 | sigma}.
-std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::string& path, const Pipeline& p) {
+std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::string& path, Pipeline& p) {
   double value = 0;
   std::string unit = "lambda0";
   if (n.IsMap()) {
@@ -31,6 +31,7 @@ std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::st
     auto v = c.real(n, path);
     if (!v) return std::nullopt;
     value = *v;
+    if (!read_bare(c, p, path, n, value, dimensions_of(Dimension::length))) return std::nullopt;
   }
   if (!(value > 0) || !std::isfinite(value)) {
     c.error(path, n, "a box edge must be a positive finite length");

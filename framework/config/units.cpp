@@ -1,7 +1,10 @@
 #include "config/units.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <vector>
 #include <stdexcept>
 
 #include "config/pipeline.hpp"
@@ -140,6 +143,10 @@ class UnitParser {
     if (name == "tau0") return {s_.tau0, 0, 0, 1};
     if (name == "T0") return {s_.T0, 1, 2, -2};
     if (name == "m") return {1.0, 1, 0, 0};
+    if (name == "Ly") {
+      if (!(s_.Ly > 0)) fail("unit 'Ly' (the gap of a slab) needs system.domain: slab");
+      return {s_.Ly, 0, 1, 0};
+    }
     fail("unknown unit '" + name + "'");
   }
 
@@ -168,7 +175,58 @@ std::string base_text(const Quantity& q) {
 
 }  // namespace
 
-UnitScales unit_scales(const Pipeline& p) { return {p.mean_free_path0(), p.time_unit0(), p.temperature, p.sigma}; }
+UnitScales unit_scales(const Pipeline& p) {
+  return {p.mean_free_path0(), p.time_unit0(), p.temperature, p.sigma, p.geometry == Geometry::slab ? p.box_y : 0.0};
+}
+
+namespace {
+
+// The unit of dimension d in thermal units on the length `length`: length^(L + t) sqrt(2T0/m)^-t
+// T0^T m^M, written as to_reduced() reads it ("2T0/(m sigma)", "Ly/sqrt(2T0/m)").
+std::string thermal_unit(const Dimensions& d, const std::string& length) {
+  std::vector<std::string> num, den;
+  auto put = [&](const std::string& base, int e) {
+    if (e == 0) return;
+    (e > 0 ? num : den).push_back(std::abs(e) == 1 ? base : base + "^" + std::to_string(std::abs(e)));
+  };
+  const int speed = -d.time;
+  if (speed == 2 || speed == -2) {
+    (speed > 0 ? num : den).push_back("2T0");
+    (speed > 0 ? den : num).push_back("m");
+  } else {
+    put("sqrt(2T0/m)", speed);
+  }
+  put(length, d.length + d.time);
+  put("T0", d.temperature);
+  put("m", d.mass);
+  auto words = [](const std::vector<std::string>& w) {
+    std::string s;
+    for (const auto& x : w) s += (s.empty() ? "" : " ") + x;
+    return s;
+  };
+  std::string text = num.empty() ? "1" : words(num);
+  if (!den.empty()) text += "/" + (den.size() > 1 ? "(" + words(den) + ")" : den[0]);
+  return text;
+}
+
+}  // namespace
+
+std::string common_units_text(double reduced, const Dimensions& d, const UnitScales& s) {
+  std::vector<std::string> units = {reference_unit(d), "reduced", thermal_unit(d, "lambda0"), thermal_unit(d, "sigma")};
+  if (s.Ly > 0) units.push_back(thermal_unit(d, "Ly"));
+  std::string text, why;
+  std::vector<std::string> written;
+  for (const auto& u : units) {
+    if (std::find(written.begin(), written.end(), u) != written.end()) continue;
+    const std::optional<double> factor = to_reduced(1.0, u, d, s, why);
+    if (!factor || !(*factor != 0)) continue;
+    char value[32];
+    std::snprintf(value, sizeof value, "%.4g", reduced / *factor);
+    text += std::string(text.empty() ? "" : " = ") + value + " " + u;
+    written.push_back(u);
+  }
+  return text;
+}
 
 std::string reference_unit(const Dimensions& d) {
   return d.dimensionless() ? "1" : powers_text(d, {"lambda0", "tau0", "T0", "m"});

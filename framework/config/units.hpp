@@ -6,6 +6,7 @@
 // "lambda0^2 tau0^-3", "sqrt(2T0/m)"). Its dimension must equal the parameter's after a
 // temperature is reduced to an energy (k_B = 1: mass length^2 / time^2).
 #pragma once
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -15,9 +16,10 @@ namespace gdsmc::host {
 
 struct Pipeline;
 
-// The reference scales in reduced units (m = 1).
+// The reference scales in reduced units (m = 1); Ly is the gap of a slab (0: none, and the unit
+// name Ly is then unknown).
 struct UnitScales {
-  double lambda0 = 1, tau0 = 1, T0 = 1, sigma = 1;
+  double lambda0 = 1, tau0 = 1, T0 = 1, sigma = 1, Ly = 0;
 };
 UnitScales unit_scales(const Pipeline& p);
 
@@ -33,6 +35,15 @@ std::optional<double> to_reduced(double value, const std::string& unit, const Di
 // The reference unit of a dimension as text ("lambda0^2 tau0^-3", "tau0^-1", "1"): what a bare
 // number means.
 std::string reference_unit(const Dimensions& d);
+
+// A value of dimension `d` (`reduced`, in reduced units) in the units a reader may have meant:
+// the reference unit, reduced units, and the thermal units on sigma and (slab) on Ly, lengths in
+// sigma or Ly and speeds in sqrt(2T0/m): "12 lambda0 tau0^-2 = 0.0129 reduced = 0.0129 2T0/(m
+// sigma) = 12 2T0/(m Ly)". Every unit written is one to_reduced() accepts.
+std::string common_units_text(double reduced, const Dimensions& d, const UnitScales& s);
+
+// The hard-sphere mean free time at T0 in tau0: lambda0 / <|v|>, <|v|> = sqrt(8 T0 / (pi m)).
+inline const double kMeanFreeTimeTau0 = 0.5 * std::sqrt(M_PI);
 
 // Reference-unit factor of a dimension (what a bare number means), for range checks and defaults:
 // lambda0^length tau0^time T0^temperature m^mass in reduced units.

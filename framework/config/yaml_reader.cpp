@@ -70,19 +70,22 @@ void Checker::error(const std::string& path, const YAML::Node& node, const std::
   error(where(path, node), path, message);
 }
 
-void Checker::check_keys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed) {
+bool Checker::check_keys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed) {
   std::set<std::string> seen;
+  bool known = true;
   for (auto it = map.begin(); it != map.end(); ++it) {
     const std::string key = it->first.Scalar();
     const std::string sub = path.empty() ? key : path + "." + key;
     if (!seen.insert(key).second) error(sub, it->first, "duplicate key '" + key + "'");
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      known = false;
       auto close = closest_names(key, allowed);
       error(sub, it->first, "unknown key '" + key + "'" +
                                 (close.empty() ? "" : "; did you mean " + join(close, ", ") + "?") +
                                 " (valid keys: " + join(allowed, ", ") + ")");
     }
   }
+  return known;
 }
 
 namespace {

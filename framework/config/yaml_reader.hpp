@@ -37,8 +37,8 @@ class Checker {
   void error(const std::string& path, const YAML::Node& node, const std::string& message);
   const std::vector<std::string>& errors() const { return errors_; }
 
-  // Report keys not in `allowed` (with close spellings) and duplicate keys.
-  void check_keys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed);
+  // Report keys not in `allowed` (with close spellings) and duplicate keys; false if a key is not in `allowed`.
+  bool check_keys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed);
 
   // Typed readers: the value, or nullopt after recording an error.
   std::optional<double> real(const YAML::Node& n, const std::string& path);

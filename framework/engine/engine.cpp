@@ -40,7 +40,10 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, unsigned threads)
 Engine::Engine(const Pipeline& p, std::uint32_t realization, unsigned threads, StateReader& state)
     : Engine(p, realization, Setup::restore, threads, &state) {}
 
-void Engine::check_setup(const Pipeline& p) { Engine check(p, 0, Setup::objects_only, 1); }
+std::vector<DiagnosticOutput> Engine::check_setup(const Pipeline& p) {
+  Engine check(p, 0, Setup::objects_only, 1);
+  return std::move(check.outputs_);
+}
 
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
     : pipeline_(p), pool_(run_threads(p, threads)), streams_(p.seed, realization) {

@@ -63,8 +63,9 @@ class Engine {
 
   // What `gdsmc validate` checks: every plugin object constructs, declares its attributes,
   // publishes its quantities and (diagnostics) begins, for the pipeline's system; no particle
-  // is allocated and no initial state is generated. Throws like the constructor.
-  static void check_setup(const Pipeline& pipeline);
+  // is allocated and no initial state is generated. Throws like the constructor. Returns what the
+  // diagnostics wrote as they began (constant metadata: model numbers, theory values).
+  static std::vector<DiagnosticOutput> check_setup(const Pipeline& pipeline);
   // A run continued from a checkpoint: set up as the constructor above, but with the state that
   // save() wrote instead of the initial state. Throws StateError on a state that does not fit.
   Engine(const Pipeline& pipeline, std::uint32_t realization, unsigned threads, StateReader& state);

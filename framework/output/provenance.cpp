@@ -31,8 +31,9 @@ void describe_provenance(const Pipeline& p, StudyOutput& out) {
   for (const auto& o : p.overrides) sets += (sets.empty() ? "" : "\n") + o;
   out.root_attributes["overrides"] = sets;
   out.root_attributes["units"] =
-      "reduced units: m = 1, k_B = 1, lengths in sigma; time datasets in tau0 = lambda0 / sqrt(2 T0 / m), "
-      "lambda0 = 1 / (sqrt(2) pi n sigma^2); each dataset's 'unit' attribute names its unit";
+      "each dataset's 'unit' attribute names its unit: the host's datasets use tau0 = lambda0 / sqrt(2 T0 / m), "
+      "lambda0 = 1 / (sqrt(2) pi n sigma^2), sqrt(2 T0/m) and T0, plugins may use their problem's scales (W, T_w); "
+      "the /system attributes are in reduced units (m = 1, k_B = 1, lengths in the unit of sigma)";
   out.root_numbers["seed"] = static_cast<double>(p.seed);
   out.root_numbers["realizations"] = p.realizations;
 }

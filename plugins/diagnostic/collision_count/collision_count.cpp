@@ -12,8 +12,8 @@ class CollisionCount final : public gdsmc::Diagnostic {
       "s(t) = (accepted collisions up to t) / N is the internal clock of paper 000 (text after\n"
       "Fig. 4; each collision involves two particles, so a particle collides 2s times on average);\n"
       "the host writes it beside every diagnostic as 'collisions_per_particle' and records the\n"
-      "instantaneous value here. Series: collisions, the fraction of candidate pairs accepted, and the number of candidates\n"
-      "whose rate exceeded the cell majorant w (each such pair is accepted with probability 1 and\n"
+      "instantaneous value here. Series [1]: collisions, acceptance_ratio (the fraction of candidate\n"
+      "pairs accepted) and majorant_exceeded (the number of candidates whose rate exceeded the cell majorant w (each such pair is accepted with probability 1 and\n"
       "w is raised; a count that is not small is a warning about the run). All cumulative, at the\n"
       "record time.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }

@@ -111,7 +111,15 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
       "with Eigen) and averaged: <name>_ns (the intercept), <name>_ns_error (from the residual\n"
       "scatter, treating records as independent: space them by more than the correlation time),\n"
       "<name>_slope, and <name>_mean / _standard_error (batch means) over the same records. With\n"
-      "several realizations the host's realization scatter of these scalars is the honest error.";
+      "several realizations the host's realization scatter of these scalars is the honest error.\n"
+      "Datasets (name [unit]): series temperature [T0], Kn, Kn_squared, Pk_xx_over_nT, Pk_yy_over_nT,\n"
+      "Pk_zz_over_nT, Pk_xy_over_nT, Pc_xx_over_nT, Pc_yy_over_nT, Pc_zz_over_nT, Pc_xy_over_nT,\n"
+      "Pc_yx_over_nT, P_xy_over_nT [1], eta_k, eta_c, eta [eta0(T)], eta_k_over_elastic_sonine,\n"
+      "eta_over_elastic_sonine, c, c_over_c0 [1], zeta [1/tau0]; scalars packing_fraction,\n"
+      "contact_value, c0, eta_k_sonine, eta_sonine, eta_k_sonine_elastic, eta_sonine_elastic,\n"
+      "eta_k_sonine_ratio, eta_sonine_ratio [1] (written as the run begins), and for <name> = eta_k,\n"
+      "eta [eta0(T)], eta_k_over_elastic_sonine, eta_over_elastic_sonine [1]: <name>_ns,\n"
+      "<name>_ns_error, <name>_slope, <name>_slope_error, <name>_mean, <name>_standard_error.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit EnskogShearViscosity(const gdsmc::Params&) {}
 

@@ -31,7 +31,7 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
       "relative in the runs of Figs. 5-6 (1/tau varies on the scale of many tau). Sample every step\n"
       "(sample_every: 1) when T changes fast (large a tau0 at the start). Series (window means):\n"
       "s0, s (accepted collisions / N), s_over_s0 (Fig. 6), s_over_beta (s'/beta, the EHS clock of\n"
-      "Figs. 3-5).";
+      "Figs. 3-5), all [1]; scalars s0_final (s0 at the last sample) and s_over_s0_final [1].";
   static std::vector<gdsmc::ParamSpec> parameters() {
     return {gdsmc::ParamSpec::choice("rate_factor", {"from_collision", "one"},
                                      "beta in s0: the collision rule's 'rate_factor' (1 if none) or 1")

@@ -112,8 +112,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "Slab systems between two walls, driven along x by body_acceleration (paper 004). Units as in\n"
       "the paper (Eq. 19): rho in rho_av = m N / volume, T in T_w, u in u_R = sqrt(2 T_w/m), y in\n"
       "W = Ly, stresses in P_R = rho_av u_R^2 / 2 = n_av T_w. T_w is the parameter wall_temperature\n"
-      "(default: the system temperature T0); a_hat = a W / u_R^2 (Eq. 17) and Kn = lambda0 / W\n"
-      "(Eq. 18) are written as scalars.\n"
+      "(default: the system temperature T0); a_hat = a W / u_R^2 (Eq. 17, a the body_acceleration\n"
+      "published) and Kn = lambda0 / W (Eq. 18) are written as scalars.\n"
       "Steady state (Appendix): the kinetic energy per particle E(t) is averaged over consecutive\n"
       "windows of steady_window (time); the state is steady from the end of the first window that\n"
       "ends after min_time and whose mean differs from the previous window's by at most\n"
@@ -122,34 +122,43 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "sums of 1, v_a and v_a v_b, in batches of consecutive records; when 16 batches are full,\n"
       "neighbours are merged (8 batches of twice the length), so the batches always cover the whole\n"
       "steady window in 8-16 pieces.\n"
-      "At the end, from the sums of the whole window: the profiles (arrays with their bin centres y/W\n"
-      "and jackknife errors over the batches) rho, u_x, T, p, P_xx, P_yy, P_zz, P_xy, the momentum\n"
-      "balance a int rho dy of Eq. 33, N1, N2, Kn(y); the even profiles (all but P_xy) are first\n"
-      "symmetrised, bin b with its mirror image. The scalars (each with <name>_error, the delete-one\n"
-      "jackknife error over the batches: an honest error when the batches are longer than the\n"
-      "correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
-      "  rho(0), T(0), u_x(0), p(0), N1(0), N2(0): c0 of the least-squares c0 + c2 y^2 over the bins\n"
-      "  within max(2, bins/15) bin widths of the centre (local, like the wall bins of the wall values);\n"
-      "  the curvatures T''(0)/T(0) and rho''(0)/rho(0): least-squares fit\n"
+      "Datasets of the group (name [unit]; every scalar and steady array also has <name>_error, the\n"
+      "delete-one jackknife error over the batches: an honest error when the batches are longer than\n"
+      "the correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
+      "  series per record: E [T_w] (kinetic energy per particle, Eq. A1), steady [1] (0/1),\n"
+      "  Q_record [1] (Eq. 40 over the record);\n"
+      "  a_hat [1] (Eq. 17; written as the run begins, so `gdsmc validate` shows it), Kn [1] (lambda0/W,\n"
+      "  Eq. 18), steady_from [tau0], averaged_time [tau0], batches [1], momentum_balance_chi2 [1];\n"
+      "  y [W] (bin centres y/W) and the steady profiles over it, from the sums of the whole window,\n"
+      "  the even ones (all but P_xy) symmetrised, bin b with its mirror image: steady_rho [rho_av],\n"
+      "  steady_u_x [sqrt(2T_w/m)], steady_T [T_w], steady_p, steady_P_xx, steady_P_yy, steady_P_zz,\n"
+      "  steady_P_xy, steady_P_xy_balance (a int rho dy, Eq. 33), steady_P_xy_residual [rho_av u_R^2/2],\n"
+      "  steady_N1, steady_N2, steady_Kn [1];\n"
+      "  centre-line values, c0 of the least-squares c0 + c2 y^2 over the bins within max(2, bins/15)\n"
+      "  bin widths of the centre: rho_centre [rho_av] (rho(0)), T_centre [T_w] (T(0)), u_centre\n"
+      "  [sqrt(2T_w/m)] (u_x(0)), p_centre [rho_av u_R^2/2] (p(0)), N1_centre, N2_centre [1] (N1(0),\n"
+      "  N2(0), Eqs. 34-35), Kn_centre [1] (Kn_0 = Kn/rho(0), Eq. 21);\n"
+      "  curvatures T2_centre [1] (T''(0)/T(0)) and rho2_centre [1] (rho''(0)/rho(0)): least-squares\n"
       "  f = c0 + c2 y^2 + c4 y^4 (Eigen) over the bins with |y| <= centre_fit W, f''(0)/f(0) = 2 c2/c0\n"
-      "  (unreliable where the centre is a cusp, as for e_n <= 0.6 at Kn = 0.05);\n"
-      "  rho_fw, u_s, T_fw (Eqs. 20, 23, 27): the wall-adjacent bins, as the paper (so they depend on\n"
-      "  the bin width, 004 Sec. III.D.1); near-wall gradients u'_w, T'_w: straight-line fit over the\n"
+      "  (unreliable where the centre is a cusp, as for e_n <= 0.6 at Kn = 0.05); chi [1] = delta1\n"
+      "  T''(0) + delta2 rho''(0)/rho(0), delta1 = -0.04, delta2 = 0.214 (Eqs. 37, 39);\n"
+      "  near-wall values from the wall-adjacent bins, as the paper (so they depend on the bin width,\n"
+      "  004 Sec. III.D.1): rho_fw [rho_av] (Eq. 20), Kn_fw [1] (Eq. 24), u_s [sqrt(2T_w/m)] (slip,\n"
+      "  Eq. 23), T_s [T_w] (T_fw - T_w, Eq. 27); gradients into the gas by a straight-line fit over the\n"
       "  wall_fit_bins bins next to each wall (at most bins/2 - 1; NaN with fewer than 6 bins), the two\n"
-      "  walls averaged with the sign pointing into the gas;\n"
-      "  zeta = u_s/u'_w (Eq. 25), T_s = T_fw - T_w (27), zeta_T = T_s/T'_w (29);\n"
-      "  T_max: the vertex of the least-squares parabola through the bins within max(2, bins/15) of\n"
-      "  the largest bin of T (the largest bin if the vertex falls outside); delta_T\n"
-      "  (Eq. 22) = (T_max - T(0))/T(0) and y_T_max = |y| of the maximum;\n"
-      "  chi = delta1 T''(0) + delta2 rho''(0)/rho(0), delta1 = -0.04, delta2 = 0.214 (Eqs. 37, 39);\n"
-      "  Q (Eq. 40) = <v_x> over all particles and samples / (u_R a_hat) (= int rho u dy / (rho_av u_R W\n"
-      "  a_hat) exactly: the integral is the mean streamwise velocity of all particles);\n"
-      "  checks that must hold in every steady run: momentum_balance_max (Eq. 33: the shear stress\n"
+      "  walls averaged: du_dy_fw [sqrt(2T_w/m)/W] (u'_w), dT_dy_fw [T_w/W] (T'_w); slip lengths\n"
+      "  zeta [W] = u_s/u'_w (Eq. 25) and zeta_T [W] = T_s/T'_w (Eq. 29);\n"
+      "  T_max [T_w]: the vertex of the least-squares parabola through the bins within max(2,\n"
+      "  bins/15) of the largest bin of T (the largest bin if the vertex falls outside), y_T_max [W]\n"
+      "  its |y|, delta_T [1] = (T_max - T(0))/T(0) (Eq. 22);\n"
+      "  Q [1] (Eq. 40) = <v_x> over all particles and samples / (u_R a_hat) (= int rho u dy / (rho_av\n"
+      "  u_R W a_hat) exactly: the integral is the mean streamwise velocity of all particles);\n"
+      "  checks that must hold in every steady run: momentum_balance_max [1] (Eq. 33: the shear stress\n"
       "  against a times the integrated density, relative to the wall stress a rho_av W/2),\n"
-      "  wall_momentum_ratio (the walls take out what the acceleration puts in: -1), the energy\n"
-      "  balance (work of the acceleration + collisions + walls = dE/dt, energy_balance_closure ~ 0)\n"
-      "  and power_from_flow_ratio (the work computed from the sampled flow over the host's ledger: 1).\n"
-      "Series per record: E [T_w per particle], steady (0/1), Q_record (Eq. 40 over the record).\n"
+      "  wall_momentum_ratio [1] (the walls take out what the acceleration puts in: -1),\n"
+      "  power_acceleration, power_collisions, power_walls [T_w/tau0 per particle] and\n"
+      "  energy_balance_closure [1] (work of the acceleration + collisions + walls = dE/dt: ~ 0),\n"
+      "  power_from_flow_ratio [1] (the work computed from the sampled flow over the host's ledger: 1).\n"
       "A run that never becomes steady writes NaN and says so in the summary.\n"
       "Parameters: steady_window (time, bare tau0; required), steady_tolerance (default 0.005),\n"
       "steady_sigmas (default 2), "
@@ -189,10 +198,14 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
         centre_fit_(p.real("centre_fit")),
         wall_bins_(static_cast<std::size_t>(p.integer("wall_fit_bins"))) {}
 
-  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
+  void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& quantities, gdsmc::OutputSink& out) override {
     if (sys.geometry != gdsmc::Geometry::slab)
       throw std::runtime_error("poiseuille_channel: needs a slab system (system.domain: slab) between two walls");
     sys_ = sys;
+    // Written as the run begins, so that `gdsmc validate` shows them (the samples then read a).
+    const double* a = quantities.find("body_acceleration");
+    accel_ = a ? *a : 0.0;
+    out.scalar("a_hat", a_hat(), "1", "dimensionless acceleration a_hat = a W / (2 T_w/m) (004 Eq. 17)");
     bins_ = sys.bins;
     // The wall fits use at most the wall-side half of the bins (less the central one).
     wall_fit_ = std::min(wall_bins_, bins_ / 2 > 0 ? bins_ / 2 - 1 : 0);
@@ -281,7 +294,6 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
-    out.scalar("a_hat", a_hat(), "1", "dimensionless acceleration a_hat = a W / (2 T_w/m) (004 Eq. 17)");
     out.scalar("Kn", sys_.mean_free_path0 / sys_.box[1], "1", "Knudsen number lambda0 / W (004 Eq. 18)");
     out.scalar("steady_from", steady_ ? steady_from_ / sys_.time_unit0 : std::nan(""), "tau0",
                "time at which E(t) was found steady and averaging began");

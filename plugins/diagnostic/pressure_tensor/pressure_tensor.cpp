@@ -15,8 +15,9 @@ class PressureTensor final : public gdsmc::Diagnostic {
       "system; in a slab the mean of the particle's layer, so that P is the mean pressure tensor P-bar\n"
       "of Eq. (4.9) and T is T-bar (Eq. 4.8). From the moments the host computes once per sample\n"
       "(ctx.moments). Series P_xx, P_yy, P_zz, P_xy, P_xz, P_yz in\n"
-      "units of n T0, plus the reduced forms P_xy/(nT) and (P_xx - P_yy)/(nT), (P_zz - P_yy)/(nT)\n"
-      "with the current temperature T, as the papers plot them.";
+      "units of n T0 [n T0], plus the reduced forms P_xy_over_nT = P_xy/(nT), N1_over_nT = (P_xx -\n"
+      "P_yy)/(nT) and N2_over_nT = (P_zz - P_yy)/(nT) [1] with the current temperature T, as the papers\n"
+      "plot them.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit PressureTensor(const gdsmc::Params&) {}
 

@@ -20,8 +20,8 @@ class SpeedRatios final : public gdsmc::Diagnostic {
       "the particle's layer in a slab, u_I as of the host's last moment update), W_l = C_l sqrt(2T/m) at the current T (T-bar of Eq. 4.8 in a\n"
       "slab; the host's moments of the sample, ctx.moments), C_0..C_4 = 0, 1, 2, 3, infinity (text after\n"
       "Eq. 3.15) and P(x) = erf(x) - 2x exp(-x^2)/sqrt(pi) the local-equilibrium (Maxwellian) fraction\n"
-      "of reduced speeds below x. R_l = 1 for a Maxwellian. Series: R0..R3 and the raw fractions\n"
-      "fraction0..fraction3 (local-equilibrium values 0.4276, 0.5264, 0.0456, 0.00044). Paper values at\n"
+      "of reduced speeds below x. R_l = 1 for a Maxwellian. Series [1]: R0, R1, R2, R3 and the raw\n"
+      "fractions fraction0, fraction1, fraction2, fraction3 (local-equilibrium values 0.4276, 0.5264, 0.0456, 0.00044). Paper values at\n"
       "alpha = 0.5, a tau0 = 4 (steady): R0 ~ 1.18, R1 ~ 0.81, R2 ~ 1.39, R3 ~ 15. After the run:\n"
       "scalars R<l>_mean and R<l>_standard_error over the samples in the run's steady averaging window\n"
       "(run.average_after; ctx.in_average_window, no parameter of its own).";

@@ -13,8 +13,8 @@ class Temperature final : public gdsmc::Diagnostic {
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
       "the mean of all particles in a homogeneous system; in a slab the mean of the particle's layer,\n"
       "so that T is T-bar of Eq. (4.8). Read from the moments the host computes once per sample\n"
-      "(ctx.moments). Series: temperature [T0], mean_velocity_x/y/z [sqrt(2 T0 / m)] (the mean velocity\n"
-      "of all particles). Each record is the mean of the samples taken since the previous record.";
+      "(ctx.moments). Series: temperature [T0], mean_velocity_x, mean_velocity_y, mean_velocity_z\n"
+      "[sqrt(2 T0 / m)] (the mean velocity of all particles). Each record is the mean of the samples taken since the previous record.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Temperature(const gdsmc::Params&) {}
 

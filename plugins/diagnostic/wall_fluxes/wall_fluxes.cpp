@@ -20,7 +20,7 @@ class WallFluxes final : public gdsmc::Diagnostic {
       "(m/2)(v_after^2 - v_before^2)) since the start of the run. Between two records, over the time\n"
       "dt_w between them and the boundary area A = Lx Lz, for each boundary w = y_min, y_max:\n"
       "  <w>_hit_rate        = d(hits) / (A dt_w)                          [1/(lambda0^2 tau0)]\n"
-      "  <w>_momentum_flux_a = d(momentum_a) / (A dt_w), a = x, y, z        [n0 T0]\n"
+      "  <w>_momentum_flux_<a> = d(momentum_a) / (A dt_w), a = x, y, z      [n0 T0]\n"
       "      the momentum per unit area and time the boundary gives to the gas: the x component is\n"
       "      minus the tangential stress the gas exerts on that boundary (in a steady shear flow\n"
       "      +P_xy at y_min and -P_xy at y_max); the y component is the normal (pressure) force on\n"

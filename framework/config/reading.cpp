@@ -1,0 +1,39 @@
+#include "config/reading.hpp"
+
+#include <cmath>
+
+#include "util/text.hpp"
+
+namespace gdsmc::host {
+
+std::vector<std::string> bare_value_lines(const Pipeline& p) {
+  std::vector<std::string> lines;
+  const UnitScales scales = unit_scales(p);
+  for (const BareValue& b : p.bare_values) {
+    const std::string dimension = to_string(b.dimension);
+    lines.push_back(fmt("%s = %.10g (%s), a bare %s: read as ", b.path.c_str(), b.value, b.where.str().c_str(),
+                        dimension.c_str()) +
+                    common_units_text(b.value * reference_factor(b.dimension, scales), b.dimension, scales));
+  }
+  return lines;
+}
+
+std::string system_numbers_line(const Pipeline& p) {
+  const double n_sigma3 = p.number_density * p.sigma * p.sigma * p.sigma;
+  std::string s = fmt("n sigma^3 = %.4g (phi = pi n sigma^3/6 = %.4g), lambda0 = %.4g sigma, tau0 = %.4g (reduced), "
+                      "T0 = %.4g",
+                      n_sigma3, M_PI / 6 * n_sigma3, p.mean_free_path0() / p.sigma, p.time_unit0(), p.temperature);
+  if (p.geometry == Geometry::slab && p.box_y > 0) {
+    const double per_layer = static_cast<double>(p.particles) / static_cast<double>(p.layers);
+    s += fmt("; slab Ly = %.4g sigma = %.4g lambda0: Kn = lambda0/Ly = %.4g; %zu layers of %.4g lambda0, %.4g "
+             "particles per layer",
+             p.box_y / p.sigma, p.box_y / p.mean_free_path0(), p.mean_free_path0() / p.box_y, p.layers,
+             p.box_y / static_cast<double>(p.layers) / p.mean_free_path0(), per_layer);
+  }
+  if (p.time_step_tau0 > 0)
+    s += fmt("; dt = %.4g tau0 = %.4g mean free times of hard spheres at T0%s", p.time_step_tau0,
+             p.time_step_tau0 / kMeanFreeTimeTau0, p.time_step_follows_temperature ? " (times sqrt(T0/T))" : "");
+  return s;
+}
+
+}  // namespace gdsmc::host
