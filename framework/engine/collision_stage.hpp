@@ -38,8 +38,10 @@ std::size_t subpopulation_count(std::size_t particles, std::size_t size);
 // pairs against the group majorant: their particles are scattered over storage, and a pass over
 // them would cost more than the candidates it saves).
 enum class PairSelection : std::uint32_t {
-  weighted = 0,  // hard-sphere form: pairs weighted by the peculiar speeds (CollisionStage::WeightedLayer)
-  uniform = 1,   // every pair alike, against the layer majorant w_I
+  uniform = 0,   // every pair alike, against the layer majorant w_I (the default)
+  weighted = 1,  // hard-sphere form: pairs weighted by the peculiar speeds (CollisionStage::WeightedLayer);
+                 // the weights are those of the step's start, so a particle that collided earlier in
+                 // the step can exceed its pair's bound: O(nu dt) missed, reported (PairBatch::missed)
 };
 
 class CollisionStage {
@@ -145,7 +147,7 @@ class CollisionStage {
   std::vector<double> max_rate_, missed_;  // per group, this step
   std::vector<double> window_missed_, window_collided_;  // per group, since the last reset_majorants
   struct WeightedLayer;
-  PairSelection selection_ = PairSelection::weighted;
+  PairSelection selection_ = PairSelection::uniform;
   bool weighted_ = false;  // this step: weighted pairs in the layers
   // T_ref of group c: its own temperature if it had >= 2 particles and T > 0, else `temperature`.
   static double reference_temperature(const CellMoments* cells, std::size_t c, double temperature);
