@@ -7,6 +7,7 @@
 
 #include "app/commands.hpp"
 #include "conformance/conformance.hpp"
+#include "study/ranks.hpp"
 
 using namespace gdsmc;
 using namespace gdsmc::host;
@@ -80,7 +81,8 @@ gdsmc help [COMMAND]
   This text, or the help of COMMAND (run, validate, plugins, conformance, plot, inspect).
   No options.
 
-gdsmc --version          the release and the plugin SDK ABI version
+gdsmc --version          the release, the plugin SDK ABI version, and whether the host was
+                         built with MPI (`mpirun -np K gdsmc run`: docs/cluster.md)
 gdsmc --help, -h         this text
 
 Plugins are shared libraries found on the search path: --plugin-path entries, the pipeline's
@@ -105,7 +107,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (cmd == "--version") {
-    std::cout << "gdsmc " << version_string << " (SDK ABI " << sdk_abi_major << "." << sdk_abi_minor << ")\n";
+    std::cout << "gdsmc " << version_string << " (SDK ABI " << sdk_abi_major << "." << sdk_abi_minor << "), built "
+              << job::build_text() << "\n";
     return 0;
   }
   if (cmd == "help") {
@@ -137,10 +140,12 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "run") {
       if (o.help) return std::cout << kRunHelp, 0;
+      const job::Session mpi;  // MPI, when mpirun (or srun) started this process
       return cmd_run(o, true);
     }
     if (cmd == "validate") {
       if (o.help) return std::cout << kValidateHelp, 0;
+      if (job::launcher_rank() > 0) return 0;  // under mpirun the pipeline is checked once, by rank 0
       return cmd_run(o, false);
     }
     if (cmd == "plugins") {
