@@ -89,6 +89,14 @@ Session::Session() {
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   MPI_Comm_size(node, &g_node_ranks);
   MPI_Comm_free(&node);
+#else
+  // Every rank would run the whole study and write the same file.
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (!size) size = std::getenv("PMI_SIZE");
+  if (launcher_rank() > 0 || (size && std::atoi(size) > 1))
+    throw std::runtime_error("this gdsmc was built without MPI (gdsmc --version), but a launcher started it as "
+                             "one of several ranks, each of which would run the whole study: run it without "
+                             "mpirun/srun, or build gdsmc with MPI (libopenmpi-dev installed, -DGDSMC_WITH_MPI=ON)");
 #endif
 }
 

@@ -26,7 +26,8 @@ std::string build_text();
 int launcher_rank();
 
 // Initialises MPI (only the main thread communicates) when a launcher started this process and
-// the host was built with MPI; otherwise does nothing. Throws std::runtime_error when it fails.
+// the host was built with MPI; otherwise does nothing. Throws std::runtime_error when it fails,
+// and when a host built without MPI was started as one of several ranks.
 // The returned guard finalises MPI.
 class Session {
  public:
