@@ -80,7 +80,8 @@ install(FILES ${PROJECT_BINARY_DIR}/gdsmcConfig.cmake ${PROJECT_BINARY_DIR}/gdsm
 # between them (plugin-author-guide.md -> user-guide.md, output-format.md, references.md; and
 # references.md -> bgk-usf.md, validation/) resolve in the installed tree as in docs/. Every one is
 # required: a missing document is a build-system error, not a silently incomplete installation.
-set(GDSMC_INSTALLED_DOCS user-guide.md output-format.md references.md plugin-author-guide.md bgk-usf.md)
+set(GDSMC_INSTALLED_DOCS user-guide.md output-format.md references.md plugin-author-guide.md bgk-usf.md
+                         cluster.md scaling.md)
 foreach(doc IN LISTS GDSMC_INSTALLED_DOCS)
   if(NOT EXISTS ${PROJECT_SOURCE_DIR}/docs/${doc})
     message(FATAL_ERROR "docs/${doc} is missing: it is installed with gdsmc (cmake/gdsmcInstall.cmake)")

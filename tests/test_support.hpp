@@ -173,11 +173,13 @@ struct ProcessLimits {
 };
 class Process {
  public:
-  Process(const std::vector<std::string>& args, const fs::path& cwd, const ProcessLimits& limits = {}) {
+  // `program` instead of gdsmc: a launcher (mpirun) whose arguments name gdsmc.
+  Process(const std::vector<std::string>& args, const fs::path& cwd, const ProcessLimits& limits = {},
+          const fs::path& program = executable()) {
     out_ = capture_.path() / "stdout";
     err_ = capture_.path() / "stderr";
     std::vector<std::string> argv_s;
-    argv_s.push_back(executable().string());
+    argv_s.push_back(program.string());
     argv_s.insert(argv_s.end(), args.begin(), args.end());
     std::vector<std::string> env_s;
     for (char** e = environ; *e; ++e)

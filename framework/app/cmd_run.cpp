@@ -9,12 +9,15 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
+#include <thread>
 
 #include "app/commands.hpp"
 #include "app/progress.hpp"
 #include "config/reading.hpp"
 #include "output/hdf5_file.hpp"
 #include "study/checkpoint.hpp"
+#include "study/ranks.hpp"
 #include "study/study.hpp"
 #include "util/text.hpp"
 
@@ -77,6 +80,13 @@ a plain line every 10 s otherwise. The summary after the run goes to stdout.
 Before anything runs, the pipeline is checked as `validate` checks it (and what validate says
 about the numbers as read goes to stderr, unless --quiet), the memory the study needs
 is estimated and the run is refused when it cannot fit in the memory available (see validate).
+
+MPI (a host built with it: `gdsmc --version`): `mpirun -np K gdsmc run PIPELINE.yaml` (or srun)
+spreads the runs over K ranks, each with --threads threads (default: its share of its node's
+cores), balanced by expected cost (particles x steps); rank 0 gathers every run and writes the
+file: the same bits as --threads 1 without MPI. Progress and the summary are printed once; a run
+that fails on any rank ends the job with its message and exit 1, nothing written; checkpoints
+are shared, and resume at any number of ranks. See docs/cluster.md.
 )";
 
 const char* const kValidateHelp = R"(gdsmc validate PIPELINE.yaml [options]
@@ -216,8 +226,12 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
   bool estimated = false;
   try {
     cases = expand_cases(p, progress);
-    if (o.threads >= 0) {  // --threads overrides run.threads (not part of the pipeline: results do not depend on it)
-      p.threads = static_cast<std::uint32_t>(o.threads);
+    int threads = o.threads;
+    // Under MPI, every core (run.threads 0) is this rank's share of its node's cores.
+    if (threads < 0 && p.threads == 0 && job::distributed())
+      threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency() / job::ranks_on_this_node()));
+    if (threads >= 0) {  // --threads overrides run.threads (not part of the pipeline: results do not depend on it)
+      p.threads = static_cast<std::uint32_t>(threads);
       for (auto& c : cases) c.pipeline.threads = p.threads;
     }
     try {
@@ -245,66 +259,31 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
   return 0;
 }
 
-void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& result) {
+void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& result, double write_seconds) {
   char buf[512];
   std::snprintf(buf, sizeof buf, "gdsmc: %s: %zu case(s) x %u realization(s), %llu steps, %.4g collisions in %.2f s (%.3g collisions/s)",
                 p.file.filename().c_str(), cases, p.realizations, static_cast<unsigned long long>(result.steps),
                 result.collisions, result.wall_seconds, result.wall_seconds > 0 ? result.collisions / result.wall_seconds : 0.0);
   std::cout << buf << "\n";
   for (const auto& line : result.summary) std::cout << line << "\n";
+  if (job::distributed()) {
+    std::snprintf(buf, sizeof buf,
+                  "over %d MPI ranks: %zu run(s) received from ranks 1-%d (%s) in %.3g s of receiving, reading and "
+                  "gathering; the file written in %.3g s",
+                  job::size(), result.received_runs, job::size() - 1, bytes_text(result.received_bytes).c_str(),
+                  result.received_seconds, write_seconds);
+    std::cout << buf << "\n";
+  }
   std::cout << "output: " << fs::absolute(p.output_file).string() << "\n";
 }
 
-}  // namespace
-
-int cmd_run(const Options& o, bool run_it) {
-  if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
-  Pipeline p;
-  std::vector<StudyCase> cases;
-  OutputTarget target;
-  MemoryEstimate memory;
-  std::vector<std::string> reading;
-  if (const int status = prepare(o, run_it, p, cases, target, memory, reading)) return status;
-  if (run_it && !o.quiet)
-    for (const auto& line : reading) std::cerr << line << "\n";
-  const std::string notice = target.replacement_notice(run_it);
-  // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
-  std::optional<CheckpointStore> checkpoints;
+// Rank 0's part (the whole run without MPI) once the output file is open: the study, the file,
+// the checkpoint removed, the summary and the plots. Returns the exit status.
+int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>& cases, const MemoryEstimate& memory,
+               const std::string& notice, OutputFile& out, const std::optional<CheckpointStore>& checkpoints,
+               std::chrono::steady_clock::time_point start, bool tty,
+               const std::function<void(const StudyProgress&)>& report) {
   const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
-  std::error_code exists_error;
-  if (!run_it && !o.resume && p.checkpoint && fs::exists(checkpoint_dir / "study", exists_error)) {
-    print_errors({p.file.string() + ": " + checkpoint_dir.string() +
-                  " holds the checkpoint of an earlier run with this output, so `run` would refuse to start over "
-                  "it: continue it with --resume (`validate --resume` checks that it fits), or remove the directory"});
-    return 1;
-  }
-  if (o.resume || (run_it && p.checkpoint)) {
-    try {
-      checkpoints.emplace(checkpoint_dir, cases, o.resume);
-    } catch (const std::exception& e) {
-      print_errors({p.file.string() + ": " + e.what()});
-      return 1;
-    }
-  }
-  if (!run_it) {
-    if (checkpoints)
-      std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->describe(cases)
-                << ")\n";
-    if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
-    for (const auto& line : reading) std::cout << line << "\n";
-    std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
-              << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
-              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string()
-              << "; about " << bytes_text(memory.bytes) << " of memory)\n";
-    return 0;
-  }
-  // Handlers first: a signal from here on removes the temporary file (exit 130).
-  install_interrupt_handlers();
-  std::signal(SIGXFSZ, SIG_IGN);  // a file size limit (ulimit -f) is a write error, not a kill
-  const auto start = std::chrono::steady_clock::now();
-  const bool tty = ::isatty(STDERR_FILENO);
-  std::function<void(const StudyProgress&)> report;
-  if (!o.quiet) report = progress_reporter(tty);
   auto end_line = [&] {
     if (report && tty) std::cerr << "\n";
   };
@@ -316,19 +295,12 @@ int cmd_run(const Options& o, bool run_it) {
               << " are lost (they were held only in memory) and nothing was written\n";
     return 1;
   };
-  std::optional<OutputFile> out;
-  try {
-    for (const auto& line : remove_stale_temporaries(target)) std::cerr << "gdsmc: " << line << "\n";
-    out.emplace(target, &g_interrupted);
-  } catch (const OutputPathError& e) {
-    print_errors({output_origin(o, p) + ": " + e.what()});
-    return 1;
-  }
   if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
   std::string resume_command = "gdsmc run " + p.file.string() + " --resume";
   for (const auto& set : o.sets) resume_command += " --set '" + set + "'";
   if (!o.output.empty()) resume_command += " -o " + o.output;
-  const std::string resume_hint = "continue with `" + resume_command + "`";
+  const std::string resume_hint = "continue with `" + resume_command + "`" +
+                                  (job::distributed() ? " under mpirun, at any number of ranks" : "");
   auto interrupted = [&](const std::string& when) {
     end_line();
     std::cerr << "gdsmc: interrupted" << when << "; no output written";
@@ -356,8 +328,9 @@ int cmd_run(const Options& o, bool run_it) {
     std::cerr << "\n";
     return 1;
   }
+  const auto write_start = std::chrono::steady_clock::now();
   try {
-    out->commit(result.output);
+    out.commit(result.output);
   } catch (const OutputInterrupted&) {
     return interrupted(" while writing " + p.output_file.string());
   } catch (const std::exception& e) {
@@ -370,8 +343,9 @@ int cmd_run(const Options& o, bool run_it) {
     }
     return lost(e);
   }
+  const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - write_start).count();
   if (checkpoints) checkpoints->remove();  // the output is complete: the checkpoint has served
-  if (!o.quiet) print_summary(p, cases.size(), result);
+  if (!o.quiet) print_summary(p, cases.size(), result, write_seconds);
   if (p.output_plots) {
     std::string why;
     if (!plot_output(p.output_file, o.quiet, why))
@@ -379,6 +353,130 @@ int cmd_run(const Options& o, bool run_it) {
                 << why << " (run `gdsmc plot " << p.output_file.string() << "` once that is fixed)\n";
   }
   return 0;
+}
+
+// In an MPI job, what a rank other than 0 would print on stderr while the job sets up: kept back,
+// since every rank checks the same pipeline and rank 0 says it once; printed only when this rank
+// failed where rank 0 did not (a plugin missing on one node).
+class StderrHold {
+ public:
+  explicit StderrHold(bool hold) {
+    if (hold) saved_ = std::cerr.rdbuf(text_.rdbuf());
+  }
+  StderrHold(const StderrHold&) = delete;
+  StderrHold& operator=(const StderrHold&) = delete;
+  ~StderrHold() { end(false); }
+  // Stop holding; print what was held, or drop it.
+  void end(bool print) {
+    if (!saved_) return;
+    std::cerr.rdbuf(saved_);
+    saved_ = nullptr;
+    if (print) std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size() << ":\n" << text_.str() << std::flush;
+  }
+
+ private:
+  std::ostringstream text_;
+  std::streambuf* saved_ = nullptr;
+};
+
+// A step of the set-up that every rank of an MPI job takes: every rank's exit status so far, and
+// the failure's messages printed once (rank 0's, or those of a rank that failed alone). Returns
+// 0 on every rank, or a failure's exit status on every rank. Without MPI: `status`.
+int agree(int status, StderrHold& hold) {
+  const int at_root = job::root_value(status), any = job::largest(status);
+  if (status && !at_root) hold.end(true);
+  return any;
+}
+
+}  // namespace
+
+int cmd_run(const Options& options, bool run_it) {
+  // In an MPI job (study/ranks.hpp) every rank checks the pipeline and runs its share of the
+  // study; rank 0 alone prints progress and the summary, and writes the file.
+  StderrHold hold(job::distributed() && !job::root());
+  Options o = options;
+  if (!job::root()) o.quiet = true;
+  if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
+  Pipeline p;
+  std::vector<StudyCase> cases;
+  OutputTarget target;
+  MemoryEstimate memory;
+  std::vector<std::string> reading;
+  if (const int status = agree(prepare(o, run_it, p, cases, target, memory, reading), hold)) return status;
+  if (run_it && !o.quiet)
+    for (const auto& line : reading) std::cerr << line << "\n";
+  const std::string notice = target.replacement_notice(run_it);
+  // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
+  std::optional<CheckpointStore> checkpoints;
+  const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
+  std::error_code exists_error;
+  if (!run_it && !o.resume && p.checkpoint && fs::exists(checkpoint_dir / "study", exists_error)) {
+    print_errors({p.file.string() + ": " + checkpoint_dir.string() +
+                  " holds the checkpoint of an earlier run with this output, so `run` would refuse to start over "
+                  "it: continue it with --resume (`validate --resume` checks that it fits), or remove the directory"});
+    return 1;
+  }
+  if (o.resume || (run_it && p.checkpoint)) {
+    // Rank 0 begins the checkpoint (or checks it, to resume); then the other ranks check it as a
+    // resume does: it must be on a file system they share.
+    auto open = [&](bool resume, const std::string& where) {
+      try {
+        checkpoints.emplace(checkpoint_dir, cases, resume);
+      } catch (const std::exception& e) {
+        print_errors({p.file.string() + ": " + where + e.what()});
+        return 1;
+      }
+      return 0;
+    };
+    int opened = job::root() ? open(o.resume, "") : 0;
+    if (job::root_value(opened) == 0 && !job::root())
+      opened = open(true, "rank " + std::to_string(job::rank()) + " cannot use the checkpoint rank 0 " +
+                              (o.resume ? "checked" : "began") +
+                              " (every rank must see the same file system there): ");
+    if (const int status = agree(opened, hold)) return status;
+  }
+  if (!run_it) {
+    if (checkpoints)
+      std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->describe(cases)
+                << ")\n";
+    if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
+    for (const auto& line : reading) std::cout << line << "\n";
+    std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
+              << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
+              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string()
+              << "; about " << bytes_text(memory.bytes) << " of memory)\n";
+    return 0;
+  }
+  // Handlers first: a signal from here on removes the temporary file (exit 130).
+  install_interrupt_handlers();
+  std::signal(SIGXFSZ, SIG_IGN);  // a file size limit (ulimit -f) is a write error, not a kill
+  const auto start = std::chrono::steady_clock::now();
+  const bool tty = ::isatty(STDERR_FILENO);
+  std::function<void(const StudyProgress&)> report;
+  if (!o.quiet) report = progress_reporter(tty);
+  std::optional<OutputFile> out;  // rank 0's alone in an MPI job
+  int created = 0;
+  if (job::root()) {
+    try {
+      for (const auto& line : remove_stale_temporaries(target)) std::cerr << "gdsmc: " << line << "\n";
+      out.emplace(target, &g_interrupted);
+    } catch (const OutputPathError& e) {
+      print_errors({output_origin(o, p) + ": " + e.what()});
+      created = 1;
+    }
+  }
+  if (const int status = agree(created, hold)) return status;
+  hold.end(false);  // from here on, a rank's warnings (a checkpoint not written) are its own
+  if (!job::root()) {
+    // Its share of the runs, sent to rank 0 as they finish; rank 0 reports any failure, and ends
+    // the job with one exit status.
+    try {
+      run_study(cases, {}, 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
+    } catch (const std::exception&) {
+    }
+    return job::await_status();
+  }
+  return job::conclude(finish_run(o, p, cases, memory, notice, *out, checkpoints, start, tty, report));
 }
 
 }  // namespace gdsmc::host

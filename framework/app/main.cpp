@@ -9,6 +9,7 @@
 
 #include "app/commands.hpp"
 #include "conformance/conformance.hpp"
+#include "study/ranks.hpp"
 
 using namespace gdsmc;
 using namespace gdsmc::host;
@@ -84,7 +85,8 @@ gdsmc help [COMMAND]
   No options.
 
 gdsmc --version          the release, the plugin SDK ABI and the build options (MPI, build
-                         type, compiler, HDF5); CITATION.cff says how to cite gdsmc
+                         type, compiler, HDF5); CITATION.cff says how to cite gdsmc; MPI runs:
+                         `mpirun -np K gdsmc run` (docs/cluster.md)
 gdsmc --help, -h         this text
 
 Plugins are shared libraries found on the search path: --plugin-path entries, the pipeline's
@@ -100,11 +102,8 @@ Exit status: 0 success, 1 invalid input or failed run (nothing written), 2 bad c
 std::string version_text() {
   std::string s = std::string("gdsmc ") + version_string + "\n";
   s += "SDK ABI " + std::to_string(sdk_abi_major) + "." + std::to_string(sdk_abi_minor) + " (plugins must be built against it)\n";
-#ifdef GDSMC_WITH_MPI
-  s += "MPI: yes\n";
-#else
-  s += "MPI: no\n";
-#endif
+  const std::string mpi = job::build_text();  // "with MPI (<library>)" or "without MPI"
+  s += std::string("MPI: ") + (mpi.rfind("with ", 0) == 0 ? "yes, built " : "no, built ") + mpi + "\n";
 #if defined(__OPTIMIZE__) && defined(NDEBUG)
   s += "build: optimized, assertions off\n";
 #elif defined(__OPTIMIZE__)
@@ -168,10 +167,12 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "run") {
       if (o.help) return std::cout << kRunHelp, 0;
+      const job::Session mpi;  // MPI, when mpirun (or srun) started this process
       return cmd_run(o, true);
     }
     if (cmd == "validate") {
       if (o.help) return std::cout << kValidateHelp, 0;
+      if (job::launcher_rank() > 0) return 0;  // under mpirun the pipeline is checked once, by rank 0
       return cmd_run(o, false);
     }
     if (cmd == "plugins") {

@@ -151,15 +151,21 @@ std::uint32_t total_threads(const std::vector<StudyCase>& cases) {
   return threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : threads;
 }
 
-std::uint32_t study_threads(const std::vector<StudyCase>& cases) {
+std::size_t study_runs(const std::vector<StudyCase>& cases) {
   std::size_t runs = 0;
   for (const auto& c : cases) runs += c.pipeline.realizations;
-  return static_cast<std::uint32_t>(std::max<std::size_t>(1, std::min<std::size_t>(total_threads(cases), runs)));
+  return runs;
 }
 
-std::uint32_t threads_per_run(const std::vector<StudyCase>& cases) {
-  return std::max(1u, total_threads(cases) / study_threads(cases));
+std::uint32_t study_threads(const std::vector<StudyCase>& cases, std::size_t runs) {
+  return static_cast<std::uint32_t>(std::max<std::size_t>(1, std::min<std::size_t>(total_threads(cases), runs)));
 }
+std::uint32_t study_threads(const std::vector<StudyCase>& cases) { return study_threads(cases, study_runs(cases)); }
+
+std::uint32_t threads_per_run(const std::vector<StudyCase>& cases, std::size_t runs) {
+  return std::max(1u, total_threads(cases) / study_threads(cases, runs));
+}
+std::uint32_t threads_per_run(const std::vector<StudyCase>& cases) { return threads_per_run(cases, study_runs(cases)); }
 
 MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress) {
   std::vector<AxisValues> values;

@@ -31,10 +31,13 @@ std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& p
 
 // How many runs (case x realization) the study runs at once: run.threads of the first case (0:
 // every core), at most the number of runs, at least 1.
+// With `runs`: for that many of the study's runs (an MPI rank's share).
 std::uint32_t study_threads(const std::vector<StudyCase>& cases);
+std::uint32_t study_threads(const std::vector<StudyCase>& cases, std::size_t runs);
 // The threads inside each run: what run.threads leaves over when fewer runs than threads go at
 // once (a single run with run.threads 2 spreads its layers or sub-populations over 2 threads).
 std::uint32_t threads_per_run(const std::vector<StudyCase>& cases);
+std::uint32_t threads_per_run(const std::vector<StudyCase>& cases, std::size_t runs);
 
 // Set up every case's plugins as validate does (Engine::check_setup) and estimate the study's
 // memory from what they declared (study_threads() runs at once). Throws PipelineError naming the case(s) on a setup problem, and

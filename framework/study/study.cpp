@@ -10,6 +10,8 @@
 #include <optional>
 #include <thread>
 
+#include "study/ranks.hpp"
+#include "study/run_results.hpp"
 #include "study/summary.hpp"
 
 namespace gdsmc::host {
@@ -18,21 +20,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// One run: a realization of a case, on whichever worker takes it. Everything it gives to the
-// output is computed from (case, realization) alone, so the gathered output is the same bits for
-// any number of workers.
+// One run: a realization of a case, on whichever worker (or MPI rank) takes it. Everything it
+// gives to the output is computed from (case, realization) alone, so the gathered output is the
+// same bits for any number of workers and ranks.
 struct Run {
   std::size_t case_index = 0;
   std::uint32_t realization = 0;
   std::string label;
-  // Results
-  std::optional<CaseOutput> output;  // realization 0 only
-  std::vector<std::string> summary;  // realization 0 only
-  std::vector<DiagnosticOutput> diagnostics;
-  double collisions = 0, wall_seconds = 0;
-  Engine::StageSeconds stage_seconds{};
-  std::uint64_t steps = 0;
-  bool steady = false;
+  RunResults results;
   std::exception_ptr error;
 };
 
@@ -78,14 +73,14 @@ class StudyClock {
   Clock::time_point last_report_ = start_;
 };
 
-void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index, const std::atomic<bool>* stop,
-             unsigned threads, const CheckpointStore* checkpoints) {
+// Runs `run` (study index `index`), telling `report` its progress about every `interval` seconds.
+void execute(const StudyCase& sc, Run& run, const std::function<void(const Progress&)>& report, double interval,
+             std::size_t index, const std::atomic<bool>* stop, unsigned threads, const CheckpointStore* checkpoints) {
   const Pipeline& p = sc.pipeline;
   const std::unique_ptr<Engine> started =
       checkpoints && checkpoints->has_run(index) ? checkpoints->restore(index, sc, run.realization, threads)
                                                  : std::make_unique<Engine>(p, run.realization, threads);
   Engine& engine = *started;
-  std::function<void(const Progress&)> inner = [&](const Progress& pr) { clock.update(index, run.label, pr); };
   CheckpointSchedule schedule;
   if (checkpoints) {
     schedule.every_seconds = p.checkpoint_every_seconds;
@@ -100,34 +95,47 @@ void execute(const StudyCase& sc, Run& run, StudyClock& clock, std::size_t index
       }
     };
   }
-  engine.run(inner, clock.interval(), stop, checkpoints ? &schedule : nullptr);
-  run.collisions = engine.context().collisions;
-  run.steps = engine.context().step;
-  run.wall_seconds = engine.wall_seconds();
-  run.stage_seconds = engine.stage_seconds();
-  run.steady = engine.reached_steady_state();
+  engine.run(report, interval, stop, checkpoints ? &schedule : nullptr);
+  RunResults& r = run.results;
+  r.collisions = engine.context().collisions;
+  r.steps = engine.context().step;
+  r.wall_seconds = engine.wall_seconds();
+  r.stage_seconds = engine.stage_seconds();
+  r.steady = engine.reached_steady_state();
   if (run.realization == 0) {
-    run.output = engine.output();
-    run.summary = engine.summary();
+    r.output = engine.output();
+    r.summary = engine.summary();
   }
-  run.diagnostics = engine.diagnostics();
+  r.diagnostics = engine.diagnostics();
+}
+
+// What each run is expected to cost (particles x steps), to balance the runs over MPI ranks.
+std::vector<double> run_costs(const std::vector<StudyCase>& cases, const std::vector<Run>& runs) {
+  std::vector<double> costs;
+  for (const Run& run : runs) {
+    const Pipeline& p = cases[run.case_index].pipeline;
+    const double steps = case_memory(p, RunLayout{}).steps;  // 0 when only a steady state stops it
+    costs.push_back(static_cast<double>(p.particles) * std::max(steps, 1.0));
+  }
+  return costs;
 }
 
 // A case from its runs (in realization order): the diagnostics averaged, the steady averages added.
 CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<std::string>& case_summary) {
   const Pipeline& p = sc.pipeline;
-  CaseOutput case_out = std::move(*runs.front()->output);
-  for (const auto& line : runs.front()->summary)
+  CaseOutput case_out = std::move(*runs.front()->results.output);
+  for (const auto& line : runs.front()->results.summary)
     case_summary.push_back((p.realizations > 1 ? "[realization 0] " : "") + line);
   std::vector<std::vector<DiagnosticOutput>> diagnostics;
   Engine::StageSeconds stages{};
-  for (Run* r : runs) {
-    for (std::size_t k = 0; k < Engine::kStages; ++k) stages[k] += r->stage_seconds[k];
-    if (r->realization > 0) {
-      case_out.run["wall_seconds"] += r->wall_seconds;
-      case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"], r->steady ? 1.0 : 0.0);
+  for (Run* run : runs) {
+    RunResults& r = run->results;
+    for (std::size_t k = 0; k < Engine::kStages; ++k) stages[k] += r.stage_seconds[k];
+    if (run->realization > 0) {
+      case_out.run["wall_seconds"] += r.wall_seconds;
+      case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"], r.steady ? 1.0 : 0.0);
     }
-    diagnostics.push_back(std::move(r->diagnostics));
+    diagnostics.push_back(std::move(r.diagnostics));
   }
   for (std::size_t k = 0; k < Engine::kStages; ++k)
     case_out.run[Engine::stage_attribute(static_cast<Engine::Stage>(k))] = stages[k];
@@ -180,8 +188,16 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
   for (std::size_t ci = 0; ci < cases.size(); ++ci) left[ci] = cases[ci].pipeline.realizations;
 
   StudyClock clock(runs.size(), report, report_interval);
-  const std::uint32_t workers = study_threads(cases);
-  const std::uint32_t per_run = threads_per_run(cases);
+  // Over the ranks of an MPI job (study/ranks.hpp) each rank runs its share of the runs, and rank 0
+  // also gathers those of the others, as they finish, into the same slots as its own.
+  std::unique_ptr<job::RunExchange> exchange;
+  if (job::distributed()) exchange = std::make_unique<job::RunExchange>(run_costs(cases, runs));
+  const bool sends = exchange && !job::root();  // a rank other than 0: its runs' results go to rank 0
+  std::vector<std::size_t> mine;                // the runs this process executes, in study order
+  for (std::size_t index = 0; index < runs.size(); ++index)
+    if (!exchange || exchange->mine(index)) mine.push_back(index);
+  const std::uint32_t workers = study_threads(cases, mine.size());
+  const std::uint32_t per_run = threads_per_run(cases, mine.size());
   std::mutex mutex;
   auto finish = [&](std::size_t index) {
     const std::size_t ci = runs[index].case_index;
@@ -193,16 +209,27 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
     for (std::uint32_t r = 0; r < cases[ci].pipeline.realizations; ++r) case_runs.push_back(&runs[first_run[ci] + r]);
     gathered[ci] = gather_case(cases[ci], case_runs, case_summaries[ci]);
   };
+  auto progress_of = [&](std::size_t index) -> std::function<void(const Progress&)> {
+    if (sends) return [&, index](const Progress& pr) { exchange->post_progress(index, pr); };
+    return [&, index](const Progress& pr) { clock.update(index, runs[index].label, pr); };
+  };
+  auto done = [&](std::size_t index) {
+    if (!sends) return finish(index);
+    exchange->post_result(index, save_run_results(runs[index].results));
+    runs[index].results = RunResults{};
+  };
 
-  if (workers == 1) {
+  if (workers == 1 && !exchange) {
     // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
     for (std::size_t index = 0; index < runs.size(); ++index) {
-      execute(cases[runs[index].case_index], runs[index], clock, index, interrupt, per_run, checkpoints);
+      execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, interrupt,
+              per_run, checkpoints);
       finish(index);
     }
   } else {
     // Workers stop at the user's interrupt or at the first failed run (`stop`, polled by every
-    // engine); the main thread forwards the interrupt flag while it waits.
+    // engine), or when another rank failed or was interrupted; the main thread forwards the
+    // interrupt flag while it waits, and exchanges the ranks' messages.
     std::atomic<bool> stop{false};
     std::condition_variable idle;
     std::size_t next = 0, active = workers;
@@ -211,12 +238,13 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
         std::size_t index;
         {
           std::lock_guard<std::mutex> lock(mutex);
-          if (next == runs.size() || stop.load()) break;
-          index = next++;
+          if (next == mine.size() || stop.load()) break;
+          index = mine[next++];
         }
         try {
-          execute(cases[runs[index].case_index], runs[index], clock, index, &stop, per_run, checkpoints);
-          finish(index);
+          execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, &stop,
+                  per_run, checkpoints);
+          done(index);
         } catch (...) {
           runs[index].error = std::current_exception();
           stop.store(true);
@@ -226,35 +254,79 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
       --active;
       idle.notify_all();
     };
+    std::exception_ptr received_error;  // results from another rank that could not be read
+    job::RunExchange::Receiver receiver;
+    receiver.progress = [&](std::size_t index, const Progress& pr) { clock.update(index, runs[index].label, pr); };
+    receiver.result = [&](std::size_t index, const std::vector<unsigned char>& bytes) {
+      try {
+        runs[index].results = load_run_results(bytes);
+        finish(index);
+      } catch (...) {
+        if (!received_error) received_error = std::current_exception();
+        stop.store(true);
+      }
+    };
     std::vector<std::thread> pool;
     for (std::uint32_t w = 0; w < workers; ++w) pool.emplace_back(work);
     {
       std::unique_lock<std::mutex> lock(mutex);
       while (active > 0) {
-        idle.wait_for(lock, std::chrono::milliseconds(50));
+        idle.wait_for(lock, std::chrono::milliseconds(exchange ? 20 : 50));
         if (interrupt && interrupt->load()) stop.store(true);
+        if (!exchange) continue;
+        lock.unlock();
+        exchange->poll(stop, receiver);
+        lock.lock();
       }
     }
     for (auto& t : pool) t.join();
     // The first run (in study order) that failed of itself; the runs stopped because of it, or by
     // the user, were interrupted and say nothing new.
-    for (const Run& run : runs) {
-      if (!run.error) continue;
+    std::exception_ptr first_error;
+    std::size_t first_failed = 0;
+    for (std::size_t index = 0; index < runs.size() && !first_error; ++index) {
+      if (!runs[index].error) continue;
       try {
-        std::rethrow_exception(run.error);
+        std::rethrow_exception(runs[index].error);
       } catch (const Engine::Interrupted&) {
         continue;
+      } catch (...) {
+        first_error = runs[index].error;
+        first_failed = index;
       }
     }
+    if (exchange) {
+      std::optional<job::RunExchange::Failure> failure;
+      if (first_error) {
+        try {
+          std::rethrow_exception(first_error);
+        } catch (const std::exception& e) {
+          failure = job::RunExchange::Failure{first_failed, failure_text(e, nullptr)};
+        } catch (...) {
+          failure = job::RunExchange::Failure{first_failed, "an exception that is not a std::exception"};
+        }
+      }
+      const auto other = exchange->finish(stop, receiver, failure, interrupt && interrupt->load());
+      if (other && (!first_error || other->run < first_failed))
+        throw RankFailure(other->message + (runs[other->run].label.empty() ? "" : " (run " + runs[other->run].label + ")"));
+      if (received_error) std::rethrow_exception(received_error);
+      if (exchange->others_interrupted()) throw Engine::Interrupted();
+      const job::RunExchange::Received received = exchange->received();
+      result.received_runs = received.runs;
+      result.received_bytes = received.bytes;
+      result.received_seconds = received.seconds;
+    }
+    if (first_error) std::rethrow_exception(first_error);
     if (stop.load()) throw Engine::Interrupted();
   }
+  if (sends) return result;  // rank 0 holds the study's results
 
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
     const StudyCase& sc = cases[ci];
     const Pipeline& p = sc.pipeline;
     for (std::uint32_t r = 0; r < p.realizations; ++r) {
-      result.collisions += runs[first_run[ci] + r].collisions;
-      result.steps += runs[first_run[ci] + r].steps;
+      result.collisions += runs[first_run[ci] + r].results.collisions;
+      result.steps += runs[first_run[ci] + r].results.steps;
     }
     CaseOutput case_out = std::move(*gathered[ci]);
     if (sweep) {

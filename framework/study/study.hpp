@@ -3,6 +3,7 @@
 #pragma once
 #include <atomic>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,14 +31,26 @@ struct StudyResult {
   double collisions = 0, wall_seconds = 0;
   std::uint64_t steps = 0;
   std::uint32_t threads = 1;  // runs that ran at once
+  // An MPI job's rank 0: the runs received from the other ranks (study/ranks.hpp), their bytes, and
+  // the seconds spent receiving, reading and gathering them (0 without MPI).
+  std::size_t received_runs = 0;
+  double received_bytes = 0, received_seconds = 0;
 };
 
+// A run failed on another rank of an MPI job; the message is that rank's ("rank R: ...").
+struct RankFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 // Runs every case and realization, study_threads() at a time; the output (every dataset and value,
 // the summary lines) is the same for any number of threads. The first run that fails (in study
 // order) is rethrown once the others have stopped; an interrupt throws Engine::Interrupted.
 // With `checkpoints`, every run resumes from its saved state where there is one and saves its
 // state as its pipeline's run.checkpoint says (at an interrupt and when it finishes in any case).
+// In an MPI job (study/ranks.hpp) every rank calls it: each runs its share of the runs, balanced by
+// their expected cost, and rank 0 returns the study's result, the same bits as a serial study
+// (the other ranks return an empty one); a failure on any rank stops every rank, and rank 0
+// throws it (RankFailure for another rank's, Engine::Interrupted when a rank was interrupted).
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt,
                       const CheckpointStore* checkpoints = nullptr);
