@@ -23,8 +23,8 @@ void CollisionStage::reset(std::size_t cells) {
   estimate_.assign(cells, 0.0);
   max_rate_.assign(cells, 0.0);
   missed_.assign(cells, 0.0);
-  window_missed_.assign(cells, 0.0);
-  window_collided_.assign(cells, 0.0);
+  missed_so_far_.assign(cells, 0.0);
+  collided_so_far_.assign(cells, 0.0);
   counts_.assign(3 * cells, 0);
   groups_.assign(cells, Group{});
   cell_tallies_.assign(cells * tally_count_, 0.0);
@@ -32,8 +32,8 @@ void CollisionStage::reset(std::size_t cells) {
 
 void CollisionStage::reset_majorants() {
   for (std::size_t c = 0; c < ratio_.size(); ++c) {
-    if (window_missed_[c] <= kMissedCollisionsTolerance * window_collided_[c]) ratio_[c] = kInitialMajorantRatio;
-    window_missed_[c] = window_collided_[c] = 0;
+    if (missed_so_far_[c] <= kMissedCollisionsTolerance * collided_so_far_[c])
+      ratio_[c] = std::max(kInitialMajorantRatio, kMajorantDecay * ratio_[c]);
   }
 }
 
@@ -466,8 +466,8 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     sum.finite_remainders = sum.finite_remainders && std::isfinite(remainder_[c]);
     sum.energy_change += energy_[c];
     sum.missed += missed_[c];
-    window_missed_[c] += missed_[c];
-    window_collided_[c] += static_cast<double>(counts_[3 * c + 1]);
+    missed_so_far_[c] += missed_[c];
+    collided_so_far_[c] += static_cast<double>(counts_[3 * c + 1]);
   }
   if (tally_count_) {
     std::fill(step_tallies_.begin(), step_tallies_.end(), 0.0);

@@ -71,24 +71,25 @@ class CollisionStage {
   };
   // Majorant ratios back to their initial value and remainders to 0, for `cells` cells.
   void reset(std::size_t cells);
-  // A homogeneous system's moment update: each group's majorant ratio back to
-  // kInitialMajorantRatio, unless the collisions it missed since the last update exceed
-  // kMissedCollisionsTolerance of those it made (an anisotropic state such as strong shear, whose
-  // pairs exceed 7 sqrt(T/m) more often): that group keeps the ratio its exceedances raised.
+  // A homogeneous system's moment update: each group's majorant ratio decays by kMajorantDecay
+  // towards kInitialMajorantRatio (as SPARTA lets its vremax come back down) while the collisions it
+  // has missed since the start stay below kMissedCollisionsTolerance of those it made; beyond, it
+  // keeps the ratio its exceedances raised (an anisotropic state such as strong shear, whose pairs
+  // exceed 7 sqrt(T/m) often), so that the run's missed fraction stays near the tolerance.
   void reset_majorants();
   // Checkpoints: each group's majorant ratio and candidate remainder.
   void save(StateWriter& out) const {
     out.write("collisions.majorant_ratio", ratio_);
     out.write("collisions.remainder", remainder_);
-    out.write("collisions.window_missed", window_missed_);
-    out.write("collisions.window_collided", window_collided_);
+    out.write("collisions.missed_so_far", missed_so_far_);
+    out.write("collisions.collided_so_far", collided_so_far_);
   }
   void load(StateReader& in) {
     std::vector<double> ratio, remainder, missed, collided;
     in.read("collisions.majorant_ratio", ratio);
     in.read("collisions.remainder", remainder);
-    in.read("collisions.window_missed", missed);
-    in.read("collisions.window_collided", collided);
+    in.read("collisions.missed_so_far", missed);
+    in.read("collisions.collided_so_far", collided);
     if (remainder.size() != ratio.size() || missed.size() != ratio.size() || collided.size() != ratio.size() ||
         ratio.empty())
       throw StateError("checkpoint entries 'collisions.*': " + std::to_string(remainder.size()) + ", " +
@@ -97,8 +98,8 @@ class CollisionStage {
     reset(ratio.size());
     ratio_ = std::move(ratio);
     remainder_ = std::move(remainder);
-    window_missed_ = std::move(missed);
-    window_collided_ = std::move(collided);
+    missed_so_far_ = std::move(missed);
+    collided_so_far_ = std::move(collided);
   }
   // At a moment update of a slab: ratio_I = max(kInitialMajorantRatio, kMajorantHeadroom 2 c_I /
   // sqrt(T_ref/m)) with c_I the largest peculiar speed in layer I (no two of its particles are
@@ -145,7 +146,7 @@ class CollisionStage {
   std::vector<double> cell_tallies_, step_tallies_;  // [cell * tally_count_ + k], [k]
   std::vector<double> speed_, estimate_;  // this step's sqrt(T_ref/m) and candidate estimate per cell
   std::vector<double> max_rate_, missed_;  // per group, this step
-  std::vector<double> window_missed_, window_collided_;  // per group, since the last reset_majorants
+  std::vector<double> missed_so_far_, collided_so_far_;  // per group, since the start of the run
   struct WeightedLayer;
   PairSelection selection_ = PairSelection::uniform;
   bool weighted_ = false;  // this step: weighted pairs in the layers
