@@ -102,8 +102,8 @@ TEST(Mpi, AJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
   TempDir dir;
   const fs::path pipeline = dir.write(
       "pipeline.yaml",
-      "run:\n  seed: 2001\n  particles: 20000\n  time_step: {value: 0.01, unit: tau0}\n"
-      "  stop: {collisions_per_particle: 12}\n  record_every: 20\n  realizations: 2\n"
+      "run:\n  seed: 2001\n  particles: 10000\n  time_step: {value: 0.01, unit: tau0}\n"
+      "  stop: {collisions_per_particle: 30}\n  record_every: 20\n  realizations: 2\n"
       "  checkpoint: {every: {collisions_per_particle: 0.5}}\n"
       "system: {density: 1.0e-3}\ninitial_state: maxwellian\n"
       "collision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
