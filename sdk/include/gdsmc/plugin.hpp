@@ -110,7 +110,8 @@ struct PairBatch {
   // Results, added to by the rule:
   std::uint64_t collided = 0;         // pairs accepted
   std::uint64_t exceeded = 0;         // candidates whose rate exceeded the bound (accepted with p = 1)
-  double max_rate = 0;                // the largest rate seen, in units of w (the host raises w)
+  double max_rate = 0;                // the largest rate seen, as the speed bound it would need:
+                                      // |g| (hard sphere), w rate / W (general); the host raises w
   double energy_change = 0;           // sum of the declared kinetic-energy changes (m = 1)
   // Sum over the exceeded candidates of rate / bound - 1: the collisions the bound missed (each
   // was accepted once where its rate asked for more), which the host reports beside `collided`.
