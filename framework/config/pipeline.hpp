@@ -93,8 +93,8 @@ struct Pipeline {
   // run.candidate_pairs: false = distinct (N_c (N_c - 1)/2 pairs per cell), true = squared (N_c^2/2,
   // 000 Eq. 4.13 as written).
   bool candidate_pairs_squared = false;
-  // run.pair_selection: false = uniform (the default), true = weighted (slab layers, hard-sphere form).
-  bool pair_selection_weighted = false;
+  // run.pair_selection: true = weighted (the default; slab layers, hard-sphere form), false = uniform.
+  bool pair_selection_weighted = true;
   // Steady-state averages of every series over the records with s >= this (or t/tau0 >= this).
   std::optional<double> average_after_collisions_per_particle;
   std::optional<double> average_after_time_tau0;

@@ -301,13 +301,14 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
                 "the cell's occupation) or squared (N_c^2/2, as paper 000 Eq. 4.13 writes it: 1/N_c more collisions)");
     }
     if (const YAML::Node ps = run["pair_selection"]) {
-      if (ps.IsScalar() && ps.Scalar() == "weighted") p.pair_selection_weighted = true;
-      else if (!(ps.IsScalar() && ps.Scalar() == "uniform"))
+      if (ps.IsScalar() && ps.Scalar() == "uniform") p.pair_selection_weighted = false;
+      else if (ps.IsScalar() && ps.Scalar() == "weighted") p.pair_selection_weighted = true;
+      else
         c.error("run.pair_selection", ps,
-                "valid: uniform (the default: every pair of a layer alike, against one layer majorant) or weighted "
-                "(a slab layer draws its pairs in proportion to their particles' peculiar speeds, so a hot particle "
-                "raises only its own pairs' bounds: about 70 % of the candidates accepted, and the collisions missed "
-                "within a step reported; see the user guide)");
+                "valid: weighted (the default: a slab layer draws its pairs in proportion to their particles' "
+                "peculiar speeds, kept current through the step, so a hot particle raises only its own pairs' "
+                "bounds) or uniform (every pair of a layer alike, against one layer majorant); homogeneous systems "
+                "and general kernels always draw uniform pairs; see the user guide");
     }
     if (run["realizations"]) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {

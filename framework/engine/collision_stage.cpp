@@ -146,6 +146,9 @@ struct BatchScratch {
   std::uint32_t i[kPairBatch], j[kPairBatch];
   Vec3 v1[kPairBatch], v2[kPairBatch];
   double u[kPairBatch], w[kPairBatch];
+  // Weighted pairs: each pair's time in the step and its particles' local indices.
+  double t[kPairBatch];
+  std::uint32_t la[kPairBatch], lb[kPairBatch];
   std::uint8_t accepted[kPairBatch];
   std::uint64_t seen[kSeenBits / 64];
   bool holds(std::uint32_t a) const { return (seen[(a & (kSeenBits - 1)) >> 6] >> (a & 63)) & 1; }
@@ -153,79 +156,122 @@ struct BatchScratch {
 };
 }  // namespace
 
-// Pairs drawn with probability proportional to c_a + c_b, c the peculiar speeds |v - u| of the
-// layer's particles (u the layer's mean velocity) at the start of the step, and accepted with
-// probability |g| / (c_a + c_b) <= 1 (the triangle inequality): the hard-sphere rate exactly, and
-// a hot particle raises only its own pairs' bounds, where one uniform majorant would be raised for
-// every pair (a clustered channel's cold centre: 0.9 % of uniform candidates accepted). Particle a
-// is drawn with probability c_a / S: a class k of speeds [2^(k-1), 2^k) times kUnit c-bar with
-// probability n_k 2^k kUnit c-bar / total, a member of it uniformly, kept with probability
-// c_a / (2^k kUnit c-bar) >= 1/2; class 0 holds every speed below kUnit c-bar.
+// The envelope of a layer's weighted pairs (000 Eq. 4.13 with a pair's majorant c_a + c_b, c the
+// peculiar speed |v - u| about the layer's mean velocity u at the step's start, so that
+// |g| <= c_a + c_b by the triangle inequality). The speeds are sorted into classes k of
+// [2^(k-1), 2^k) kUnit c-bar (class 0: below kUnit c-bar), each with the bound B_k = 2^k kUnit c-bar
+// of its members. An envelope event picks class k with probability n_k B_k / E, E = sum n_k B_k,
+// and a member a uniformly; it is a candidate with probability c_a / B(a), B(a) the bound of a's
+// class now. A particle whose speed leaves its class after a collision moves up (rise()); one that
+// slows keeps its class until the next step's build.
 struct CollisionStage::WeightedLayer {
   static constexpr int kClasses = 24;
   static constexpr double kUnit = 1.0 / 256.0;  // class 0: below c-bar / 256
-  std::vector<double> speed;                     // c_a, by local index
-  std::vector<std::uint32_t> by_class;           // local indices, class by class
+  std::vector<double> speed;                     // c_a, by local index, kept current
+  std::vector<std::uint8_t> cls;                 // a's class
+  std::vector<std::uint32_t> by_class, pos;      // local indices class by class; a's place there
   std::uint32_t start[kClasses + 1] = {};
-  double bound[kClasses] = {}, cumulative[kClasses] = {};
-  double sum = 0;  // S
-  int top = 0;     // classes 0 .. top - 1 hold particles
+  double bound[kClasses] = {}, inverse[kClasses] = {}, cumulative[kClasses] = {};
+  double u[3] = {0, 0, 0};  // the layer's mean velocity at the step's start
+  double unit = 0;
+  double envelope = 0;  // E
+  double sum = 0;       // S = sum c_a at the build
+  int top = 0;          // classes 0 .. top - 1 hold particles
 
-  // The weights of the `count` particles `particle(a)`; false if none moves relative to the others.
+  int class_of(double c) const {
+    if (c < unit) return 0;
+    const int k = std::ilogb(c / unit) + 1;  // c in [2^(k-1), 2^k) units
+    return k < kClasses ? k : kClasses - 1;
+  }
+  void sum_envelope() {
+    double total = 0;
+    top = 0;
+    for (int k = 0; k < kClasses; ++k) {
+      total += (start[k + 1] - start[k]) * bound[k];
+      cumulative[k] = total;
+      if (start[k + 1] > start[k]) top = k + 1;
+    }
+    envelope = total;
+  }
+  // The classes of the `count` particles `particle(a)`; false if none moves relative to the others.
   template <class Particle>
   bool build(const ParticleSpan& p, std::uint32_t count, Particle&& particle) {
     speed.resize(count);
+    cls.resize(count);
     by_class.resize(count);
-    double u[3] = {0, 0, 0};
+    pos.resize(count);
+    u[0] = u[1] = u[2] = 0;
     for (std::uint32_t a = 0; a < count; ++a) {
       const std::uint32_t i = particle(a);
       u[0] += p.vx.data[i], u[1] += p.vy.data[i], u[2] += p.vz.data[i];
     }
     for (double& x : u) x /= count;
     sum = 0;
+    double largest = 0;
     for (std::uint32_t a = 0; a < count; ++a) {
       const std::uint32_t i = particle(a);
-      const double dx = p.vx.data[i] - u[0], dy = p.vy.data[i] - u[1], dz = p.vz.data[i] - u[2];
-      speed[a] = std::sqrt(dx * dx + dy * dy + dz * dz);
+      speed[a] = peculiar_speed(p.vx.data[i], p.vy.data[i], p.vz.data[i]);
       sum += speed[a];
+      largest = std::max(largest, speed[a]);
     }
     if (!(sum > 0) || !std::isfinite(sum)) return false;
-    const double unit = kUnit * sum / count;
+    unit = kUnit * sum / count;
     std::uint32_t n[kClasses] = {};
-    const auto class_of = [&](double c) {
-      if (c < unit) return 0;
-      const int k = std::ilogb(c / unit) + 1;  // c in [2^(k-1), 2^k) units
-      return k < kClasses ? k : kClasses - 1;
-    };
-    double largest = 0;
-    for (std::uint32_t a = 0; a < count; ++a) ++n[class_of(speed[a])], largest = std::max(largest, speed[a]);
+    for (std::uint32_t a = 0; a < count; ++a) ++n[cls[a] = static_cast<std::uint8_t>(class_of(speed[a]))];
     start[0] = 0;
     for (int k = 0; k < kClasses; ++k) start[k + 1] = start[k] + n[k];
     std::uint32_t next[kClasses];
     std::copy(start, start + kClasses, next);
-    for (std::uint32_t a = 0; a < count; ++a) by_class[next[class_of(speed[a])]++] = a;
-    double total = 0;
-    top = 0;
+    for (std::uint32_t a = 0; a < count; ++a) by_class[pos[a] = next[cls[a]]++] = a;
     for (int k = 0; k < kClasses; ++k) {
-      // The last class is open above: its bound is the largest speed.
-      bound[k] = k == kClasses - 1 ? std::max(largest, std::ldexp(unit, k)) : std::ldexp(unit, k);
-      total += n[k] * bound[k];
-      cumulative[k] = total;
-      if (n[k]) top = k + 1;
+      // The last class is open above: its bound is twice the largest speed.
+      bound[k] = k == kClasses - 1 ? std::max(2.0 * largest, std::ldexp(unit, k)) : std::ldexp(unit, k);
+      inverse[k] = 1.0 / bound[k];
     }
+    sum_envelope();
     return true;
   }
-  // A local index drawn with probability speed[a] / sum.
-  std::uint32_t draw(Rng& rng) const {
-    for (;;) {
-      const double x = rng.uniform() * cumulative[top - 1];
-      int k = 0;
-      while (k < top - 1 && x >= cumulative[k]) ++k;
-      const std::uint32_t n = start[k + 1] - start[k];
-      if (n == 0) continue;  // x fell on the edge of an empty class (round-off)
-      const std::uint32_t a = by_class[start[k] + rng.below(n)];
-      if (rng.uniform32() * bound[k] < speed[a]) return a;
+  double peculiar_speed(double vx, double vy, double vz) const {
+    const double dx = vx - u[0], dy = vy - u[1], dz = vz - u[2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  // An envelope event from x uniform in [0, 1): the member a, and in `thin` a number uniform in
+  // [0, 1) independent of a (the rest of x), for the test thin B(a) < c_a.
+  std::uint32_t pick(double x, double& thin) const {
+    x *= envelope;
+    int k = 0;
+    while (k < top - 1 && x >= cumulative[k]) ++k;
+    const std::uint32_t n = start[k + 1] - start[k];
+    const double y = (x - (k ? cumulative[k - 1] : 0.0)) * inverse[k];
+    std::uint32_t m = y > 0 ? static_cast<std::uint32_t>(y) : 0;
+    if (m >= n) m = n - 1;  // round-off at the class's upper edge (n > 0: x < cumulative[k] of a filled class)
+    thin = std::min(std::max(y - m, 0.0), 1.0);
+    return by_class[start[k] + m];
+  }
+  bool candidate(std::uint32_t a, double thin) const { return thin * bound[cls[a]] < speed[a]; }
+  // a's speed after a collision: a moves up to the class of c if c is above its class's bound.
+  // Returns the rise of its bound B(a) (0 if none), which the caller covers until the envelope
+  // takes it over. The open last class raises its bound to c (above 2^22 c-bar / 256: not seen).
+  double rise(std::uint32_t a, double c) {
+    speed[a] = c;
+    const int from = cls[a];
+    if (c < bound[from]) return 0;
+    int to = class_of(c);
+    if (to <= from) to = from;  // the last class, beyond its bound
+    const double before = bound[from];
+    // Up one class at a time: a goes to the end of its class, whose upper edge then moves down by one.
+    for (int k = from; k < to; ++k) {
+      const std::uint32_t last = start[k + 1] - 1, other = by_class[last];
+      by_class[pos[a]] = other;
+      pos[other] = pos[a];
+      by_class[last] = a;
+      pos[a] = last;
+      --start[k + 1];
     }
+    cls[a] = static_cast<std::uint8_t>(to);
+    if (c >= bound[to]) bound[to] = std::nextafter(c, INFINITY), inverse[to] = 1.0 / bound[to];
+    sum_envelope();
+    return bound[to] - before;
   }
 };
 
@@ -233,8 +279,7 @@ CollisionStage::CollisionStage(PairCount scheme) : scheme_(scheme) {}
 CollisionStage::~CollisionStage() = default;
 
 void CollisionStage::collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                        std::uint64_t candidates, Rng& select, PairBatch& batch,
-                                        const WeightedLayer* weights) const {
+                                        std::uint64_t candidates, Rng& select, PairBatch& batch) const {
   const Group& group = groups_[c];
   const std::uint32_t* const members = group.members;
   const std::uint64_t first = group.first, stride = group.stride, total = particles.count;
@@ -258,7 +303,7 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
   batch.v2 = s.v2;
   batch.u = s.u;
   batch.accepted = s.accepted;
-  batch.speed_bounds = weights ? s.w : nullptr;
+  batch.speed_bounds = nullptr;
   std::uint32_t m = 0;
   // The batch's velocities (prefetched as its pairs were drawn) to the rule, and the accepted
   // pairs' back to storage.
@@ -280,7 +325,7 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     m = 0;
   };
   for (std::uint64_t k = 0; k < candidates; ++k) {
-    const std::uint32_t a = weights ? weights->draw(select) : select.below(count);
+    const std::uint32_t a = select.below(count);
     std::uint32_t b = select.below(count - 1);
     b += (b >= a);
     const double u = select.uniform32();
@@ -291,12 +336,173 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     s.i[m] = i;
     s.j[m] = j;
     s.u[m] = u;
-    if (weights) s.w[m] = weights->speed[a] + weights->speed[b];
     prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
     prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
     if (++m == kPairBatch) flush();
   }
   if (m > 0) flush();
+}
+
+// Weighted pairs of one layer over the step (000 Eq. 4.13 with pair majorants c_a + c_b): envelope
+// events at the rate R = K E, K = sigma^2 pi scale (2 P(N_c) / N_c) / V_c, on a time counter whose
+// credit is carried from step to step (as the uniform candidates' remainder). Particle a initiates
+// candidates at the rate K c_a, with a partner drawn uniformly, so the pair (a, b) is a candidate at
+// the rate K (c_a + c_b) / (N_c - 1) = (P / C(N_c, 2)) sigma^2 pi scale (c_a + c_b) / V_c, and
+// collides with probability |g| / (c_a + c_b): the hard-sphere rate, pair by pair.
+// A batch holds no particle twice, and a drawn pair that meets a particle of the open batch closes
+// it first, so every test sees current speeds. When a collision lifts a particle's bound by dB at
+// time t_q, its extra events (rate K dB, initiated by it, partner uniform) until the envelope takes
+// them over are drawn: none before the batch's last event is the rule, and the batch stands; else
+// the batch is cut at the first one's time E (the rule's work on the pairs after E is undone by
+// running it again on the pairs before E from the saved stream, results and tallies), that event is
+// the next candidate, and the time counter starts again at E. Returns the credit left at dt.
+double CollisionStage::collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                                        WeightedLayer& layer, double credit, double dt, Rng& select,
+                                        PairBatch& batch) {
+  const Group& group = groups_[c];
+  const std::uint32_t* const members = group.members;
+  const std::uint32_t count = group.count;
+  double* const vx = particles.vx.data;
+  double* const vy = particles.vy.data;
+  double* const vz = particles.vz.data;
+  const double per_bound = 2.0 * pair_count(scheme_, count) / count * batch.sigma * batch.sigma * M_PI *
+                           rule.rate_bound(1.0) / group.volume;  // K
+  batch.speed_bound = 2.0 * layer.sum / count;  // the mean pair bound (for a rule that looks)
+  batch.rate_bound = rule.rate_bound(batch.speed_bound);
+  BatchScratch s;
+  std::memset(s.seen, 0, sizeof s.seen);
+  batch.i = s.i;
+  batch.j = s.j;
+  batch.v1 = s.v1;
+  batch.v2 = s.v2;
+  batch.u = s.u;
+  batch.accepted = s.accepted;
+  batch.speed_bounds = s.w;
+  std::uint32_t m = 0;
+  std::uint64_t candidates = 0;
+  // The time counter: since the anchor time t0 with credit f0 at rate R, envelope event k (k >= 1)
+  // is at t0 + (k - f0) / R; `events` of them drawn so far, those at or before dt while
+  // events + 1 <= budget.
+  double t0 = 0, f0 = credit, rate = per_bound * layer.envelope, inverse_rate = 1.0 / rate;
+  double budget = f0 + rate * dt;
+  std::uint64_t events = 0;
+  const auto anchor = [&](double t, double f) {
+    t0 = t;
+    f0 = std::min(std::max(f, 0.0), std::nextafter(1.0, 0.0));
+    rate = per_bound * layer.envelope;
+    inverse_rate = 1.0 / rate;
+    budget = f0 + rate * (dt - t0);
+    events = 0;
+  };
+  std::int64_t initiator = -1;  // an extra event's particle, the next candidate (at t0)
+  thread_local std::vector<double> saved_tally;
+  saved_tally.resize(tally_count_);
+  // Close the batch, whose newest event is at `last`: the rule's pass, every collided particle's new
+  // speed, the extra events of those that rose. True if the batch was cut (an extra event before
+  // `last`: `initiator` is set, and the time counter starts again at its time).
+  const auto flush = [&](double last) -> bool {
+    for (std::uint32_t q = 0; q < m; ++q) {
+      s.v1[q] = Vec3{vx[s.i[q]], vy[s.i[q]], vz[s.i[q]]};
+      s.v2[q] = Vec3{vx[s.j[q]], vy[s.j[q]], vz[s.j[q]]};
+    }
+    const Rng kernel_before = *batch.rng;
+    const std::uint64_t collided = batch.collided, exceeded = batch.exceeded;
+    const double max_rate = batch.max_rate, energy = batch.energy_change, missed = batch.missed;
+    if (batch.tally) std::copy(batch.tally, batch.tally + tally_count_, saved_tally.begin());
+    batch.count = m;
+    rule.collide_batch(batch);
+    double first_extra = INFINITY;
+    std::uint32_t extra = 0, kept = m;
+    bool rose = false;
+    for (std::uint32_t q = 0; q < m; ++q) {
+      if (s.t[q] > first_extra) {
+        kept = q;
+        break;
+      }
+      if (!s.accepted[q]) continue;
+      const Vec3 after[2] = {s.v1[q], s.v2[q]};
+      for (int e = 0; e < 2; ++e) {
+        const std::uint32_t a = e == 0 ? s.la[q] : s.lb[q];
+        const double lift = layer.rise(a, layer.peculiar_speed(after[e].x, after[e].y, after[e].z));
+        if (lift > 0) {
+          rose = true;
+          const double t = s.t[q] - std::log1p(-select.uniform()) / (per_bound * lift);
+          if (t < first_extra) first_extra = t, extra = a;
+        }
+      }
+    }
+    if (kept < m) {
+      // Undo the rule's pass and run it again on the pairs before the cut: the same draws, so the
+      // same outcomes for them, and results and tallies that hold those pairs only.
+      *batch.rng = kernel_before;
+      batch.collided = collided, batch.exceeded = exceeded, batch.max_rate = max_rate;
+      batch.energy_change = energy, batch.missed = missed;
+      if (batch.tally) std::copy(saved_tally.begin(), saved_tally.end(), batch.tally);
+      for (std::uint32_t q = 0; q < kept; ++q) {
+        s.v1[q] = Vec3{vx[s.i[q]], vy[s.i[q]], vz[s.i[q]]};
+        s.v2[q] = Vec3{vx[s.j[q]], vy[s.j[q]], vz[s.j[q]]};
+      }
+      batch.count = kept;
+      rule.collide_batch(batch);
+    }
+    for (std::uint32_t q = 0; q < kept; ++q) {
+      if (!s.accepted[q]) continue;
+      const std::uint32_t i = s.i[q], j = s.j[q];
+      vx[i] = s.v1[q].x; vy[i] = s.v1[q].y; vz[i] = s.v1[q].z;
+      vx[j] = s.v2[q].x; vy[j] = s.v2[q].y; vz[j] = s.v2[q].z;
+    }
+    candidates += kept;
+    std::memset(s.seen, 0, sizeof s.seen);
+    m = 0;
+    if (first_extra <= last) {
+      // The envelope events after E are dropped; the counter goes on from E with the new envelope.
+      const double due = f0 + rate * (first_extra - t0);
+      anchor(first_extra, due - std::floor(due));
+      initiator = extra;
+      return true;
+    }
+    if (rose) anchor(last, f0 + rate * (last - t0) - static_cast<double>(events));
+    return false;
+  };
+  const auto draw_time = [&] { return t0 + (static_cast<double>(events) - f0) * inverse_rate; };
+  for (;;) {
+    std::uint32_t a;
+    double t, thin;
+    if (initiator >= 0) {
+      a = static_cast<std::uint32_t>(initiator);
+      initiator = -1;
+      t = t0;
+      thin = select.uniform();
+    } else if (static_cast<double>(events + 1) <= budget) {
+      ++events;
+      if ((events & 0xFFFF) == 0) poll_interrupt(interrupt_);
+      t = draw_time();
+      a = layer.pick(select.uniform(), thin);
+    } else {
+      if (m > 0 && flush(dt)) continue;
+      break;
+    }
+    std::uint32_t b = select.below(count - 1);
+    b += (b >= a);
+    const double u = select.uniform32();
+    if (m > 0 && (s.holds(a) || s.holds(b)) && flush(t)) continue;  // cut before t: this draw goes
+    if (!layer.candidate(a, thin)) continue;
+    s.add(a);
+    s.add(b);
+    const std::uint32_t i = members[a], j = members[b];
+    s.i[m] = i;
+    s.j[m] = j;
+    s.la[m] = a;
+    s.lb[m] = b;
+    s.u[m] = u;
+    s.t[m] = t;
+    s.w[m] = layer.speed[a] + layer.speed[b];
+    prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
+    prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
+    if (++m == kPairBatch) flush(t);
+  }
+  counts_[3 * c] = candidates;
+  return f0 + rate * (dt - t0) - static_cast<double>(events);
 }
 
 void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma,
@@ -319,11 +525,12 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
     remainder_[c] = 0;
     return;
   }
-  // Candidates of the step (000 Eqs. 4.13, 4.23): P_c sigma^2 Omega_B W dt / V_c, W the rule's
-  // bound of its kernel for |g| <= w, Omega_B = pi (hard-sphere form) or 4 pi (general). With
-  // weighted pairs (a layer, the hard-sphere form), w is the mean pair bound 2 S / N_c.
-  const WeightedLayer* weights = nullptr;
-  double w = majorant;
+  PairBatch batch;
+  batch.cell = static_cast<std::uint32_t>(c);
+  batch.sigma = sigma;
+  batch.particles = &particles;
+  batch.rng = &kernel;
+  batch.tally = tally;  // summed over the slices
   if (weighted_ && group.members) {
     thread_local WeightedLayer layer;
     const std::uint32_t* members = group.members;
@@ -331,19 +538,20 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
       remainder_[c] = 0;
       return;
     }
-    weights = &layer;
-    w = 2.0 * layer.sum / group.count;
+    remainder_[c] = collide_weighted(rule, particles, c, layer, remainder_[c], dt, select, batch);
+    counts[1] = batch.collided;
+    counts[2] = batch.exceeded;
+    energy_[c] = batch.energy_change;
+    missed_[c] = batch.missed;
+    return;
   }
+  // Candidates of the step (000 Eqs. 4.13, 4.23): P_c sigma^2 Omega_B W dt / V_c, W the rule's
+  // bound of its kernel for |g| <= w, Omega_B = pi (hard-sphere form) or 4 pi (general).
+  const double w = majorant;
   const double bound = rule.rate_bound(w);
   const double per_time = pair_count(scheme_, group.count) * sigma * sigma * solid_angle_ * bound / group.volume;
-  PairBatch batch;
-  batch.cell = static_cast<std::uint32_t>(c);
   batch.speed_bound = w;
   batch.rate_bound = bound;
-  batch.sigma = sigma;
-  batch.particles = &particles;
-  batch.rng = &kernel;
-  batch.tally = tally;  // summed over the slices
   // Slices of dt for a large group (4 x the estimate: a general kernel's solid angle is 4 pi),
   // each with a check for an interrupt; one slice, the whole dt, otherwise.
   const double upper = 4.0 * estimate_[c];
@@ -354,14 +562,14 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
     const double expected = per_time * (dt / slices) + remainder;
     const auto candidates = static_cast<std::uint64_t>(expected);
     remainder = expected - static_cast<double>(candidates);
-    collide_candidates(rule, particles, c, candidates, select, batch, weights);
+    collide_candidates(rule, particles, c, candidates, select, batch);
     counts[0] += candidates;
   }
   counts[1] = batch.collided;
   counts[2] = batch.exceeded;
   remainder_[c] = remainder;
-  if (!weights && batch.max_rate > majorant) ratio_[c] = kMajorantHeadroom * batch.max_rate / speed_[c];
-  max_rate_[c] = weights ? 0.0 : batch.max_rate;
+  if (batch.max_rate > majorant) ratio_[c] = kMajorantHeadroom * batch.max_rate / speed_[c];
+  max_rate_[c] = batch.max_rate;
   energy_[c] = batch.energy_change;
   missed_[c] = batch.missed;
 }

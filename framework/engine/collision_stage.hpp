@@ -169,8 +169,11 @@ class CollisionStage {
                      const StreamFactory& streams);
   // `candidates` candidate pairs of group c drawn from `select`, handed to the rule in batches.
   void collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                          std::uint64_t candidates, Rng& select, PairBatch& batch,
-                          const WeightedLayer* weights) const;
+                          std::uint64_t candidates, Rng& select, PairBatch& batch) const;
+  // Group c's step with weighted pairs (a slab layer, the hard-sphere form): returns the time
+  // counter's credit at dt.
+  double collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                          WeightedLayer& layer, double credit, double dt, Rng& select, PairBatch& batch);
   double solid_angle_ = M_PI;  // Omega_B of the rule's kernel form (pi: hard sphere; 4 pi: general)
   // run() with pending members: the pieces in order (block b < blocks, or blocks + layer), and
   // each block's stamp once it is scattered (the run's number: nothing to clear between steps).
