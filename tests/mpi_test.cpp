@@ -3,10 +3,12 @@
 // as the serial run's (--threads 1, no mpirun): a sweep with realizations, a slab between walls
 // with the final particles (runs finished on rank 1 cross to rank 0), and a checkpoint of a job
 // interrupted at 2 ranks resumed at 3. The summary is printed once; a run that throws on rank 1
-// ends the job with exit 1, that rank's message, and no output file. Skipped when the host was
+// ends the job with exit 1, that rank's message, and no output file; a rank killed by a signal
+// mid-run is named with its run, and leaves no output file either. Skipped when the host was
 // built without MPI (-DGDSMC_WITH_MPI=OFF) or no mpirun was found.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <thread>
@@ -173,6 +175,65 @@ TEST(Mpi, ARunThatThrowsOnRankOneEndsTheJobWithExitOneItsMessageAndNoOutput) {
   EXPECT_EQ(count_lines(r.err, "gdsmc: the run failed; nothing was written"), 1u) << r.err;
   EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{})
       << "no output file, no temporary file is left";
+}
+
+// A rank that dies without a word (SIGKILL: the OOM killer, a user; SIGSEGV: a crashing plugin)
+// mid-run, while rank 0 is still running its own: mpirun's first signal (SIGCONT) makes rank 0 call
+// the roll, and it ends the job naming the rank and its run, with nothing under the output name and
+// no temporary file. mpirun's exit status is its own: 128 + the signal of the rank that died.
+void expect_a_dead_rank_is_named(const std::string& signal, int ranks, bool checkpoint) {
+  TempDir dir;
+  // Case k runs on rank k (equal costs, assigned in order). The long case 0 keeps rank 0 running;
+  // case 1 dies at step 200, a fraction of a second in.
+  std::string yaml =
+      "run:\n  seed: 5\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n"
+      "  stop: {collisions_per_particle: 40}\n";
+  if (checkpoint) yaml += "  checkpoint: {every: {collisions_per_particle: 1}}\n";
+  yaml +=
+      "system: {density: 1.0e-3}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "diagnostics: [temperature]\n"
+      "sweep:\n  model:\n    long: {diagnostics: [temperature]}\n"
+      "    dying: {diagnostics: [temperature, {plugin: dies_at_step, step: 200, signal: " + signal + "}]}\n";
+  if (ranks > 2) yaml += "    other: {diagnostics: [temperature, cumulants]}\n";
+  yaml += "output: {file: out.h5}\n";
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const auto start = std::chrono::steady_clock::now();
+  Process job(mpirun_args(ranks, {"run", pipeline.string(), "--threads", "1", "--plugin-path",
+                                  test_plugin("dies_at_step").string()}),
+              dir.path(), {}, GDSMC_MPIEXEC);
+  const ProcessResult r = job.wait(120);  // a bound against a hang, not a speed test
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_FALSE(r.timed_out) << r.describe();
+  EXPECT_NE(r.exit_code, 0) << r.describe();
+  EXPECT_TRUE(contains(r.err, "dies_at_step: raising SIG" + signal)) << "the rank died as planned\n" << r.err;
+  const std::string named = "rank 1 of " + std::to_string(ranks) + " ended without a word while running run 2 of " +
+                            std::to_string(ranks) + " (model=dying)";
+  EXPECT_EQ(count_lines(r.err, "error: " + pipeline.string() + ": " + named), 1u) << r.err;
+  EXPECT_EQ(count_lines(r.err, "gdsmc: the run failed; nothing was written"), 1u) << r.err;
+  EXPECT_LT(seconds, 60.0) << r.describe();
+  std::vector<std::string> expected{};
+  if (checkpoint) {
+    // Every run's state is kept, the dead rank's as of its last checkpoint, and the message says
+    // how to continue.
+    EXPECT_TRUE(contains(r.err, "--resume` under mpirun")) << r.err;
+    for (int run = 0; run < ranks; ++run) expected.push_back("out.h5.checkpoint/run-" + std::to_string(run));
+    expected.push_back("out.h5.checkpoint");
+    expected.push_back("out.h5.checkpoint/study");
+    std::sort(expected.begin(), expected.end());
+  }
+  EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), expected) << "no output file, no temporary file is left\n"
+                                                             << r.describe();
+}
+
+TEST(Mpi, ARankKilledMidRunEndsTheJobNamingTheRankAndItsRunWithNoOutput) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_a_dead_rank_is_named("KILL", 3, false);
+}
+
+TEST(Mpi, ARankThatCrashesMidRunEndsTheJobNamingItAndKeepsTheCheckpoint) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_a_dead_rank_is_named("SEGV", 2, true);
 }
 
 TEST(Mpi, ValidateUnderMpirunChecksOnceAndABadPipelineIsReportedOnce) {

@@ -320,6 +320,14 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
     return interrupted(" while writing " + p.output_file.string());
   } catch (const OutputWriteError& e) {  // the final particles, written as the run ends
     return lost(e);
+  } catch (const RankLost& e) {
+    end_line();
+    std::cerr << "error: " << p.file.string() << ": " << e.what() << "\ngdsmc: the run failed; nothing was written";
+    if (checkpoints)
+      std::cerr << "; every run saved its state in " << checkpoint_dir.string()
+                << " as the pipeline asks (those of the lost rank at their last checkpoint): " << resume_hint;
+    std::cerr << "\n";
+    return 1;
   } catch (const std::exception& e) {
     end_line();
     std::cerr << "error: " << p.file.string() << ": " << failure_text(e, &memory)
