@@ -46,8 +46,8 @@ std::string lost_rank_text(const job::RunExchange::Failure& f, const std::vector
   } else if (f.run < runs.size()) {
     text += " before it finished " + name(f.run);
   }
-  return text + ": it was killed by a signal (the OOM killer, a user, the batch system) or crashed, and its runs "
-                "are lost (mpirun names the signal)";
+  return text + ": it was killed by a signal (the OOM killer, a user, the batch system) or crashed (mpirun names "
+                "the signal)";
 }
 
 // Progress of the whole study, shared by the workers: each run's fraction, reported at most once
