@@ -1,9 +1,13 @@
 #include "study/ranks.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -29,6 +33,10 @@ bool g_started = false;
 // A rank was lost (rank 0 found it, and told the others with the exit status); on rank 0, which.
 bool g_lost = false;
 std::vector<char> g_lost_ranks;
+// Rank 0's process, when this rank runs on the same host and in the same PID namespace (0
+// otherwise, and on rank 0); whether it is gone, and whether this rank is the lowest such one.
+pid_t g_root_pid = 0;
+bool g_root_gone = false, g_root_watcher = false;
 // SIGCONTs received: mpirun's first signal to every rank when it ends the job.
 std::atomic<unsigned> g_continued{0};
 static_assert(std::atomic<unsigned>::is_always_lock_free, "counted from a signal handler");
@@ -59,6 +67,27 @@ std::optional<MPI_Status> probe(int source, int tag) {
   MPI_Iprobe(source, tag, MPI_COMM_WORLD, &flag, &status);
   if (!flag) return std::nullopt;
   return status;
+}
+
+// Whether rank 0's process has ended (known only on its host): then this rank stops, says nothing
+// more to rank 0 and does not finalise MPI.
+bool root_gone_now() {
+  if (!g_root_gone && g_root_pid > 0 && ::kill(g_root_pid, 0) != 0 && errno == ESRCH) g_root_gone = g_lost = true;
+  return g_root_gone;
+}
+
+// "HOST NS " of this process (its host name and PID namespace, as /proc/self/ns/pid names it), to
+// which rank 0 appends its PID; "" when either is unknown.
+std::string host_and_namespace() {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0 || !host[0]) return "";
+  char link[128] = {};
+  const ssize_t n = ::readlink("/proc/self/ns/pid", link, sizeof link - 1);  // "pid:[4026531836]"
+  std::string ns;
+  for (ssize_t k = 0; k < std::max<ssize_t>(n, 0); ++k)
+    if (link[k] >= '0' && link[k] <= '9') ns += link[k];
+  if (ns.empty()) return "";
+  return std::string(host) + " " + ns + " ";
 }
 #endif
 
@@ -101,7 +130,20 @@ Session::Session() {
   MPI_Comm_free(&node);
   g_lost = false;
   g_lost_ranks.assign(static_cast<std::size_t>(g_size), 0);
+  g_root_pid = 0;
+  g_root_gone = g_root_watcher = false;
   if (g_size > 1) {
+    // Rank 0's host, PID namespace and PID: a rank beside it can tell when it is gone.
+    const std::string mine = host_and_namespace();
+    char root[512] = {};
+    if (g_rank == 0) std::snprintf(root, sizeof root, "%s%ld", mine.c_str(), static_cast<long>(::getpid()));
+    MPI_Bcast(root, sizeof root, MPI_CHAR, 0, MPI_COMM_WORLD);
+    const std::string root_id(root);
+    if (g_rank > 0 && !mine.empty() && root_id.compare(0, mine.size(), mine) == 0)
+      g_root_pid = static_cast<pid_t>(std::atol(root_id.c_str() + mine.size()));
+    int watcher = g_root_pid > 0 ? g_rank : g_size;
+    MPI_Allreduce(MPI_IN_PLACE, &watcher, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    g_root_watcher = watcher == g_rank;
     struct sigaction action {};
     action.sa_handler = on_continue;
     sigemptyset(&action.sa_mask);
@@ -163,6 +205,7 @@ int await_status() {
   // Polled (a blocking receive spins a core that rank 0 may need for the final write); a stop
   // rank 0 sent before the job ended is ignored, a roll call answered.
   while (distributed() && !root()) {
+    if (root_gone_now()) return 1;
     if (const auto st = probe(0, MPI_ANY_TAG)) {
       if (st->MPI_TAG != kFinal) {
         receive_bytes(*st);
@@ -249,6 +292,10 @@ void RunExchange::post_result(std::size_t run, std::vector<unsigned char> bytes)
 void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
 #ifdef GDSMC_WITH_MPI
   if (!root()) {
+    if (root_gone_now()) {
+      stop.store(true);
+      return;
+    }
     // A stop, or a roll call (answered at once). kFinal only comes once this rank has ended.
     while (const auto st = probe(0, MPI_ANY_TAG)) {
       receive_bytes(*st);
@@ -391,6 +438,7 @@ std::optional<RunExchange::Failure> RunExchange::finish(std::atomic<bool>& stop,
                                                         const std::optional<Failure>& failure, bool interrupted) {
 #ifdef GDSMC_WITH_MPI
   if (!root()) {
+    if (root_gone_now()) return std::nullopt;
     // How it ended: 0 done, 1 failed, 2 interrupted (a signal to this rank), 3 stopped by rank 0.
     const std::uint32_t how = failure ? 1 : interrupted ? 2 : stop.load() ? 3 : 0;
     if (how == 0) poll(stop, receiver);  // the last results (not worth sending when the job stops)
@@ -418,6 +466,14 @@ std::optional<RunExchange::Failure> RunExchange::finish(std::atomic<bool>& stop,
   return std::nullopt;
 #endif
 }
+
+bool root_gone() {
+#ifdef GDSMC_WITH_MPI
+  if (distributed() && !root()) return root_gone_now();
+#endif
+  return false;
+}
+bool watches_root() { return g_root_watcher; }
 
 bool RunExchange::others_interrupted() const { return s_->others_interrupted; }
 RunExchange::Received RunExchange::received() const { return s_->received; }

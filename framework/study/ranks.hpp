@@ -63,6 +63,12 @@ int largest(int value);
 // for it (await_status) and returns it. Every rank answers rank 0's roll calls while it waits.
 int conclude(int status);
 int await_status();
+// A rank other than 0 that runs on rank 0's host sees rank 0's process end (killed, crashed):
+// it then stops its runs, and await_status() returns 1 at once. Elsewhere, and on rank 0: false.
+bool root_gone();
+// Whether this is the lowest rank on rank 0's host (other than 0): the one that says rank 0 is
+// gone and removes its temporary file.
+bool watches_root();
 
 // The runs of a distributed study, between the main threads of the ranks (the study's worker
 // threads only queue things here). Rank 0 receives every other rank's progress and finished runs;
