@@ -85,7 +85,8 @@ MPI (a host built with it: `gdsmc --version`): `mpirun -np K gdsmc run PIPELINE.
 spreads the runs over K ranks, each with --threads threads (default: its share of its node's
 cores), balanced by expected cost (particles x steps); rank 0 gathers every run and writes the
 file: the same bits as --threads 1 without MPI. Progress and the summary are printed once; a run
-that fails on any rank ends the job with its message and exit 1, nothing written; checkpoints
+that fails on any rank ends the job with its message and exit 1, nothing written; a rank that
+dies (killed by a signal, crashed) is named with its runs, nothing written either; checkpoints
 are shared, and resume at any number of ranks. See docs/cluster.md.
 )";
 
