@@ -3,10 +3,12 @@
 // as the serial run's (--threads 1, no mpirun): a sweep with realizations, a slab between walls
 // with the final particles (runs finished on rank 1 cross to rank 0), and a checkpoint of a job
 // interrupted at 2 ranks resumed at 3. The summary is printed once; a run that throws on rank 1
-// ends the job with exit 1, that rank's message, and no output file. Skipped when the host was
+// ends the job with exit 1, that rank's message, and no output file; a rank killed by a signal
+// mid-run is named with its run (rank 0 by a rank on its host), and leaves no output file either. Skipped when the host was
 // built without MPI (-DGDSMC_WITH_MPI=OFF) or no mpirun was found.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <thread>
@@ -50,6 +52,11 @@ void expect_same_contents(const fs::path& expected_file, const fs::path& got_fil
 }
 
 std::size_t count_lines(const std::string& text, const std::string& prefix) { return lines_starting(text, prefix).size(); }
+std::size_t occurrences(const std::string& text, const std::string& part) {
+  std::size_t n = 0;
+  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + part.size())) ++n;
+  return n;
+}
 
 // Runs `yaml` serially (--threads 1) and over 2 ranks of one thread each, and compares the files.
 void expect_two_ranks_give_the_serial_bits(const std::string& yaml, std::size_t min_entries) {
@@ -137,6 +144,8 @@ TEST(Mpi, AJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
   const double stop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop_start).count();
   EXPECT_NE(stopped.exit_code, 0) << stopped.describe();
   EXPECT_LT(stop_seconds, 10.0) << "SIGTERM ends the job within seconds";
+  // mpirun's SIGCONT before its SIGTERM makes rank 0 call the roll: every rank answers.
+  EXPECT_FALSE(contains(stopped.err, "ended without a word")) << stopped.err;
   EXPECT_FALSE(fs::exists(dir / "out.h5")) << "an interrupted job writes nothing under the output name";
   ASSERT_TRUE(fs::exists(checkpoint / "study")) << stopped.describe();
   EXPECT_GE(saved_runs(), 2u);
@@ -173,6 +182,85 @@ TEST(Mpi, ARunThatThrowsOnRankOneEndsTheJobWithExitOneItsMessageAndNoOutput) {
   EXPECT_EQ(count_lines(r.err, "gdsmc: the run failed; nothing was written"), 1u) << r.err;
   EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{})
       << "no output file, no temporary file is left";
+}
+
+// A rank that dies without a word (SIGKILL: the OOM killer, a user; SIGSEGV: a crashing plugin)
+// mid-run, while the others still run theirs. Rank `dying` (1: mpirun's first signal, SIGCONT,
+// makes rank 0 call the roll; 0: rank 1, on the same host, sees rank 0's process gone) ends the
+// job with a message naming it, nothing under the output name and no temporary file. mpirun's
+// exit status is its own: 128 + the signal of the rank that died.
+void expect_a_dead_rank_is_named(int dying, const std::string& signal, int ranks, bool checkpoint) {
+  TempDir dir;
+  // Case k runs on rank k (equal costs, assigned in order). Case `dying` dies at step 200, a
+  // fraction of a second in; the others run 1000 steps.
+  std::string yaml =
+      "run:\n  seed: 5\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n"
+      "  stop: {collisions_per_particle: 40}\n";
+  if (checkpoint) yaml += "  checkpoint: {every: {collisions_per_particle: 1}}\n";
+  yaml +=
+      "system: {density: 1.0e-3}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "diagnostics: [temperature]\n"
+      "sweep:\n  model:\n";
+  for (int k = 0; k < ranks; ++k) {
+    if (k == dying)
+      yaml += "    dying: {diagnostics: [temperature, {plugin: dies_at_step, step: 200, signal: " + signal + "}]}\n";
+    else
+      yaml += "    long" + std::to_string(k) + ": {diagnostics: [temperature]}\n";
+  }
+  yaml += "output: {file: out.h5}\n";
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const auto start = std::chrono::steady_clock::now();
+  Process job(mpirun_args(ranks, {"run", pipeline.string(), "--threads", "1", "--plugin-path",
+                                  test_plugin("dies_at_step").string()}),
+              dir.path(), {}, GDSMC_MPIEXEC);
+  const ProcessResult r = job.wait(120);  // a bound against a hang, not a speed test
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_FALSE(r.timed_out) << r.describe();
+  EXPECT_NE(r.exit_code, 0) << r.describe();
+  EXPECT_TRUE(contains(r.err, "dies_at_step: raising SIG" + signal)) << "the rank died as planned\n" << r.err;
+  const std::string of = " of " + std::to_string(ranks);
+  if (dying == 0) {
+    EXPECT_EQ(count_lines(r.err, "gdsmc: rank 1" + of + ": rank 0, which gathers the runs and writes the output, "
+                                 "ended without a word"),
+              1u)
+        << "said once, by the lowest rank on rank 0's host\n" << r.err;
+    EXPECT_EQ(occurrences(r.err, "rank 0, which gathers"), 1u) << r.err;
+    EXPECT_EQ(count_lines(r.err, "gdsmc: rank 1" + of + ": removed .out.h5.gdsmc-partial-"), 1u) << r.err;
+  } else {
+    const std::string named = "rank " + std::to_string(dying) + of + " ended without a word while running run " +
+                              std::to_string(dying + 1) + of + " (model=dying)";
+    EXPECT_EQ(count_lines(r.err, "error: " + pipeline.string() + ": " + named), 1u) << r.err;
+    EXPECT_EQ(count_lines(r.err, "gdsmc: the run failed; nothing was written"), 1u) << r.err;
+  }
+  EXPECT_LT(seconds, 60.0) << r.describe();
+  std::vector<std::string> expected{};
+  if (checkpoint) {
+    // Every run's state is kept, the dead rank's as of its last checkpoint, and the message says
+    // how to continue.
+    EXPECT_TRUE(contains(r.err, "--resume` under mpirun")) << r.err;
+    for (int run = 0; run < ranks; ++run) expected.push_back("out.h5.checkpoint/run-" + std::to_string(run));
+    expected.push_back("out.h5.checkpoint");
+    expected.push_back("out.h5.checkpoint/study");
+    std::sort(expected.begin(), expected.end());
+  }
+  EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), expected) << "no output file, no temporary file is left\n"
+                                                             << r.describe();
+}
+
+TEST(Mpi, ARankKilledMidRunEndsTheJobNamingTheRankAndItsRunWithNoOutput) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_a_dead_rank_is_named(1, "KILL", 3, false);
+}
+
+TEST(Mpi, ARankThatCrashesMidRunEndsTheJobNamingItAndKeepsTheCheckpoint) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_a_dead_rank_is_named(1, "SEGV", 2, true);
+}
+
+TEST(Mpi, RankZeroKilledMidRunIsNamedByARankOnItsHostWhichRemovesItsTemporaryFile) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_a_dead_rank_is_named(0, "KILL", 3, true);
 }
 
 TEST(Mpi, ValidateUnderMpirunChecksOnceAndABadPipelineIsReportedOnce) {

@@ -85,7 +85,8 @@ MPI (a host built with it: `gdsmc --version`): `mpirun -np K gdsmc run PIPELINE.
 spreads the runs over K ranks, each with --threads threads (default: its share of its node's
 cores), balanced by expected cost (particles x steps); rank 0 gathers every run and writes the
 file: the same bits as --threads 1 without MPI. Progress and the summary are printed once; a run
-that fails on any rank ends the job with its message and exit 1, nothing written; checkpoints
+that fails on any rank ends the job with its message and exit 1, nothing written; a rank that
+dies (killed by a signal, crashed) is named with its runs, nothing written either; checkpoints
 are shared, and resume at any number of ranks. See docs/cluster.md.
 )";
 
@@ -277,6 +278,14 @@ void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& resu
   std::cout << "output: " << fs::absolute(p.output_file).string() << "\n";
 }
 
+// "continue with `gdsmc run PIPELINE --resume ...`": the command that continues from the checkpoint.
+std::string resume_text(const Options& o, const Pipeline& p) {
+  std::string resume_command = "gdsmc run " + p.file.string() + " --resume";
+  for (const auto& set : o.sets) resume_command += " --set '" + set + "'";
+  if (!o.output.empty()) resume_command += " -o " + o.output;
+  return "continue with `" + resume_command + "`" + (job::distributed() ? " under mpirun, at any number of ranks" : "");
+}
+
 // Rank 0's part (the whole run without MPI) once the output file is open: the study, the file,
 // the checkpoint removed, the summary and the plots. Returns the exit status.
 int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>& cases, const MemoryEstimate& memory,
@@ -296,11 +305,7 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
     return 1;
   };
   if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
-  std::string resume_command = "gdsmc run " + p.file.string() + " --resume";
-  for (const auto& set : o.sets) resume_command += " --set '" + set + "'";
-  if (!o.output.empty()) resume_command += " -o " + o.output;
-  const std::string resume_hint = "continue with `" + resume_command + "`" +
-                                  (job::distributed() ? " under mpirun, at any number of ranks" : "");
+  const std::string resume_hint = resume_text(o, p);
   auto interrupted = [&](const std::string& when) {
     end_line();
     std::cerr << "gdsmc: interrupted" << when << "; no output written";
@@ -320,6 +325,14 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
     return interrupted(" while writing " + p.output_file.string());
   } catch (const OutputWriteError& e) {  // the final particles, written as the run ends
     return lost(e);
+  } catch (const RankLost& e) {
+    end_line();
+    std::cerr << "error: " << p.file.string() << ": " << e.what() << "\ngdsmc: the run failed; nothing was written";
+    if (checkpoints)
+      std::cerr << "; every run saved its state in " << checkpoint_dir.string()
+                << " as the pipeline asks (those of the lost rank at their last checkpoint): " << resume_hint;
+    std::cerr << "\n";
+    return 1;
   } catch (const std::exception& e) {
     end_line();
     std::cerr << "error: " << p.file.string() << ": " << failure_text(e, &memory)
@@ -474,7 +487,21 @@ int cmd_run(const Options& options, bool run_it) {
       run_study(cases, {}, 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
     } catch (const std::exception&) {
     }
-    return job::await_status();
+    const int status = job::await_status();
+    // Rank 0 died (killed, crashed): no one reports anything, but the lowest rank on its host, if
+    // any, can say so and remove its temporary file.
+    if (job::root_gone() && job::watches_root()) {
+      std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size()
+                << ": rank 0, which gathers the runs and writes the output, ended without a word: it was killed by a "
+                   "signal or crashed (mpirun names the signal); nothing was written";
+      if (checkpoints)
+        std::cerr << "; every run saved its state in " << checkpoint_dir.string()
+                  << " as the pipeline asks (those of rank 0 at their last checkpoint): " << resume_text(o, p);
+      std::cerr << "\n";
+      for (const auto& line : remove_stale_temporaries(target))
+        std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size() << ": " << line << "\n";
+    }
+    return status;
   }
   return job::conclude(finish_run(o, p, cases, memory, notice, *out, checkpoints, start, tty, report));
 }

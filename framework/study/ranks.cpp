@@ -1,11 +1,18 @@
 #include "study/ranks.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <numeric>
+#include <set>
 #include <stdexcept>
 #include <thread>
 
@@ -23,13 +30,24 @@ namespace {
 
 int g_rank = 0, g_size = 1, g_node_ranks = 1;
 bool g_started = false;
+// A rank was lost (rank 0 found it, and told the others with the exit status); on rank 0, which.
+bool g_lost = false;
+std::vector<char> g_lost_ranks;
+// Rank 0's process, when this rank runs on the same host and in the same PID namespace (0
+// otherwise, and on rank 0); whether it is gone, and whether this rank is the lowest such one.
+pid_t g_root_pid = 0;
+bool g_root_gone = false, g_root_watcher = false;
+// SIGCONTs received: mpirun's first signal to every rank when it ends the job.
+std::atomic<unsigned> g_continued{0};
+static_assert(std::atomic<unsigned>::is_always_lock_free, "counted from a signal handler");
+extern "C" void on_continue(int) { g_continued.fetch_add(1, std::memory_order_relaxed); }
 
 // The environment variables by which launchers number their processes: Open MPI's mpirun, PMIx
 // (srun --mpi=pmix, prrte), PMI-1/PMI-2 (MPICH's hydra, srun --mpi=pmi2).
 const char* const kRankVariables[] = {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"};
 
 #ifdef GDSMC_WITH_MPI
-enum Tag : int { kProgress = 1, kResultHead, kResultData, kEnd, kStop, kFinal };
+enum Tag : int { kProgress = 1, kResultHead, kResultData, kEnd, kStop, kFinal, kStarted, kRollCall, kHere };
 constexpr std::size_t kChunk = std::size_t{1} << 30;  // MPI counts are int: results go in chunks of 1 GiB
 constexpr auto kPause = std::chrono::milliseconds(10);  // between polls of a rank that only waits
 
@@ -49,6 +67,27 @@ std::optional<MPI_Status> probe(int source, int tag) {
   MPI_Iprobe(source, tag, MPI_COMM_WORLD, &flag, &status);
   if (!flag) return std::nullopt;
   return status;
+}
+
+// Whether rank 0's process has ended (known only on its host): then this rank stops, says nothing
+// more to rank 0 and does not finalise MPI.
+bool root_gone_now() {
+  if (!g_root_gone && g_root_pid > 0 && ::kill(g_root_pid, 0) != 0 && errno == ESRCH) g_root_gone = g_lost = true;
+  return g_root_gone;
+}
+
+// "HOST NS " of this process (its host name and PID namespace, as /proc/self/ns/pid names it), to
+// which rank 0 appends its PID; "" when either is unknown.
+std::string host_and_namespace() {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0 || !host[0]) return "";
+  char link[128] = {};
+  const ssize_t n = ::readlink("/proc/self/ns/pid", link, sizeof link - 1);  // "pid:[4026531836]"
+  std::string ns;
+  for (ssize_t k = 0; k < std::max<ssize_t>(n, 0); ++k)
+    if (link[k] >= '0' && link[k] <= '9') ns += link[k];
+  if (ns.empty()) return "";
+  return std::string(host) + " " + ns + " ";
 }
 #endif
 
@@ -89,6 +128,28 @@ Session::Session() {
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   MPI_Comm_size(node, &g_node_ranks);
   MPI_Comm_free(&node);
+  g_lost = false;
+  g_lost_ranks.assign(static_cast<std::size_t>(g_size), 0);
+  g_root_pid = 0;
+  g_root_gone = g_root_watcher = false;
+  if (g_size > 1) {
+    // Rank 0's host, PID namespace and PID: a rank beside it can tell when it is gone.
+    const std::string mine = host_and_namespace();
+    char root[512] = {};
+    if (g_rank == 0) std::snprintf(root, sizeof root, "%s%ld", mine.c_str(), static_cast<long>(::getpid()));
+    MPI_Bcast(root, sizeof root, MPI_CHAR, 0, MPI_COMM_WORLD);
+    const std::string root_id(root);
+    if (g_rank > 0 && !mine.empty() && root_id.compare(0, mine.size(), mine) == 0)
+      g_root_pid = static_cast<pid_t>(std::atol(root_id.c_str() + mine.size()));
+    int watcher = g_root_pid > 0 ? g_rank : g_size;
+    MPI_Allreduce(MPI_IN_PLACE, &watcher, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    g_root_watcher = watcher == g_rank;
+    struct sigaction action {};
+    action.sa_handler = on_continue;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    sigaction(SIGCONT, &action, nullptr);
+  }
 #else
   // Every rank would run the whole study and write the same file.
   const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
@@ -102,7 +163,8 @@ Session::Session() {
 
 Session::~Session() {
 #ifdef GDSMC_WITH_MPI
-  if (g_started) MPI_Finalize();
+  // MPI_Finalize waits for every rank, a lost one too (until mpirun's SIGKILL): the job is over.
+  if (g_started && !g_lost) MPI_Finalize();
 #endif
   g_started = false;
   g_rank = 0;
@@ -129,8 +191,11 @@ int largest(int value) {
 
 int conclude(int status) {
 #ifdef GDSMC_WITH_MPI
-  if (distributed() && root())
-    for (int r = 1; r < size(); ++r) MPI_Send(&status, 1, MPI_INT, r, kFinal, MPI_COMM_WORLD);
+  if (distributed() && root()) {
+    const int final[2] = {status, g_lost ? 1 : 0};
+    for (int r = 1; r < size(); ++r)
+      if (!g_lost_ranks[static_cast<std::size_t>(r)]) MPI_Send(final, 2, MPI_INT, r, kFinal, MPI_COMM_WORLD);
+  }
 #endif
   return status;
 }
@@ -138,16 +203,19 @@ int conclude(int status) {
 int await_status() {
 #ifdef GDSMC_WITH_MPI
   // Polled (a blocking receive spins a core that rank 0 may need for the final write); a stop
-  // rank 0 sent before the job ended is ignored.
+  // rank 0 sent before the job ended is ignored, a roll call answered.
   while (distributed() && !root()) {
+    if (root_gone_now()) return 1;
     if (const auto st = probe(0, MPI_ANY_TAG)) {
       if (st->MPI_TAG != kFinal) {
         receive_bytes(*st);
+        if (st->MPI_TAG == kRollCall) MPI_Send(nullptr, 0, MPI_BYTE, 0, kHere, MPI_COMM_WORLD);
         continue;
       }
-      int status = 1;
-      MPI_Recv(&status, 1, MPI_INT, 0, kFinal, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      return status;
+      int final[2] = {1, 0};
+      MPI_Recv(final, 2, MPI_INT, 0, kFinal, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      g_lost = final[1] != 0;
+      return final[0];
     }
     std::this_thread::sleep_for(kPause);
   }
@@ -158,14 +226,28 @@ int await_status() {
 struct RunExchange::State {
   std::vector<int> owner;  // rank of each run
   std::mutex mutex;        // the queues, filled by worker threads
+  std::vector<std::size_t> started;
   std::vector<std::pair<std::size_t, Progress>> progress;
   std::vector<std::pair<std::size_t, std::vector<unsigned char>>> results;
   // Rank 0
   bool stop_sent = false;
-  int ended = 0;
+  std::vector<char> ended, lost;             // by rank
+  std::vector<std::set<std::size_t>> under_way;  // by rank: runs started and not received
+  std::vector<char> run_received;                // by run
+  // The roll call under way (since `called`): which ranks have answered.
+  unsigned continued_seen = 0;
+  bool calling = false;
+  std::chrono::steady_clock::time_point called;
+  std::vector<char> answered;
   std::vector<Failure> failures;
   bool others_interrupted = false;
   Received received;
+
+  int unaccounted() const {  // ranks other than 0 that have neither ended nor been lost
+    int n = 0;
+    for (std::size_t r = 1; r < ended.size(); ++r) n += !ended[r] && !lost[r];
+    return n;
+  }
 };
 
 RunExchange::RunExchange(const std::vector<double>& costs) : s_(std::make_unique<State>()) {
@@ -179,11 +261,23 @@ RunExchange::RunExchange(const std::vector<double>& costs) : s_(std::make_unique
     s_->owner[run] = static_cast<int>(least);
     load[least] += costs[run];
   }
+  const auto ranks = static_cast<std::size_t>(size());
+  s_->ended.assign(ranks, 0);
+  s_->lost.assign(ranks, 0);
+  s_->answered.assign(ranks, 0);
+  s_->under_way.assign(ranks, {});
+  s_->run_received.assign(costs.size(), 0);
+  s_->continued_seen = g_continued.load();
 }
 
 RunExchange::~RunExchange() = default;
 
 bool RunExchange::mine(std::size_t run) const { return s_->owner[run] == rank(); }
+
+void RunExchange::post_started(std::size_t run) {
+  std::lock_guard<std::mutex> lock(s_->mutex);
+  s_->started.push_back(run);
+}
 
 void RunExchange::post_progress(std::size_t run, const Progress& progress) {
   std::lock_guard<std::mutex> lock(s_->mutex);
@@ -198,16 +292,28 @@ void RunExchange::post_result(std::size_t run, std::vector<unsigned char> bytes)
 void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
 #ifdef GDSMC_WITH_MPI
   if (!root()) {
-    if (const auto st = probe(0, kStop)) {
-      receive_bytes(*st);
+    if (root_gone_now()) {
       stop.store(true);
+      return;
     }
+    // A stop, or a roll call (answered at once). kFinal only comes once this rank has ended.
+    while (const auto st = probe(0, MPI_ANY_TAG)) {
+      receive_bytes(*st);
+      if (st->MPI_TAG == kStop) stop.store(true);
+      if (st->MPI_TAG == kRollCall) MPI_Send(nullptr, 0, MPI_BYTE, 0, kHere, MPI_COMM_WORLD);
+    }
+    decltype(s_->started) started;
     decltype(s_->progress) progress;
     decltype(s_->results) results;
     {
       std::lock_guard<std::mutex> lock(s_->mutex);
+      started.swap(s_->started);
       progress.swap(s_->progress);
       results.swap(s_->results);
+    }
+    for (const std::size_t run : started) {
+      const auto index = static_cast<std::uint64_t>(run);
+      MPI_Send(&index, 1, MPI_UINT64_T, 0, kStarted, MPI_COMM_WORLD);
     }
     // Progress first: a run's final report reaches rank 0 before its results.
     for (const auto& [run, pr] : progress) {
@@ -226,9 +332,33 @@ void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
     }
     return;
   }
+  // Rank 0. A roll call at every SIGCONT (and below, when the job stops): every rank that has not
+  // ended is asked to answer.
+  auto call_roll = [&] {
+    if (s_->calling) return;
+    s_->calling = true;
+    s_->called = std::chrono::steady_clock::now();
+    for (int r = 1; r < size(); ++r) {
+      const auto ri = static_cast<std::size_t>(r);
+      s_->answered[ri] = 0;
+      if (!s_->ended[ri] && !s_->lost[ri]) MPI_Send(nullptr, 0, MPI_BYTE, r, kRollCall, MPI_COMM_WORLD);
+    }
+  };
+  if (const unsigned continued = g_continued.load(); continued != s_->continued_seen) {
+    s_->continued_seen = continued;
+    call_roll();
+  }
   while (const auto st = probe(MPI_ANY_SOURCE, MPI_ANY_TAG)) {
     const int from = st->MPI_SOURCE;
-    if (st->MPI_TAG == kProgress) {
+    const auto from_index = static_cast<std::size_t>(from);
+    if (st->MPI_TAG == kHere) {
+      receive_bytes(*st);
+      s_->answered[from_index] = 1;
+    } else if (st->MPI_TAG == kStarted) {
+      std::uint64_t run = 0;
+      MPI_Recv(&run, 1, MPI_UINT64_T, from, kStarted, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      if (run < s_->run_received.size() && !s_->run_received[run]) s_->under_way[from_index].insert(run);
+    } else if (st->MPI_TAG == kProgress) {
       const std::vector<unsigned char> bytes = receive_bytes(*st);
       std::uint64_t run = 0;
       Progress pr;
@@ -243,7 +373,11 @@ void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
       for (std::size_t at = 0; at < bytes.size(); at += kChunk)
         MPI_Recv(bytes.data() + at, static_cast<int>(std::min(kChunk, bytes.size() - at)), MPI_BYTE, from, kResultData,
                  MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      receiver.result(head[0], bytes);
+      s_->under_way[from_index].erase(head[0]);
+      if (head[0] < s_->run_received.size()) s_->run_received[head[0]] = 1;
+      // A stopped job writes nothing: its results are not worth gathering (the main thread answers
+      // the next roll call sooner).
+      if (!stop.load()) receiver.result(head[0], bytes);
       s_->received.runs += 1;
       s_->received.bytes += static_cast<double>(bytes.size());
       s_->received.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -256,17 +390,43 @@ void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
       in.read("ended", how);
       in.read("run", run);
       in.read("message", message);
-      ++s_->ended;
-      if (how == 1) s_->failures.push_back({run, "rank " + std::to_string(from) + ": " + message});
+      s_->ended[from_index] = 1;
+      if (how == 1) s_->failures.push_back(Failure::of(run, "rank " + std::to_string(from) + ": " + message));
       if (how == 2) s_->others_interrupted = true;
       if (how != 0) stop.store(true);
     } else {
       receive_bytes(*st);  // nothing else is sent to rank 0
     }
   }
+  // The roll call's end: a rank that has neither answered nor ended is lost.
+  if (s_->calling &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - s_->called).count() >= kRollCallSeconds) {
+    s_->calling = false;
+    for (int r = 1; r < size(); ++r) {
+      const auto ri = static_cast<std::size_t>(r);
+      if (s_->answered[ri] || s_->ended[ri] || s_->lost[ri]) continue;
+      s_->lost[ri] = 1;
+      g_lost = true;
+      g_lost_ranks[ri] = 1;
+      Failure f;
+      f.lost = true;
+      f.rank = r;
+      f.under_way.assign(s_->under_way[ri].begin(), s_->under_way[ri].end());
+      f.run = std::numeric_limits<std::size_t>::max();
+      if (!f.under_way.empty()) f.run = f.under_way.front();
+      else
+        for (std::size_t run = 0; run < s_->owner.size() && f.run == std::numeric_limits<std::size_t>::max(); ++run)
+          if (s_->owner[run] == r && !s_->run_received[run]) f.run = run;
+      f.message = "rank " + std::to_string(r);
+      s_->failures.push_back(std::move(f));
+      stop.store(true);
+    }
+  }
   if (stop.load() && !s_->stop_sent) {
     s_->stop_sent = true;
-    for (int r = 1; r < size(); ++r) MPI_Send(nullptr, 0, MPI_BYTE, r, kStop, MPI_COMM_WORLD);
+    for (int r = 1; r < size(); ++r)
+      if (!s_->lost[static_cast<std::size_t>(r)]) MPI_Send(nullptr, 0, MPI_BYTE, r, kStop, MPI_COMM_WORLD);
+    call_roll();  // a rank that died stops nothing, and would be waited for
   }
 #else
   (void)stop;
@@ -278,6 +438,7 @@ std::optional<RunExchange::Failure> RunExchange::finish(std::atomic<bool>& stop,
                                                         const std::optional<Failure>& failure, bool interrupted) {
 #ifdef GDSMC_WITH_MPI
   if (!root()) {
+    if (root_gone_now()) return std::nullopt;
     // How it ended: 0 done, 1 failed, 2 interrupted (a signal to this rank), 3 stopped by rank 0.
     const std::uint32_t how = failure ? 1 : interrupted ? 2 : stop.load() ? 3 : 0;
     if (how == 0) poll(stop, receiver);  // the last results (not worth sending when the job stops)
@@ -290,9 +451,9 @@ std::optional<RunExchange::Failure> RunExchange::finish(std::atomic<bool>& stop,
   }
   (void)failure;
   (void)interrupted;
-  while (s_->ended < size() - 1) {
+  while (s_->unaccounted() > 0) {
     poll(stop, receiver);
-    if (s_->ended < size() - 1) std::this_thread::sleep_for(kPause);
+    if (s_->unaccounted() > 0) std::this_thread::sleep_for(kPause);
   }
   if (s_->failures.empty()) return std::nullopt;
   return *std::min_element(s_->failures.begin(), s_->failures.end(),
@@ -305,6 +466,14 @@ std::optional<RunExchange::Failure> RunExchange::finish(std::atomic<bool>& stop,
   return std::nullopt;
 #endif
 }
+
+bool root_gone() {
+#ifdef GDSMC_WITH_MPI
+  if (distributed() && !root()) return root_gone_now();
+#endif
+  return false;
+}
+bool watches_root() { return g_root_watcher; }
 
 bool RunExchange::others_interrupted() const { return s_->others_interrupted; }
 RunExchange::Received RunExchange::received() const { return s_->received; }

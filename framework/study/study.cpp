@@ -31,6 +31,25 @@ struct Run {
   std::exception_ptr error;
 };
 
+// What rank 0 says of a rank that was lost: which, and the runs it had under way.
+std::string lost_rank_text(const job::RunExchange::Failure& f, const std::vector<Run>& runs) {
+  auto name = [&](std::size_t index) {
+    std::string text = "run " + std::to_string(index + 1) + " of " + std::to_string(runs.size());
+    if (!runs[index].label.empty()) text += " (" + runs[index].label + ")";
+    return text;
+  };
+  std::string text = f.message + " of " + std::to_string(job::size()) + " ended without a word";
+  if (!f.under_way.empty()) {
+    text += " while running ";
+    for (std::size_t k = 0; k < f.under_way.size(); ++k)
+      text += (k == 0 ? "" : k + 1 == f.under_way.size() ? " and " : ", ") + name(f.under_way[k]);
+  } else if (f.run < runs.size()) {
+    text += " before it finished " + name(f.run);
+  }
+  return text + ": it was killed by a signal (the OOM killer, a user, the batch system) or crashed (mpirun names "
+                "the signal)";
+}
+
 // Progress of the whole study, shared by the workers: each run's fraction, reported at most once
 // per interval (and once at the very end).
 class StudyClock {
@@ -242,6 +261,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
           index = mine[next++];
         }
         try {
+          if (sends) exchange->post_started(index);  // rank 0 names it if this rank dies
           execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, &stop,
                   per_run, checkpoints);
           done(index);
@@ -301,12 +321,13 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
         try {
           std::rethrow_exception(first_error);
         } catch (const std::exception& e) {
-          failure = job::RunExchange::Failure{first_failed, failure_text(e, nullptr)};
+          failure = job::RunExchange::Failure::of(first_failed, failure_text(e, nullptr));
         } catch (...) {
-          failure = job::RunExchange::Failure{first_failed, "an exception that is not a std::exception"};
+          failure = job::RunExchange::Failure::of(first_failed, "an exception that is not a std::exception");
         }
       }
       const auto other = exchange->finish(stop, receiver, failure, interrupt && interrupt->load());
+      if (other && other->lost) throw RankLost(lost_rank_text(*other, runs));
       if (other && (!first_error || other->run < first_failed))
         throw RankFailure(other->message + (runs[other->run].label.empty() ? "" : " (run " + runs[other->run].label + ")"));
       if (received_error) std::rethrow_exception(received_error);

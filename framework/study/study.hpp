@@ -41,6 +41,11 @@ struct StudyResult {
 struct RankFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+// Another rank of an MPI job ended without a word (killed by a signal, crashed): the message names
+// it and the runs it had under way.
+struct RankLost : RankFailure {
+  using RankFailure::RankFailure;
+};
 
 // Runs every case and realization, study_threads() at a time; the output (every dataset and value,
 // the summary lines) is the same for any number of threads. The first run that fails (in study
@@ -50,7 +55,8 @@ struct RankFailure : std::runtime_error {
 // In an MPI job (study/ranks.hpp) every rank calls it: each runs its share of the runs, balanced by
 // their expected cost, and rank 0 returns the study's result, the same bits as a serial study
 // (the other ranks return an empty one); a failure on any rank stops every rank, and rank 0
-// throws it (RankFailure for another rank's, Engine::Interrupted when a rank was interrupted).
+// throws it (RankFailure for another rank's, RankLost for a rank that died, Engine::Interrupted
+// when a rank was interrupted).
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt,
                       const CheckpointStore* checkpoints = nullptr);
