@@ -243,9 +243,10 @@ TEST(BinSums, MomentsOfAConstructedSet) {
 // sigmas 2. Stationary: a window pair is accepted when the difference of means is within 2
 // estimated standard errors, about a t-test at 2 with ~14 degrees of freedom, P(accept) ~ 0.93;
 // the chance that none of the first 9 pairs is accepted is ~ 0.07^9 ~ 4e-11 for any seed. Linear
-// drift r: the windows' means differ by r W, while the drift itself inflates the piece spread to
-// s_k ~ r W sqrt(63/12) / (8 sqrt 8) = 0.10 r W, so the threshold 2 sqrt 2 s_k ~ 0.29 r W stays
-// 3.5x below the change whatever r (noise only widens it by ~1.4e-3 x 2: r = 0.05 keeps 3x).
+// drift r: the windows' means differ by r W, while the drift itself spreads the 8 piece means
+// (r W (j + 1/2)/8, sample variance 6 (r W / 8)^2) to s_k = r W sqrt(6) / (8 sqrt 8) = 0.108 r W, so
+// the threshold 2 sqrt(2) s_k = 0.31 r W stays 3.3x below the change whatever r (sigmas >= 6.5
+// would accept it); the noise adds ~1.4e-3 x 2 in quadrature, and r = 0.05 keeps ~3x.
 // Relaxing 0.5 exp(-t/2): consecutive window means differ by 0.155 exp(-(w-2)/2) at window w, 0.013
 // at w = 7 against a threshold ~0.0045 (noise and drift, ~6 sd of the difference away): refused
 // up to w = 7; below the noise (w ~ 10) it is accepted. Checked over seeds 1-2000 of this test's
