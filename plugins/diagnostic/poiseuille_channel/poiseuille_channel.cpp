@@ -1,7 +1,6 @@
 // The acceleration-driven Poiseuille channel of paper 004: steady profiles after the total energy
 // has settled (Appendix), and every derived quantity of Secs. IV-VI with jackknife errors.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -119,9 +118,9 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "steady_tolerance (relative) or by at most steady_sigmas standard errors of the difference (each\n"
       "window mean's error from the means of its 8 equal pieces: a change noise alone explains; the\n"
       "toolkit's gdsmc::SteadyTest). From then on every sample is accumulated (004 Eq. 13) per sampling\n"
-      "bin: the sums of 1, v_a and v_a v_b (gdsmc::BinSums), in batches of consecutive records; when 16 batches are full,\n"
-      "neighbours are merged (8 batches of twice the length), so the batches always cover the whole\n"
-      "steady window in 8-16 pieces.\n"
+      "bin: the sums of 1, v_a and v_a v_b (gdsmc::BinSums), in batches of consecutive records; when\n"
+      "16 batches are full, neighbours are merged (8 batches of twice the length), so the batches\n"
+      "always cover the whole steady window in 8-16 pieces.\n"
       "Datasets of the group (name [unit]; every scalar and steady array also has <name>_error, the\n"
       "delete-one jackknife error over the batches: an honest error when the batches are longer than\n"
       "the correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
