@@ -1,7 +1,6 @@
 // The acceleration-driven Poiseuille channel of paper 004: steady profiles after the total energy
 // has settled (Appendix), and every derived quantity of Secs. IV-VI with jackknife errors.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -12,14 +11,14 @@
 
 #include <Eigen/Dense>
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics/bins.hpp>
+#include <gdsmc/physics/steady.hpp>
 
 namespace {
 
-// Per-bin sums over the samples of a batch, kAcc doubles per bin (as the `profiles` diagnostic).
-enum Acc : std::size_t { kN, kSx, kSy, kSz, kSxx, kSyy, kSzz, kSxy, kSxz, kSyz, kAcc };
-// Whole-system sums of a batch, after the bins.
+// Per-bin sums over the samples of a batch: gdsmc::BinSums (1, v_a, v_a v_b; N_t), as `profiles`.
+// Whole-system sums of a batch, beside them.
 enum Extra : std::size_t {
-  eSamples,      // N_t
   eTime,         // elapsed time (reduced units)
   eSumVx,        // sum over samples of sum_i v_x,i
   eWallMomentum, // x momentum given to the gas by both walls
@@ -100,12 +99,11 @@ constexpr Column kProfiles[kProfile] = {
 constexpr double kDelta1 = -0.04;  // 004 Eq. 37 (Sela & Goldhirsch)
 constexpr double kDelta2 = 0.214;  // 004 Eq. 37
 constexpr std::size_t kMaxBatches = 16;
-constexpr std::size_t kPieces = 8;  // pieces of a steady-test window (batch means of its error)
 
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.2.1";
+  static constexpr const char* version = "1.2.2";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -118,10 +116,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "windows of steady_window (time); the state is steady from the end of the first window that\n"
       "ends after min_time and whose mean differs from the previous window's by at most\n"
       "steady_tolerance (relative) or by at most steady_sigmas standard errors of the difference (each\n"
-      "window mean's error from the means of its 8 equal pieces: a change noise alone explains). From then on every sample is accumulated (004 Eq. 13) per sampling bin: the\n"
-      "sums of 1, v_a and v_a v_b, in batches of consecutive records; when 16 batches are full,\n"
-      "neighbours are merged (8 batches of twice the length), so the batches always cover the whole\n"
-      "steady window in 8-16 pieces.\n"
+      "window mean's error from the means of its 8 equal pieces: a change noise alone explains; the\n"
+      "toolkit's gdsmc::SteadyTest). From then on every sample is accumulated (004 Eq. 13) per sampling\n"
+      "bin: the sums of 1, v_a and v_a v_b (gdsmc::BinSums), in batches of consecutive records; when\n"
+      "16 batches are full, neighbours are merged (8 batches of twice the length), so the batches\n"
+      "always cover the whole steady window in 8-16 pieces.\n"
       "Datasets of the group (name [unit]; every scalar and steady array also has <name>_error, the\n"
       "delete-one jackknife error over the batches: an honest error when the batches are longer than\n"
       "the correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
@@ -209,19 +208,18 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     bins_ = sys.bins;
     // The wall fits use at most the wall-side half of the bins (less the central one).
     wall_fit_ = std::min(wall_bins_, bins_ / 2 > 0 ? bins_ / 2 - 1 : 0);
-    stride_ = bins_ * kAcc + kExtra;
-    batches_.assign(kMaxBatches * stride_, 0.0);
-    work_.assign(stride_, 0.0);
+    batches_.resize(kMaxBatches);
+    for (auto& b : batches_) b.begin(bins_, false);
+    total_.begin(bins_, false);
+    work_.begin(bins_, false);
+    extras_.assign(kMaxBatches * kExtra, 0.0);
     filled_ = 0;
     batch_records_ = 1;
     records_in_batch_ = 0;
     steady_ = false;
     steady_from_ = std::nan("");
-    piece_sum_.fill(0.0);
-    piece_samples_.fill(0);
-    window_start_ = 0;
-    previous_window_mean_ = std::nan("");
-    previous_window_error_ = 0;
+    steady_test_.configure(window_, tolerance_, sigmas_);
+    steady_test_.start(0.0);
     record_e_ = record_vx_ = 0;
     record_samples_ = 0;
     have_last_ = false;
@@ -239,21 +237,16 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     ++record_samples_;
     accel_ = ctx.body_acceleration.x;
     if (!steady_) {
-      test_steady(ctx, e);
-      if (!steady_) return;
+      // The energy test of the Appendix (gdsmc::SteadyTest): consecutive window means of E(t).
+      if (!steady_test_.add(ctx.time, e) || ctx.time < min_time_) return;
+      steady_ = true;
+      steady_from_ = ctx.time;
+      filled_ = 1;  // open the first batch; this sample is its first
+      have_last_ = false;
     }
     // Accumulate into the open batch (the last filled_ slot).
-    double* b = &batches_[(filled_ - 1) * stride_];
-    for (std::size_t i = 0; i < p.count; ++i) {
-      double* a = &b[sys_.bin_of(p.y[i]) * kAcc];
-      const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
-      a[kN] += 1.0;
-      a[kSx] += vx; a[kSy] += vy; a[kSz] += vz;
-      a[kSxx] += vx * vx; a[kSyy] += vy * vy; a[kSzz] += vz * vz;
-      a[kSxy] += vx * vy; a[kSxz] += vx * vz; a[kSyz] += vy * vz;
-    }
-    double* x = b + bins_ * kAcc;
-    x[eSamples] += 1.0;
+    batches_[filled_ - 1].add_sample(sys_, p);
+    double* x = &extras_[(filled_ - 1) * kExtra];
     x[eSumVx] += sum_vx;
     const Ledger now = ledger(ctx);
     if (have_last_) {
@@ -281,12 +274,15 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     records_in_batch_ = 0;
     if (filled_ == kMaxBatches) {  // merge neighbours: 8 batches of twice the length
       for (std::size_t k = 0; k < kMaxBatches / 2; ++k) {
-        double* dst = &batches_[k * stride_];
-        const double* a = &batches_[2 * k * stride_];
-        const double* c = &batches_[(2 * k + 1) * stride_];
-        for (std::size_t j = 0; j < stride_; ++j) dst[j] = a[j] + c[j];
+        batches_[k].copy_from(batches_[2 * k]);
+        batches_[k].append(batches_[2 * k + 1]);
+        double* dst = &extras_[k * kExtra];
+        const double* a = &extras_[2 * k * kExtra];
+        const double* c = &extras_[(2 * k + 1) * kExtra];
+        for (std::size_t j = 0; j < kExtra; ++j) dst[j] = a[j] + c[j];
       }
-      std::fill(batches_.begin() + static_cast<std::ptrdiff_t>(kMaxBatches / 2 * stride_), batches_.end(), 0.0);
+      for (std::size_t k = kMaxBatches / 2; k < kMaxBatches; ++k) batches_[k].clear();
+      std::fill(extras_.begin() + static_cast<std::ptrdiff_t>(kMaxBatches / 2 * kExtra), extras_.end(), 0.0);
       filled_ = kMaxBatches / 2;
       batch_records_ *= 2;
     }
@@ -300,22 +296,29 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     // The batches that hold samples (the open one may be empty).
     std::size_t used = 0;
     for (std::size_t k = 0; k < filled_; ++k)
-      if (batches_[k * stride_ + bins_ * kAcc + eSamples] > 0) ++used;
+      if (batches_[k].samples() > 0) ++used;
     out.scalar("batches", static_cast<double>(used), "1", "batches of the steady window in the jackknife");
-    std::vector<double> total(stride_, 0.0);
-    for (std::size_t k = 0; k < used; ++k)
-      for (std::size_t j = 0; j < stride_; ++j) total[j] += batches_[k * stride_ + j];
-    out.scalar("averaged_time", total[bins_ * kAcc + eTime] / sys_.time_unit0, "tau0", "length of the steady window");
+    // The whole window: the batches appended in order (the order rule of gdsmc/physics/bins.hpp).
+    total_.clear();
+    std::vector<double> total(kExtra, 0.0);
+    for (std::size_t k = 0; k < used; ++k) {
+      total_.append(batches_[k]);
+      for (std::size_t j = 0; j < kExtra; ++j) total[j] += extras_[k * kExtra + j];
+    }
+    out.scalar("averaged_time", total[eTime] / sys_.time_unit0, "tau0", "length of the steady window");
 
-    Result whole = evaluate(total);
+    Result whole = evaluate(total_, total.data());
     Result err;
     err.scalars.assign(kScalar, std::nan(""));
     err.profiles.assign(kProfile * bins_, std::nan(""));
     if (used >= 2) {
       std::vector<Result> jack;
+      std::vector<double> work(kExtra);
       for (std::size_t k = 0; k < used; ++k) {
-        for (std::size_t j = 0; j < stride_; ++j) work_[j] = total[j] - batches_[k * stride_ + j];
-        jack.push_back(evaluate(work_));
+        work_.copy_from(total_);
+        work_.subtract(batches_[k]);
+        for (std::size_t j = 0; j < kExtra; ++j) work[j] = total[j] - extras_[k * kExtra + j];
+        jack.push_back(evaluate(work_, work.data()));
       }
       jackknife(jack, whole.scalars, err.scalars, [](const Result& r) -> const std::vector<double>& { return r.scalars; });
       jackknife(jack, whole.profiles, err.profiles, [](const Result& r) -> const std::vector<double>& { return r.profiles; });
@@ -359,7 +362,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
                   "poiseuille_channel: steady from t = %.4g tau0 over %.4g tau0: Q = %.5g +- %.2g, rho(0) = %.4g, "
                   "u_s = %.4g, Delta T = %.4g +- %.2g, N1(0) = %.3g, N2(0) = %.3g; momentum balance max %.2g, "
                   "wall/body force %.5g, energy closure %.2g",
-                  steady_from_ / sys_.time_unit0, total[bins_ * kAcc + eTime] / sys_.time_unit0, whole.scalars[Q],
+                  steady_from_ / sys_.time_unit0, total[eTime] / sys_.time_unit0, whole.scalars[Q],
                   err.scalars[Q], whole.scalars[rho_centre], whole.scalars[u_s], whole.scalars[delta_T],
                   err.scalars[delta_T], whole.scalars[N1_centre], whole.scalars[N2_centre],
                   whole.scalars[momentum_balance_max], whole.scalars[wall_momentum_ratio],
@@ -367,18 +370,13 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     out.summary(line);
   }
   void save_state(gdsmc::StateWriter& out) const override {
-    out.write("batches", batches_);
+    for (std::size_t k = 0; k < kMaxBatches; ++k) batches_[k].save(out, "batch" + std::to_string(k));
+    out.write("batch_extras", extras_);
     const std::uint64_t counts[3] = {filled_, batch_records_, records_in_batch_};
     out.write("batch_counts", counts, 3);
     out.write("steady", steady_);
     out.write("steady_from", steady_from_);
-    out.write("window_start", window_start_);
-    out.write("previous_window_mean", previous_window_mean_);
-    out.write("previous_window_error", previous_window_error_);
-    std::uint64_t piece_samples[kPieces];
-    std::copy(piece_samples_.begin(), piece_samples_.end(), piece_samples);
-    out.write("piece_sum", piece_sum_.data(), kPieces);
-    out.write("piece_samples", piece_samples, kPieces);
+    steady_test_.save(out, "steady_test");
     out.write("record_samples", static_cast<std::uint64_t>(record_samples_));
     out.write("record_e", record_e_);
     out.write("record_vx", record_vx_);
@@ -388,7 +386,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     out.write("last", last, 5);
   }
   void load_state(gdsmc::StateReader& in) override {
-    in.read("batches", batches_.data(), batches_.size());  // kMaxBatches x stride, as begin() sized it
+    for (std::size_t k = 0; k < kMaxBatches; ++k) batches_[k].load(in, "batch" + std::to_string(k));  // as begin() sized them
+    in.read("batch_extras", extras_.data(), extras_.size());
     std::uint64_t counts[3];
     in.read("batch_counts", counts, 3);
     if (counts[0] > kMaxBatches || counts[1] == 0 || counts[2] >= counts[1])
@@ -398,13 +397,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     records_in_batch_ = static_cast<std::size_t>(counts[2]);
     in.read("steady", steady_);
     in.read("steady_from", steady_from_);
-    in.read("window_start", window_start_);
-    in.read("previous_window_mean", previous_window_mean_);
-    in.read("previous_window_error", previous_window_error_);
-    std::uint64_t piece_samples[kPieces];
-    in.read("piece_sum", piece_sum_.data(), kPieces);
-    in.read("piece_samples", piece_samples, kPieces);
-    for (std::size_t k = 0; k < kPieces; ++k) piece_samples_[k] = static_cast<std::size_t>(piece_samples[k]);
+    steady_test_.load(in, "steady_test");
     std::uint64_t record_samples = 0;
     in.read("record_samples", record_samples);
     record_samples_ = static_cast<std::size_t>(record_samples);
@@ -442,47 +435,6 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       else if (std::strcmp(stage, "y_min") != 0 && std::strcmp(stage, "y_max") != 0) l.forcings += ctx.energy_ledger[k].energy;
     }
     return l;
-  }
-
-  // The energy test of the Appendix: consecutive window means of E(t). Each window is cut into
-  // kPieces equal pieces; the spread of the piece means is the window mean's standard error (batch
-  // means), so a change that noise alone explains counts as settled:
-  // |m_k - m_{k-1}| <= max(tolerance |m_k|, sigmas sqrt(s_k^2 + s_{k-1}^2)).
-  void test_steady(const gdsmc::StepContext& ctx, double e) {
-    const double into = (ctx.time - window_start_) / window_;
-    const std::size_t piece = std::min(kPieces - 1, static_cast<std::size_t>(std::max(0.0, into) * kPieces));
-    piece_sum_[piece] += e;
-    ++piece_samples_[piece];
-    if (into < 1.0 - 1e-12) return;
-    double sum = 0, count = 0, sum_means = 0, sum_means2 = 0;
-    std::size_t pieces = 0;
-    for (std::size_t k = 0; k < kPieces; ++k) {
-      sum += piece_sum_[k];
-      count += static_cast<double>(piece_samples_[k]);
-      if (piece_samples_[k] == 0) continue;
-      const double m = piece_sum_[k] / static_cast<double>(piece_samples_[k]);
-      sum_means += m;
-      sum_means2 += m * m;
-      ++pieces;
-    }
-    const double mean = sum / count;
-    const double np = static_cast<double>(pieces);
-    const double error = pieces > 1 ? std::sqrt(std::max(0.0, (sum_means2 - sum_means * sum_means / np) / (np - 1) / np)) : 0.0;
-    const double change = std::fabs(mean - previous_window_mean_);
-    const bool settled = std::isfinite(previous_window_mean_) &&
-                         (change <= tolerance_ * std::fabs(mean) ||
-                          change <= sigmas_ * std::sqrt(error * error + previous_window_error_ * previous_window_error_));
-    previous_window_mean_ = mean;
-    previous_window_error_ = error;
-    piece_sum_.fill(0.0);
-    piece_samples_.fill(0);
-    window_start_ = ctx.time;
-    if (settled && ctx.time >= min_time_) {
-      steady_ = true;
-      steady_from_ = ctx.time;
-      filled_ = 1;  // open the first batch; this sample is its first
-      have_last_ = false;
-    }
   }
 
   // Symmetrise an even profile: bin b and its mirror bins-1-b get their mean.
@@ -556,12 +508,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   // Every profile and scalar from one set of sums (the whole window, or the window less a batch).
-  Result evaluate(const std::vector<double>& s) const {
+  Result evaluate(const gdsmc::BinSums& s, const double* x) const {
     Result r;
     r.scalars.assign(kScalar, std::nan(""));
     r.profiles.assign(kProfile * bins_, std::nan(""));
-    const double* x = &s[bins_ * kAcc];
-    const double samples = x[eSamples];
+    const double samples = s.samples();
     if (samples <= 0) return r;
     const double n_av = sys_.number_density, tw = t_wall_, ur = u_ref(), width = sys_.box[1];
     const double bin_volume = sys_.bin_width() * sys_.cross_section();
@@ -569,20 +520,14 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     double* prof = r.profiles.data();
     auto P = [&](std::size_t k) { return prof + k * bins_; };
     for (std::size_t b = 0; b < bins_; ++b) {
-      const double* a = &s[b * kAcc];
-      const double N = a[kN];
-      if (N <= 0) continue;
-      const double norm = 1.0 / (samples * bin_volume);
-      const double n = N * norm;
-      const double u[3] = {a[kSx] / N, a[kSy] / N, a[kSz] / N};
-      const double pxx = sys_.mass * norm * (a[kSxx] - N * u[0] * u[0]);
-      const double pyy = sys_.mass * norm * (a[kSyy] - N * u[1] * u[1]);
-      const double pzz = sys_.mass * norm * (a[kSzz] - N * u[2] * u[2]);
-      const double pxy = sys_.mass * norm * (a[kSxy] - N * u[0] * u[1]);
-      const double p = (pxx + pyy + pzz) / 3.0;
+      const gdsmc::BinMoments m = s.moments(b, bin_volume, sys_.mass);  // 004 Eqs. 13-16, 31
+      if (m.count <= 0) continue;
+      const double n = m.density;
+      const double pxx = m.pressure[0], pyy = m.pressure[1], pzz = m.pressure[2], pxy = m.pressure[3];
+      const double p = m.pressure_scalar;
       P(pRho)[b] = n / n_av;
-      P(pUx)[b] = u[0] / ur;
-      P(pT)[b] = p / n / tw;
+      P(pUx)[b] = m.mean[0] / ur;
+      P(pT)[b] = m.temperature / tw;
       P(pP)[b] = p / p_ref;
       P(pPxx)[b] = pxx / p_ref;
       P(pPyy)[b] = pyy / p_ref;
@@ -697,12 +642,13 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   double window_, tolerance_, sigmas_, min_time_, t_wall_, centre_fit_;
   std::size_t wall_bins_, wall_fit_ = 0;
   gdsmc::SystemInfo sys_;
-  std::size_t bins_ = 0, stride_ = 0, filled_ = 0, batch_records_ = 1, records_in_batch_ = 0;
-  std::vector<double> batches_, work_;
+  std::size_t bins_ = 0, filled_ = 0, batch_records_ = 1, records_in_batch_ = 0;
+  std::vector<gdsmc::BinSums> batches_;  // kMaxBatches per-bin sums
+  std::vector<double> extras_;           // kMaxBatches x kExtra whole-system sums
+  gdsmc::BinSums total_, work_;          // finish(): the whole window, the window less one batch
   bool steady_ = false, have_last_ = false;
-  double steady_from_ = 0, window_start_ = 0, previous_window_mean_ = 0, previous_window_error_ = 0;
-  std::array<double, kPieces> piece_sum_{};
-  std::array<std::size_t, kPieces> piece_samples_{};
+  double steady_from_ = 0;
+  gdsmc::SteadyTest steady_test_;
   std::size_t record_samples_ = 0;
   double record_e_ = 0, record_vx_ = 0, accel_ = 0;
   Ledger last_;

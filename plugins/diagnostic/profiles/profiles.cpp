@@ -6,11 +6,9 @@
 #include <vector>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics/bins.hpp>
 
 namespace {
-
-// Per-bin window sums, in this order, kAcc doubles per bin.
-enum Acc : std::size_t { kN, kSx, kSy, kSz, kSxx, kSyy, kSzz, kSxy, kSxz, kSyz, kWx, kWy, kAcc };
 
 // The profiles written at each record, in this order.
 enum Prof : std::size_t { n_, ux, uy, uz, T_, Pxx, Pyy, Pzz, Pxy, Pxz, Pyz, qx, qy, N1, N2, Kn, kProf };
@@ -43,7 +41,7 @@ constexpr ProfileColumn kColumns[kProf] = {
 class Profiles final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "profiles";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.1.1";
   static constexpr const char* summary =
       "Profiles along y per sampling bin: n, u, T, P_ij, q_x, q_y, N1, N2, Kn (window averages)";
   static constexpr const char* documentation =
@@ -51,8 +49,8 @@ class Profiles final : public gdsmc::Diagnostic {
       "volume V_bin = dy Lx Lz. Each record is the window average since the previous record in the\n"
       "sense of paper 004 Eq. (13): over the N_t samples of the window,\n"
       "  <psi>_y = (1 / (N_t V_bin)) sum_t sum_{i in bin} psi(v_i(t)),\n"
-      "accumulated as the sums of 1, v_a, v_a v_b and |v|^2 v_a per bin (particle-index order). At the\n"
-      "record, with N_b the count summed over the window and u taken from the same window:\n"
+      "accumulated as the sums of 1, v_a, v_a v_b and |v|^2 v_a per bin (particle-index order; the\n"
+      "toolkit's gdsmc::BinSums, gdsmc/physics/bins.hpp). At the record, with N_b the count summed over the window and u taken from the same window:\n"
       "  n(y) = N_b / (N_t V_bin)                                   (004 Eq. 14, per unit mass)\n"
       "  u(y) = sum v / N_b                                          (004 Eq. 15)\n"
       "  P_ab(y) = (m / (N_t V_bin)) sum (v_a - u_a)(v_b - u_b)      (004 Eq. 31, 000 Eq. 4.7)\n"
@@ -79,77 +77,43 @@ class Profiles final : public gdsmc::Diagnostic {
     v0_ = std::sqrt(2.0 * sys.initial_temperature / sys.mass);
     sigma_ = sys.sigma;
     width_ = sys.box[1];
-    acc_.assign(bins_ * kAcc, 0.0);
+    acc_.begin(bins_, true);  // third moments: the heat flux
     values_.assign(bins_ * kProf, 0.0);
-    samples_ = 0;
     for (std::size_t k = 0; k < kProf; ++k) ids_[k] = out.profile(kColumns[k].name, kColumns[k].unit, kColumns[k].doc);
   }
 
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    for (std::size_t i = 0; i < p.count; ++i) {
-      double* a = &acc_[ctx.system->bin_of(p.y[i]) * kAcc];
-      const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
-      const double v2 = vx * vx + vy * vy + vz * vz;
-      a[kN] += 1.0;
-      a[kSx] += vx; a[kSy] += vy; a[kSz] += vz;
-      a[kSxx] += vx * vx; a[kSyy] += vy * vy; a[kSzz] += vz * vz;
-      a[kSxy] += vx * vy; a[kSxz] += vx * vz; a[kSyz] += vy * vz;
-      a[kWx] += v2 * vx; a[kWy] += v2 * vy;
-    }
-    ++samples_;
-  }
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override { acc_.add_sample(*ctx.system, p); }
 
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
-    for (std::size_t b = 0; b < bins_; ++b) compute_bin(&acc_[b * kAcc], b);
+    for (std::size_t b = 0; b < bins_; ++b) compute_bin(acc_.moments(b, bin_volume_, mass_), b);
     for (std::size_t k = 0; k < kProf; ++k) out.append_profile(ids_[k], &values_[k * bins_]);
-    acc_.assign(acc_.size(), 0.0);
-    samples_ = 0;
+    acc_.clear();
   }
-  void save_state(gdsmc::StateWriter& out) const override {
-    out.write("acc", acc_);
-    out.write("samples", static_cast<std::uint64_t>(samples_));
-  }
-  void load_state(gdsmc::StateReader& in) override {
-    in.read("acc", acc_.data(), acc_.size());  // bins x kAcc, as begin() sized it
-    std::uint64_t samples = 0;
-    in.read("samples", samples);
-    samples_ = static_cast<std::size_t>(samples);
-  }
+  void save_state(gdsmc::StateWriter& out) const override { acc_.save(out, "acc"); }
+  void load_state(gdsmc::StateReader& in) override { acc_.load(in, "acc"); }
 
  private:
-  // The record-time formulas of the documentation, for one bin's window sums.
-  void compute_bin(const double* a, std::size_t b) {
+  // The record-time formulas of the documentation, from one bin's moments over the window.
+  void compute_bin(const gdsmc::BinMoments& m, std::size_t b) {
     double v[kProf];
     const double nan = std::nan("");
-    const double N = a[kN];
-    if (samples_ == 0 || N == 0) {
+    if (!(m.count > 0)) {
       for (double& x : v) x = nan;
-      if (samples_ > 0) v[n_] = 0.0;
+      v[n_] = m.density;  // 0 for a bin no particle visited, NaN for a window without samples
     } else {
-      const double norm = 1.0 / (static_cast<double>(samples_) * bin_volume_);  // 1 / (N_t V_bin)
-      const double n = N * norm;
-      const double u[3] = {a[kSx] / N, a[kSy] / N, a[kSz] / N};
-      // sum V_a V_b = sum v_a v_b - N u_a u_b
-      const double cxx = a[kSxx] - N * u[0] * u[0], cyy = a[kSyy] - N * u[1] * u[1], czz = a[kSzz] - N * u[2] * u[2];
-      const double cxy = a[kSxy] - N * u[0] * u[1], cxz = a[kSxz] - N * u[0] * u[2], cyz = a[kSyz] - N * u[1] * u[2];
-      // sum |V|^2 V_a = sum |v|^2 v_a - u_a sum |v|^2 - 2 u_b sum v_b v_a + 2 N |u|^2 u_a
-      const double K = a[kSxx] + a[kSyy] + a[kSzz];
-      const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-      const double hx = a[kWx] - u[0] * K - 2.0 * (u[0] * a[kSxx] + u[1] * a[kSxy] + u[2] * a[kSxz]) + 2.0 * N * uu * u[0];
-      const double hy = a[kWy] - u[1] * K - 2.0 * (u[0] * a[kSxy] + u[1] * a[kSyy] + u[2] * a[kSyz]) + 2.0 * N * uu * u[1];
-      const double pn = mass_ * norm;  // P_ab = m sum V_a V_b / (N_t V_bin)
-      const double P[6] = {pn * cxx, pn * cyy, pn * czz, pn * cxy, pn * cxz, pn * cyz};
-      const double p = (P[0] + P[1] + P[2]) / 3.0;
+      const double n = m.density;
+      const double* P = m.pressure;  // xx, yy, zz, xy, xz, yz
+      const double p = m.pressure_scalar;
       const double lambda = 1.0 / (std::sqrt(2.0) * M_PI * n * sigma_ * sigma_);
       const double nT0 = n0_ * t0_;
       v[n_] = n / n0_;
-      v[ux] = u[0] / v0_;
-      v[uy] = u[1] / v0_;
-      v[uz] = u[2] / v0_;
-      v[T_] = p / n / t0_;
+      v[ux] = m.mean[0] / v0_;
+      v[uy] = m.mean[1] / v0_;
+      v[uz] = m.mean[2] / v0_;
+      v[T_] = m.temperature / t0_;
       for (std::size_t k = 0; k < 6; ++k) v[Pxx + k] = P[k] / nT0;
-      v[qx] = 0.5 * pn * hx / (nT0 * v0_);
-      v[qy] = 0.5 * pn * hy / (nT0 * v0_);
+      v[qx] = m.heat_flux[0] / (nT0 * v0_);
+      v[qy] = m.heat_flux[1] / (nT0 * v0_);
       v[N1] = (P[0] - P[1]) / p;
       v[N2] = (P[1] - P[2]) / p;
       v[Kn] = lambda / width_;
@@ -157,9 +121,9 @@ class Profiles final : public gdsmc::Diagnostic {
     for (std::size_t k = 0; k < kProf; ++k) values_[k * bins_ + b] = v[k];
   }
 
-  std::size_t bins_ = 1, samples_ = 0;
+  std::size_t bins_ = 1;
   double mass_ = 1, bin_volume_ = 1, n0_ = 1, t0_ = 1, v0_ = 1, sigma_ = 1, width_ = 1;
-  std::vector<double> acc_;     // bins x kAcc window sums
+  gdsmc::BinSums acc_;         // the window's per-bin sums
   std::vector<double> values_;  // kProf x bins: the record being written
   std::size_t ids_[kProf] = {};
 };

@@ -11,13 +11,10 @@
 
 namespace {
 
-// Layer sums of one sample, kSums doubles per layer.
-enum Sum : std::size_t { kN, kSx, kSy, kSz, kS2, kSums };
-
 class SlabAverages final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "slab_averages";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.1.1";
   static constexpr const char* summary =
       "T_bar/T0, reduced mean pressure tensor, and u_x, n, T of the central and top layers (000 Figs. 3-4)";
   static constexpr const char* documentation =
@@ -72,7 +69,7 @@ class SlabAverages final : public gdsmc::Diagnostic {
       group_layers_[g] = 0;
       for (std::size_t I = 0; I < layers_; ++I) group_layers_[g] += in_group_[g][I];
     }
-    sums_.assign(layers_ * kSums, 0.0);
+    sums_.begin(layers_, false);  // indexed by layer, one sample at a time
     values_.assign(10, 0.0);
     window_.declare(out, {{"T_bar", "T0", "mean temperature T_bar = (1/N) sum_I N_I T_I (000 Eq. 4.8)"},
                           {"minus_Pxy_over_nT", "1", "-P_bar_xy / (n_bar T_bar), P_bar of 000 Eq. (4.9)"},
@@ -94,25 +91,24 @@ class SlabAverages final : public gdsmc::Diagnostic {
     values_[2] = (m.second[0][0] - m.second[1][1]) / T;
     values_[3] = (m.second[1][1] - m.second[2][2]) / T;
 
-    sums_.assign(sums_.size(), 0.0);
+    sums_.clear();
     for (std::size_t i = 0; i < p.count; ++i) {
       const std::size_t I = ctx.system->layer_of(p.y[i]);
       if (!in_group_[kCentre][I] && !in_group_[kTop][I]) continue;
-      double* s = &sums_[I * kSums];
-      const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
-      s[kN] += 1.0;
-      s[kSx] += vx; s[kSy] += vy; s[kSz] += vz;
-      s[kS2] += vx * vx + vy * vy + vz * vz;
+      sums_.add(I, p.vx[i], p.vy[i], p.vz[i]);
     }
+    sums_.end_sample();
+    using S = gdsmc::BinSums;
     for (int g : {kCentre, kTop}) {
-      double N = 0, sx = 0, peculiar = 0;  // peculiar: sum_I sum_i (v - u_I)^2 = sum_I (S2 - |S|^2 / N_I)
+      double N = 0, sx = 0, peculiar = 0;  // peculiar: sum_I sum_i (v - u_I)^2 = sum_I (tr S2 - |S|^2 / N_I)
       for (std::size_t I = 0; I < layers_; ++I) {
         if (!in_group_[g][I]) continue;
-        const double* s = &sums_[I * kSums];
-        if (s[kN] == 0) continue;
-        N += s[kN];
-        sx += s[kSx];
-        peculiar += s[kS2] - (s[kSx] * s[kSx] + s[kSy] * s[kSy] + s[kSz] * s[kSz]) / s[kN];
+        const double* s = sums_.sums(I);
+        if (s[S::kCount] == 0) continue;
+        N += s[S::kCount];
+        sx += s[S::kVx];
+        peculiar += (s[S::kVxx] + s[S::kVyy] + s[S::kVzz]) -
+                    (s[S::kVx] * s[S::kVx] + s[S::kVy] * s[S::kVy] + s[S::kVz] * s[S::kVz]) / s[S::kCount];
       }
       double* v = &values_[4 + 3 * static_cast<std::size_t>(g)];
       v[0] = N > 0 ? sx / N / v0_ : std::nan("");
@@ -134,7 +130,7 @@ class SlabAverages final : public gdsmc::Diagnostic {
   double half_ = 0, dy_ = 1, layer_volume_ = 1, mass_ = 1, n0_ = 1, t0_ = 1, v0_ = 1;
   std::vector<unsigned char> in_group_[2];  // per group, per layer: 1 if the layer belongs to it
   std::size_t group_layers_[2] = {0, 0};
-  std::vector<double> sums_;     // layers x kSums, one sample
+  gdsmc::BinSums sums_;          // per-layer sums of one sample (toolkit, gdsmc/physics/bins.hpp)
   std::vector<double> values_;   // one sample's values, in the order of the columns
   gdsmc::WindowAverage window_;
 };

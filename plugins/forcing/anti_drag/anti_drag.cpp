@@ -36,13 +36,8 @@ class AntiDrag final : public gdsmc::Forcing {
     cooling_.update(ctx, p.count);
     const double dissipated = cooling_.dissipated_energy;
     if (dissipated == 0 || p.count < 2) return 0.0;
-    double u[3] = {0, 0, 0};
-    for (std::size_t i = 0; i < p.count; ++i) {
-      u[0] += p.vx[i];
-      u[1] += p.vy[i];
-      u[2] += p.vz[i];
-    }
-    for (double& c : u) c /= static_cast<double>(p.count);
+    double u[3];
+    gdsmc::velocity_sums(p).mean(u);
     double energy = 0;  // (1/2) sum (V - u)^2, m = 1
     for (std::size_t i = 0; i < p.count; ++i) {
       const double dx = p.vx[i] - u[0], dy = p.vy[i] - u[1], dz = p.vz[i] - u[2];

@@ -152,18 +152,10 @@ class CloningAnnihilation final : public gdsmc::Forcing {
     reservoir_.advance(cooling_.collisions_per_particle, reservoir_rng);
     if (!(cooling_.dissipated_energy > 0) || p.count < 2) return 0.0;
 
-    double u[3] = {0, 0, 0}, sum2 = 0;
-    for (std::size_t i = 0; i < p.count; ++i) {
-      u[0] += p.vx[i];
-      u[1] += p.vy[i];
-      u[2] += p.vz[i];
-    }
+    double u[3];
+    gdsmc::velocity_sums(p).mean(u);
     const double n = static_cast<double>(p.count);
-    for (double& c : u) c /= n;
-    for (std::size_t i = 0; i < p.count; ++i) {
-      const double dx = p.vx[i] - u[0], dy = p.vy[i] - u[1], dz = p.vz[i] - u[2];
-      sum2 += dx * dx + dy * dy + dz * dz;
-    }
+    const double sum2 = gdsmc::peculiar_square_sum(p, u);
     const double temperature = sum2 / (3.0 * n);  // m = 1
     if (!(temperature > 0)) return 0.0;
     gdsmc::Rng rng = ctx.streams->for_unit(1);

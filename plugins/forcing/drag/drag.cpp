@@ -120,18 +120,9 @@ class Drag final : public gdsmc::Forcing {
   // Homogeneous: u and T of all particles now (Eq. 4.22), gamma = zeta0/2 or refined.
   double apply_homogeneous(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) {
     const double inv = 1.0 / static_cast<double>(p.count);
-    double u[3] = {0, 0, 0};
-    for (std::size_t i = 0; i < p.count; ++i) {
-      u[0] += p.vx[i];
-      u[1] += p.vy[i];
-      u[2] += p.vz[i];
-    }
-    for (double& c : u) c *= inv;
-    double c2 = 0;
-    for (std::size_t i = 0; i < p.count; ++i) {
-      const double cx = p.vx[i] - u[0], cy = p.vy[i] - u[1], cz = p.vz[i] - u[2];
-      c2 += cx * cx + cy * cy + cz * cz;
-    }
+    const gdsmc::VelocitySums sums = gdsmc::velocity_sums(p);
+    const double u[3] = {sums.sum[0] * inv, sums.sum[1] * inv, sums.sum[2] * inv};  // sum / N as sum * (1/N)
+    const double c2 = gdsmc::peculiar_square_sum(p, u);
     const double T = c2 * inv / 3.0;  // m = 1
     if (!(T > 0)) return 0.0;
     const double tau = gdsmc::characteristic_time(ctx.system->mean_free_path0, T);  // tau(T), Eq. 4.22

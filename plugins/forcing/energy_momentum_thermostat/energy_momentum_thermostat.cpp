@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics/moments.hpp>
 
 namespace {
 
@@ -36,19 +37,11 @@ class EnergyMomentumThermostat final : public gdsmc::Forcing {
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     if (p.count == 0) return 0.0;
     const double n = static_cast<double>(p.count);
-    double u[3] = {0, 0, 0}, before = 0;
-    for (std::size_t i = 0; i < p.count; ++i) {
-      u[0] += p.vx[i];
-      u[1] += p.vy[i];
-      u[2] += p.vz[i];
-      before += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
-    }
-    for (double& c : u) c /= n;
-    double peculiar = 0;  // 2 N K' / m, summed from the differences (no cancellation)
-    for (std::size_t i = 0; i < p.count; ++i) {
-      const double dx = p.vx[i] - u[0], dy = p.vy[i] - u[1], dz = p.vz[i] - u[2];
-      peculiar += dx * dx + dy * dy + dz * dz;
-    }
+    const gdsmc::VelocitySums sums = gdsmc::velocity_sums(p);
+    double u[3];
+    sums.mean(u);
+    const double before = sums.square;
+    const double peculiar = gdsmc::peculiar_square_sum(p, u);  // 2 N K' / m, from the differences (no cancellation)
     const double target = 3.0 * n * ctx.system->initial_temperature;  // 2 N K0 / m, K0 = (3/2) T0
     if (!(peculiar > 0))
       throw std::runtime_error("energy_momentum_thermostat: every particle has the mean velocity; the kinetic "

@@ -55,15 +55,10 @@ class HcsReplacement final : public gdsmc::Forcing {
     reservoir_.advance(cooling_.collisions_per_particle, reservoir_rng);
     if (!(cooling_.dissipated_energy > 0) || p.count < 2) return 0.0;
 
-    double u[3] = {0, 0, 0}, sum2 = 0;
-    for (std::size_t i = 0; i < p.count; ++i) {
-      u[0] += p.vx[i];
-      u[1] += p.vy[i];
-      u[2] += p.vz[i];
-      sum2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
-    }
-    const double n = static_cast<double>(p.count);
-    for (double& c : u) c /= n;
+    const gdsmc::VelocitySums sums = gdsmc::velocity_sums(p);
+    double u[3];
+    sums.mean(u);
+    const double n = static_cast<double>(p.count), sum2 = sums.square;
     const double temperature = (sum2 / n - (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])) / 3.0;  // m = 1
     if (!(temperature > 0)) return 0.0;
     // (1/2) zeta dt N = dE / (3 T), with zeta dt = dE / ((3/2) N T).

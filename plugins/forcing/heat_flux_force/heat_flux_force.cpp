@@ -2,6 +2,7 @@
 // modified thermal conductivity kappa', or F_eps = G(V).eps (Eqs. 3.16, 2.37) for kappa; its
 // velocity-dependent part over one step (Eq. 4.1 and its analogue for G).
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics/moments.hpp>
 
 namespace {
 
@@ -62,13 +63,8 @@ class HeatFluxForce final : public gdsmc::Forcing {
   double apply(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
     if (p.count == 0) return 0.0;
     const double k = epsilon_star_ / ctx.system->mean_free_path0 * ctx.dt;  // eps dt, eps = eps*/lambda
-    double u[3] = {0, 0, 0};
-    for (std::size_t i = 0; i < p.count; ++i) {
-      u[0] += p.vx[i];
-      u[1] += p.vy[i];
-      u[2] += p.vz[i];
-    }
-    for (double& c : u) c /= static_cast<double>(p.count);
+    double u[3];
+    gdsmc::velocity_sums(p).mean(u);
     double energy = 0;  // sum (1/2)(v'^2 - v^2), m = 1
     for (std::size_t i = 0; i < p.count; ++i) {
       const double X = p.vx[i] - u[0], Y = p.vy[i] - u[1], Z = p.vz[i] - u[2];

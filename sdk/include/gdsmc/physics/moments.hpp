@@ -40,6 +40,38 @@ struct PeculiarSums {
   }
 };
 
+// Sums over a whole span in index order, one pass: sum v_a and sum |v|^2 (laboratory frame). The
+// forcings' mean velocity is mean(), sum / N (000 Eq. 4.5 for the whole system).
+struct VelocitySums {
+  double sum[3] = {0, 0, 0};
+  double square = 0;  // sum |v|^2
+  std::size_t count = 0;
+  void mean(double u[3]) const {
+    for (int c = 0; c < 3; ++c) u[c] = sum[c] / static_cast<double>(count);
+  }
+};
+inline VelocitySums velocity_sums(const ParticleSpan& p) {
+  VelocitySums s;
+  s.count = p.count;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    s.sum[0] += p.vx[i];
+    s.sum[1] += p.vy[i];
+    s.sum[2] += p.vz[i];
+    s.square += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+  }
+  return s;
+}
+// sum |v - u|^2 over the span in index order (3 N T / m about the mean u, 000 Eq. 4.6), summed from
+// the differences (no cancellation).
+inline double peculiar_square_sum(const ParticleSpan& p, const double u[3]) {
+  double s = 0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double dx = p.vx[i] - u[0], dy = p.vy[i] - u[1], dz = p.vz[i] - u[2];
+    s += dx * dx + dy * dy + dz * dz;
+  }
+  return s;
+}
+
 // Moments of the particles listed in `members` (nullptr: all of particles). Two passes in a fixed
 // order, so the result is bit-reproducible.
 inline VelocityMoments velocity_moments(const ParticleSpan& p, const std::uint32_t* members = nullptr,
