@@ -267,6 +267,41 @@ TEST(layers, UniformIsTheDefaultAndUnchanged) {
   EXPECT_TRUE(ea.output().system_arrays.empty());
 }
 
+// Layers from the transient keep the host's promises: the same bits on 1 and 2 threads, and a run
+// continued from a checkpoint written before or after the edges were set ends as the one that was
+// not interrupted.
+TEST(layers, SameBitsOnTwoThreadsAndAcrossACheckpoint) {
+  t::TempDir dir;
+  std::string yaml = channel_yaml("{mean_free_paths: 0.5, after: 6}", 12);
+  yaml = t::replace_once(yaml, "particles: 8000", "particles: 20000");  // above one mover block: 2 threads share it
+  host::Pipeline p = t::load_yaml(dir, yaml);
+  host::Engine one(p, 0, 1), two(p, 0, 2);
+  one.run();
+  two.run();
+  auto same = [](host::Engine& a, host::Engine& b, const char* what) {
+    const ParticleSpan pa = a.particles(), pb = b.particles();
+    ASSERT_EQ(pa.count, pb.count) << what;
+    for (std::size_t i = 0; i < pa.count; ++i) {
+      ASSERT_EQ(pa.id[i], pb.id[i]) << what << ", particle " << i;
+      ASSERT_EQ(pa.y[i], pb.y[i]) << what << ", particle " << i;
+      ASSERT_EQ(pa.vx[i], pb.vx[i]) << what << ", particle " << i;
+    }
+    for (std::size_t I = 0; I <= a.system().cells; ++I)
+      ASSERT_EQ(a.system().layer_edges[I], b.system().layer_edges[I]) << what << ", edge " << I;
+  };
+  same(one, two, "2 threads");
+  for (const double pause_tau0 : {3.0, 9.0}) {
+    host::Engine first(p, 0, 1);
+    while (first.context().time_in_tau0() < pause_tau0) first.step();
+    BufferStateWriter out;
+    first.save(out);
+    BufferStateReader in(out.bytes());
+    host::Engine resumed(p, 0, 1, in);
+    resumed.run();
+    same(one, resumed, pause_tau0 < 6 ? "resumed before the edges were set" : "resumed after the edges were set");
+  }
+}
+
 TEST(layers, BadLayerSpecificationsNameTheParameterAndWhatIsValid) {
   t::TempDir dir;
   struct Case {
