@@ -29,6 +29,8 @@
 //                         majorants, the thread pool): the denominator of Engine::step's overhead.
 //   BM_SlabStreamSort     the slab mover (free flight, diffuse walls at both planes, layer index)
 //                         plus the counting sort into 100 layers: particle moves per second.
+//   BM_SlabStreamSortEdges  the same with 100 layers of different widths (11:1), placed by the
+//                         lookup table (CellGrid::TableIndex): the cost of non-uniform layers.
 //   BM_SlabCollideLayers  the collision stage of the same slab, layer by layer as Engine::collide
 //                         drives it, elastic, ~N/100 collisions per call: compare with
 //                         BM_PluginCollideCell/N/100 (one homogeneous cell, same rule).

@@ -138,6 +138,42 @@ void BM_SlabStreamSort(benchmark::State& state) {
 }
 BENCHMARK(BM_SlabStreamSort)->ArgName("N")->Arg(100000)->Arg(1000000);
 
+// The same with layers of different widths (system.layers: {mean_free_paths, after} after its
+// transient): 100 layers 11 times narrower at the centre than at the walls, as a clustered channel's;
+// each particle placed by CellGrid::TableIndex (a lookup and one compare) instead of the uniform
+// arithmetic. The ratio to BM_SlabStreamSort is the cost of placing by edges.
+void BM_SlabStreamSortEdges(benchmark::State& state) {
+  slab_bench(state, [](benchmark::State& st, SlabPieces& s) {
+    const std::size_t m = s.grid.count();
+    const double ly = s.run.engine->system().box[1];
+    std::vector<double> widths(m), edges(m + 1);
+    double total = 0;
+    for (std::size_t I = 0; I < m; ++I) {
+      const double u = static_cast<double>(I) / static_cast<double>(m - 1) - 0.5;
+      total += widths[I] = 0.1 + 4.0 * u * u;
+    }
+    double sum = 0;
+    edges[0] = -0.5 * ly;
+    for (std::size_t I = 1; I < m; ++I) edges[I] = -0.5 * ly + ly * (sum += widths[I - 1]) / total;
+    edges[m] = 0.5 * ly;
+    s.grid.set_edges(edges);
+    const std::size_t bins = s.grid.table_bins();
+    const std::uint64_t h0 = s.hits;
+    std::uint64_t calls = 0;
+    for (auto _ : st) {
+      s.stream_and_sort();
+      if (++calls % host::Engine::kReorderEvery == 0) s.reorder();
+    }
+    s.grid.set_edges({});  // back to the equal layers the other benchmarks share
+    s.reorder();
+    const double n = static_cast<double>(s.run.engine->system().particles);
+    st.counters["moves/s"] = benchmark::Counter(n * static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
+    st.counters["hits/call"] = benchmark::Counter(static_cast<double>(s.hits - h0), benchmark::Counter::kAvgIterations);
+    st.counters["table_bins"] = static_cast<double>(bins);
+  });
+}
+BENCHMARK(BM_SlabStreamSortEdges)->ArgName("N")->Arg(100000)->Arg(1000000);
+
 // The collision stage of the slab, layer by layer (per-layer majorant, remainder and stream), with
 // ~N/100 collisions per call as BM_PluginCollideCell/N/100 (the same rule, elastic) in one cell.
 void BM_SlabCollideLayers(benchmark::State& state) {

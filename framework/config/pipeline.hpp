@@ -113,6 +113,13 @@ struct Pipeline {
   // slab (system.domain: slab): Ly (required), Lx (0: Lx = Lz), M layers, sampling bins (0: M)
   double box_y = 0, box_x = 0;
   std::size_t layers = 1, bins = 0;
+  // system.layers: {mean_free_paths: w, after: T}: `layers` = ceil(Ly / (w lambda0)) layers, of
+  // equal widths until t = T tau0, then with edges set from the density profile measured over
+  // [T/2, T] so that each holds the same share of the particles, i.e. is w' <= w local mean free
+  // paths wide (dilute lambda(y) = 1 / (sqrt(2) pi n(y) sigma^2)), and frozen for the rest of the run.
+  // 0: uniform layers throughout (layers: M, the default).
+  double layers_mean_free_paths = 0;
+  double layers_after_tau0 = 0;
 
   PluginUse initial_state;
   PluginUse collision;

@@ -13,10 +13,6 @@
 
 namespace gdsmc::host {
 
-namespace {
-
-// A time in tau0: a bare number or {value: T, unit: tau0}, at `key` (e.g. "run.stop.time").
-// A value without its unit is a bare number in tau0 (listed, or refused with units: explicit).
 std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::string& key, Pipeline& p) {
   if (!t.IsMap() || !t["unit"]) {
     const YAML::Node v = t.IsMap() ? t["value"] : t;
@@ -39,6 +35,8 @@ std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::s
   }
   return c.real(t["value"], key + ".value");
 }
+
+namespace {
 
 void parse_average_after(Checker& c, const YAML::Node& aa, Pipeline& p) {
   if (!aa.IsMap()) {

@@ -1,6 +1,9 @@
 // Readers of the pipeline's own sections (internal to config/): each records its problems in the
 // Checker and fills the Pipeline.
 #pragma once
+#include <optional>
+#include <string>
+
 #include <yaml-cpp/yaml.h>
 
 #include "config/pipeline.hpp"
@@ -10,6 +13,9 @@ namespace gdsmc::host {
 
 void parse_run(Checker& c, const YAML::Node& run, Pipeline& p);
 void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p);
+// A time in tau0: a bare number or {value: T, unit: tau0}, at `key` (e.g. "run.stop.time").
+// A value without its unit is a bare number in tau0 (listed, or refused with units: explicit).
+std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::string& key, Pipeline& p);
 void parse_output(Checker& c, const YAML::Node& out, Pipeline& p);
 void parse_sweep(Checker& c, const YAML::Node& sw, Pipeline& p);
 // units: reference (default) or explicit.

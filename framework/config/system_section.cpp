@@ -43,6 +43,72 @@ std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::st
   return std::nullopt;
 }
 
+constexpr const char* kLayersGrammar =
+    "valid: layers: M (M layers of equal width), layers: {uniform: M} (the same), or layers: {mean_free_paths: w, "
+    "after: T} (layers at most w local mean free paths wide, set from the density profile of the transient t < T "
+    "tau0 and frozen after it)";
+
+// system.layers as a mapping: {uniform: M} or {mean_free_paths: w, after: T}.
+void parse_layers(Checker& c, const YAML::Node& n, Pipeline& p) {
+  c.check_keys(n, "system.layers", {"uniform", "mean_free_paths", "after"});
+  if (n["uniform"] && (n["mean_free_paths"] || n["after"])) {
+    c.error("system.layers", n, std::string("give either uniform: M or mean_free_paths: w with after: T, not both; ") +
+                                    kLayersGrammar);
+    return;
+  }
+  if (n["uniform"]) {
+    if (auto m = c.integer(n["uniform"], "system.layers.uniform")) {
+      if (*m < 1 || *m > 100000000) c.error("system.layers.uniform", n["uniform"], "layers must be between 1 and 1e8");
+      else p.layers = static_cast<std::size_t>(*m);
+    }
+    return;
+  }
+  if (!n["mean_free_paths"]) {
+    c.error("system.layers", n, std::string("missing 'mean_free_paths' (the largest layer width in local mean free "
+                                            "paths, e.g. 0.5) or 'uniform'; ") + kLayersGrammar);
+    return;
+  }
+  double w = 0;  // 0: refused (reported)
+  if (const std::optional<double> v = c.real(n["mean_free_paths"], "system.layers.mean_free_paths")) {
+    if (*v > 0 && std::isfinite(*v))
+      w = *v;
+    else
+      c.error("system.layers.mean_free_paths", n["mean_free_paths"],
+              fmt("the layer width in local mean free paths must be a positive finite number (e.g. 0.5), got %g", *v));
+  }
+  if (!n["after"]) {
+    c.error("system.layers", n, "missing 'after: T': the end of the transient (t in tau0) whose density profile sets "
+                                "the layers, e.g. {mean_free_paths: 0.5, after: 100}");
+    return;
+  }
+  std::optional<double> after = time_in_tau0(c, n["after"], "system.layers.after", p);
+  if (after && !(*after > 0 && std::isfinite(*after))) {
+    c.error("system.layers.after", n["after"],
+            fmt("the transient must last a positive finite time (tau0), got %g: the layers are set from the density "
+                "profile measured over its second half",
+                *after));
+    after.reset();
+  } else if (after && p.stop_time_tau0 && *after >= *p.stop_time_tau0) {
+    c.error("system.layers.after", n["after"],
+            fmt("the layers would be set at t = %g tau0, not before the run stops (run.stop.time %g tau0); give a time "
+                "before the stop, e.g. after: %g",
+                *after, *p.stop_time_tau0, 0.5 * *p.stop_time_tau0));
+    after.reset();
+  }
+  if (!(w > 0) || !after || !(p.box_y > 0)) return;
+  const double layers = std::ceil(p.box_y / (w * p.mean_free_path0()) * (1.0 - 1e-12));
+  if (!(layers >= 1 && layers <= 100000000)) {
+    c.error("system.layers.mean_free_paths", n["mean_free_paths"],
+            fmt("%g local mean free paths would make %.3g layers (Ly = %.4g lambda0 holds Ly/lambda0 mean free paths "
+                "in all): the count must be between 1 and 1e8",
+                w, layers, p.box_y / p.mean_free_path0()));
+    return;
+  }
+  p.layers = static_cast<std::size_t>(layers);
+  p.layers_mean_free_paths = w;
+  p.layers_after_tau0 = *after;
+}
+
 // domain: homogeneous (default) or slab with box {y[, x]}, layers and bins (000 Sec. IV.A).
 void parse_domain(Checker& c, const YAML::Node& sys, Pipeline& p) {
   const bool slab_keys = sys["box"] || sys["layers"] || sys["bins"];
@@ -70,6 +136,8 @@ void parse_domain(Checker& c, const YAML::Node& sys, Pipeline& p) {
   }
   if (!sys["layers"]) {
     c.error("system.layers", sys, "a slab needs its number of layers M (collision cells along y; paper 000 uses 50)");
+  } else if (sys["layers"].IsMap()) {
+    parse_layers(c, sys["layers"], p);
   } else if (auto m = c.integer(sys["layers"], "system.layers")) {
     if (*m < 1 || *m > 100000000) c.error("system.layers", sys["layers"], "layers must be between 1 and 1e8");
     else p.layers = static_cast<std::size_t>(*m);

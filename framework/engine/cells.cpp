@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace gdsmc::host {
 
@@ -24,12 +26,83 @@ void CellGrid::slab(std::size_t particles, std::size_t layers, double height, do
   layers_ = layers;
   total_ = static_cast<std::uint32_t>(particles);
   height_ = height;
+  cross_section_ = cross_section;
   cell_volume_ = cross_section * height / static_cast<double>(layers);
+  edges_.clear();
+  volumes_.clear();
+  table_first_.clear();
+  table_upper_.clear();
   offsets_.assign(layers + 1, 0);
   fill_.clear();
   members_.assign(particles, 0);
   next_.assign(layers, 0);
   scratch_mean_.assign(3 * layers, 0.0);
+}
+
+void CellGrid::set_edges(std::vector<double> edges) {
+  if (!slab_) throw std::invalid_argument("layer edges need a slab");
+  if (edges.empty()) {
+    edges_.clear();
+    volumes_.clear();
+    table_first_.clear();
+    table_upper_.clear();
+    return;
+  }
+  const double half = 0.5 * height_;
+  if (edges.size() != layers_ + 1)
+    throw std::invalid_argument("layer edges: " + std::to_string(edges.size()) + " values for " +
+                                std::to_string(layers_) + " layers (needs layers + 1)");
+  if (edges.front() != -half || edges.back() != half)
+    throw std::invalid_argument("layer edges: the first must be -Ly/2 and the last +Ly/2");
+  for (std::size_t I = 0; I < layers_; ++I)
+    if (!(edges[I] < edges[I + 1]))
+      throw std::invalid_argument("layer edges: not strictly increasing at edge " + std::to_string(I + 1));
+  // The fine bins: at least two per narrowest layer (a power of two), doubled until no two
+  // interior edges fall in the same bin (the bin of an edge computed with TableIndex's own
+  // arithmetic: rounding decides, not the intention).
+  double narrowest = height_;
+  for (std::size_t I = 0; I < layers_; ++I) narrowest = std::min(narrowest, edges[I + 1] - edges[I]);
+  std::size_t bins = 1;
+  while (bins < layers_ || static_cast<double>(bins) * narrowest < 2.0 * height_) {
+    if (bins >= kMaxTableBins)
+      throw std::invalid_argument("layer edges: the narrowest layer is " + std::to_string(narrowest / height_) +
+                                  " of Ly, too narrow for the lookup table (at most 2^24 bins)");
+    bins *= 2;
+  }
+  std::vector<std::uint64_t> edge_bin(layers_ + 1, 0);
+  while (true) {
+    const double scale = static_cast<double>(bins) / height_;
+    const TableIndex probe = table_index(scale, bins);
+    bool separated = true;
+    for (std::size_t I = 1; I < layers_; ++I) {
+      const std::uint64_t b = probe.bin(edges[I]);
+      edge_bin[I] = b;
+      if (I > 1 && b <= edge_bin[I - 1]) separated = false;
+    }
+    if (separated) {
+      table_scale_ = scale;
+      break;
+    }
+    if (bins >= kMaxTableBins)
+      throw std::invalid_argument("layer edges: two edges closer than Ly/2^24 (lookup table)");
+    bins *= 2;
+  }
+  table_first_.assign(bins, 0);
+  std::uint32_t below = 0;  // interior edges in bins below b
+  std::size_t next = 1;
+  for (std::size_t b = 0; b < bins; ++b) {
+    table_first_[b] = below;
+    while (next < layers_ && edge_bin[next] == b) {
+      ++below;
+      ++next;
+    }
+  }
+  table_upper_.resize(layers_);
+  for (std::size_t k = 0; k + 1 < layers_; ++k) table_upper_[k] = edges[k + 1];
+  table_upper_[layers_ - 1] = std::numeric_limits<double>::quiet_NaN();  // y >= NaN: false for every y, +inf too
+  volumes_.resize(layers_);
+  for (std::size_t I = 0; I < layers_; ++I) volumes_[I] = cross_section_ * (edges[I + 1] - edges[I]);
+  edges_ = std::move(edges);
 }
 
 // A stable counting sort in blocks of kSortBlock particles: each block counts its layers, the
@@ -260,7 +333,7 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
     CellMoments& cm = cells[c];
     cm = CellMoments{};
     cm.count = n;
-    cm.number_density = n / cell_volume_;  // n_I = N_I / (A delta y), Eq. 4.4
+    cm.number_density = n / cell_volume(c);  // n_I = N_I / (A delta y), Eq. 4.4
     double* s = pieces_[c].s;
     s[0] = s[1] = s[2] = 0;
     speed_max_[c] = 0;

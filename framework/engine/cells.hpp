@@ -21,13 +21,22 @@ class CellGrid {
   void homogeneous(std::size_t particles, double volume);
   // A slab of `layers` layers of width height/layers along y in [-height/2, height/2].
   void slab(std::size_t particles, std::size_t layers, double height, double cross_section);
+  // The slab's layers given by their edges instead (layers + 1 values from -height/2 to
+  // +height/2, strictly increasing; the count does not change), or back to equal widths (empty).
+  // Builds the lookup table of table_index(). Throws std::invalid_argument on edges that do not fit.
+  void set_edges(std::vector<double> edges);
+  // The edges set_edges was given (empty: equal widths).
+  const std::vector<double>& edges() const { return edges_; }
+  bool uniform() const { return edges_.empty(); }
 
   std::size_t count() const { return layers_; }
   bool is_slab() const { return slab_; }
-  double cell_volume() const { return cell_volume_; }
+  // The volume of cell c (A delta y_c in a slab; the same for every layer of equal widths).
+  double cell_volume(std::size_t c = 0) const { return volumes_.empty() ? cell_volume_ : volumes_[c]; }
   // The layer of a position y (clamped: y = +height/2 belongs to the top layer); the same
-  // arithmetic as SystemInfo::layer_of, so plugins and the host agree to the last bit.
-  std::uint32_t layer_of(double y) const { return layer_index()(y); }
+  // arithmetic as SystemInfo::layer_of (or, with edges, the same comparisons), so plugins and
+  // the host agree to the last bit.
+  std::uint32_t layer_of(double y) const { return uniform() ? layer_index()(y) : table_index()(y); }
   // layer_of as a value a hot loop keeps in registers: with the grid behind a reference, every
   // store to a particle array may alias height_, so the loop re-read it and re-converted the
   // layer count to double per particle (a third of the mover's time at 10^6).
@@ -44,6 +53,32 @@ class CellGrid {
   LayerIndex layer_index() const {
     return {0.5 * height_, height_, static_cast<double>(layers_), static_cast<std::uint32_t>(layers_ - 1)};
   }
+  // layer_of with edges, in O(1): a uniform fine grid of bins over [-height/2, height/2] (bin b =
+  // floor((y + height/2) * scale), clamped), fine enough that no two interior edges share a bin.
+  // first[b] is the number of interior edges in bins below b, the lowest layer any y of bin b can
+  // be in; the layer is then first[b], plus one if y is at or above the next edge (upper[k] =
+  // edges[k + 1], NaN for the top layer, which no y is at or above). Only comparisons with the edges decide, as in
+  // SystemInfo::layer_of's search: the same layer for every y, NaN and out-of-range values included.
+  struct TableIndex {
+    double half, scale, last;  // last: the last bin's number, as a double
+    std::uint64_t last_bin;
+    const std::uint32_t* first;
+    const double* upper;
+    // The fine bin of y (monotone in y; NaN and y <= -height/2: 0, y >= height/2: the last).
+    std::uint64_t bin(double y) const {
+      const double f = (y + half) * scale;
+      if (!(f > 0)) return 0;
+      return f < last ? static_cast<std::uint64_t>(f) : last_bin;
+    }
+    std::uint32_t operator()(double y) const {
+      const std::uint32_t k = first[bin(y)];
+      return k + static_cast<std::uint32_t>(y >= upper[k]);
+    }
+  };
+  TableIndex table_index() const { return table_index(table_scale_, table_first_.size()); }
+  // The fine bins of the table (a power of two; 0 with equal widths).
+  std::size_t table_bins() const { return table_first_.size(); }
+  static constexpr std::size_t kMaxTableBins = std::size_t{1} << 24;
 
   // Counting sort of the particles by the layer index already stored in cell[] (the mover writes
   // it); fills the member lists, on the pool's threads. No allocation after the first call.
@@ -106,7 +141,16 @@ class CellGrid {
   bool slab_ = false;
   std::size_t layers_ = 1;
   std::uint32_t total_ = 0;
-  double height_ = 1, cell_volume_ = 0;
+  double height_ = 1, cell_volume_ = 0, cross_section_ = 0;
+  std::vector<double> edges_;                 // layers + 1, or empty: equal widths
+  std::vector<double> volumes_;               // layers, or empty: all cell_volume_
+  double table_scale_ = 0;                    // fine bins per unit of y
+  std::vector<std::uint32_t> table_first_;    // fine bins (TableIndex::first)
+  std::vector<double> table_upper_;           // layers (TableIndex::upper)
+  TableIndex table_index(double scale, std::size_t bins) const {
+    return {0.5 * height_, scale, static_cast<double>(bins - 1), static_cast<std::uint64_t>(bins - 1),
+            table_first_.data(), table_upper_.data()};
+  }
   std::vector<std::uint32_t> offsets_;        // layers + 1
   std::vector<std::uint32_t> fill_;           // blocks x layers: counts, then next places (sort)
   std::vector<std::uint32_t> next_;           // layers: the next block's start in each (sort)

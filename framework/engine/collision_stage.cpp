@@ -73,7 +73,7 @@ void CollisionStage::make_groups(const CellGrid& grid, std::size_t particles, co
   const std::size_t n = groups_.size();
   if (grid.is_slab() || n == 1) {
     for (std::size_t c = 0; c < n; ++c)
-      groups_[c] = Group{grid.members(c), 0, 1, grid.members_count(c), grid.cell_volume()};
+      groups_[c] = Group{grid.members(c), 0, 1, grid.members_count(c), grid.cell_volume(c)};
     return;
   }
   // Sub-populations: scramble the storage order by m = (s i + r) mod N with a random unit s and a

@@ -48,6 +48,7 @@ std::vector<DiagnosticOutput> Engine::check_setup(const Pipeline& p) {
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
     : pipeline_(p), pool_(run_threads(p, threads)), streams_(p.seed, realization) {
   system_ = p.system_info(p.particles, realization);
+  open_layers();
   build_objects();
   std::vector<AttributeSpec> attributes;
   for (const auto& o : objects_)
@@ -70,8 +71,12 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   moments_follow_collisions_ = system_.geometry != Geometry::slab && forcings_before_.empty() &&
                                forcings_after_.empty() && accelerations_.empty();
   if (setup != Setup::objects_only) {
-    if (system_.geometry == Geometry::slab) grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
-    else grid_.homogeneous(system_.particles, system_.volume);
+    if (system_.geometry == Geometry::slab) {
+      grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
+      if (adaptive_layers()) grid_.set_edges(layer_edges_);
+    } else {
+      grid_.homogeneous(system_.particles, system_.volume);
+    }
     collision_->bind(store_.span());
     if (setup == Setup::full) generate_initial_state();
   }
@@ -88,6 +93,132 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   report_layout(attributes, outputs_);  // what the memory estimate counts (validate)
   if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
   if (setup == Setup::restore) load(*state);
+}
+
+// Layers sized to the local mean free path: until the transient ends, the pipeline's count of
+// equal widths, but given as edges from the start, so that a plugin sees in begin() that this
+// run's layers are not uniform (SystemInfo::layer_edges non-null) and can refuse it there.
+void Engine::open_layers() {
+  if (!adaptive_layers() || system_.geometry != Geometry::slab) return;
+  const std::size_t m = system_.cells;
+  const double ly = system_.box[1], half = 0.5 * ly;
+  layer_edges_.resize(m + 1);
+  for (std::size_t I = 0; I <= m; ++I) layer_edges_[I] = -half + ly * static_cast<double>(I) / static_cast<double>(m);
+  layer_edges_[0] = -half;
+  layer_edges_[m] = half;
+  system_.layer_edges = layer_edges_.data();
+  // The profile's fine bins: 64 per layer (the densest layer is then still a few bins wide where
+  // the density is up to ~16 times its mean), within [1024, 2^22].
+  layer_profile_.assign(std::clamp<std::size_t>(64 * m, 1024, std::size_t{1} << 22), 0.0);
+  layer_count_sums_.assign(m, 0.0);
+}
+
+// One sample of the density profile: every particle's y into the fine bins.
+void Engine::sample_layer_profile() {
+  const ParticleSpan p = store_.span();
+  const double half = 0.5 * system_.box[1];
+  const double scale = static_cast<double>(layer_profile_.size()) / system_.box[1];
+  const std::size_t last = layer_profile_.size() - 1;
+  double* const h = layer_profile_.data();
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double f = (p.y[i] + half) * scale;
+    const std::size_t b = f > 0 ? std::min(static_cast<std::size_t>(f), last) : 0;
+    h[b] += 1.0;
+  }
+  ++layer_profile_samples_;
+}
+
+// The end of the transient: edges at the quantiles I/M of the measured profile (linear within a
+// fine bin), so that every layer holds the same mean number of particles N/M. With the dilute
+// lambda(y) = 1/(sqrt(2) pi n(y) sigma^2) a layer's width in local mean free paths is
+// sqrt(2) pi sigma^2 N_I / A, the same N/M for all: Ly/(M lambda0) <= the target. Then frozen.
+void Engine::set_layers_from_profile() {
+  sample_layer_profile();  // the state at the end of the transient is one sample (the only one of a short one)
+  const std::size_t m = system_.cells, bins = layer_profile_.size();
+  const double ly = system_.box[1], half = 0.5 * ly, width = ly / static_cast<double>(bins);
+  double total = 0;
+  for (const double c : layer_profile_) total += c;
+  std::vector<double> edges(m + 1);
+  edges[0] = -half;
+  edges[m] = half;
+  double below = 0;  // particles counted in bins before j
+  std::size_t j = 0;
+  for (std::size_t I = 1; I < m; ++I) {
+    const double target = total * static_cast<double>(I) / static_cast<double>(m);
+    while (j + 1 < bins && below + layer_profile_[j] < target) below += layer_profile_[j++];
+    const double in_bin = layer_profile_[j];
+    const double f = in_bin > 0 ? std::clamp((target - below) / in_bin, 0.0, 1.0) : 0.5;
+    edges[I] = -half + (static_cast<double>(j) + f) * width;
+  }
+  // Strictly increasing, and inside the slab, whatever the rounding.
+  for (std::size_t I = 1; I < m; ++I) {
+    if (!(edges[I] > edges[I - 1])) edges[I] = std::nextafter(edges[I - 1], half);
+  }
+  for (std::size_t I = m - 1; I >= 1; --I) {
+    if (!(edges[I] < edges[I + 1])) edges[I] = std::nextafter(edges[I + 1], -half);
+  }
+  try {
+    grid_.set_edges(edges);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(now_text() + ": system.layers: the layers sized from the density profile cannot be used: " +
+                             e.what());
+  }
+  layer_edges_ = std::move(edges);
+  system_.layer_edges = layer_edges_.data();
+  layers_set_ = true;
+  layers_set_time_tau0_ = ctx_.time_in_tau0();
+  layer_profile_.assign(layer_profile_.size(), 0.0);
+  // Every particle into its new layer, storage in the new layer order, and the new layers' moments
+  // and majorants now (forcings and diagnostics read ctx.cells before the next moment update).
+  reorder_by_layer();
+  grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
+  collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
+  sampled_step_ = static_cast<std::uint64_t>(-1);
+  double narrow = ly, wide = 0;
+  for (std::size_t I = 0; I < m; ++I) {
+    narrow = std::min(narrow, layer_edges_[I + 1] - layer_edges_[I]);
+    wide = std::max(wide, layer_edges_[I + 1] - layer_edges_[I]);
+  }
+  const std::string line =
+      fmt("layers: set at t = %.4g tau0 from the density over t >= %.4g tau0 (%llu samples): %zu layers %.4g to %.4g "
+          "lambda0 wide, each %.4g local mean free paths (target %.4g)",
+          layers_set_time_tau0_, 0.5 * pipeline_.layers_after_tau0, static_cast<unsigned long long>(layer_profile_samples_),
+          m, narrow / system_.mean_free_path0, wide / system_.mean_free_path0,
+          ly / (static_cast<double>(m) * system_.mean_free_path0), pipeline_.layers_mean_free_paths);
+  summary_.push_back(line);
+  if (system_.realization == 0) std::fprintf(stderr, "%s\n", line.c_str());
+}
+
+// After the edges are set, at every moment update: each layer's count, for its mean width in local
+// mean free paths at the end.
+void Engine::tally_layer_widths() {
+  for (std::size_t I = 0; I < cells_.size(); ++I) layer_count_sums_[I] += static_cast<double>(cells_[I].count);
+  ++layer_count_samples_;
+}
+
+// delta y_I / lambda_I = sqrt(2) pi sigma^2 n_I delta y_I = N_I / (n-bar A lambda0), N_I the mean
+// count since the edges were set (NaN before).
+double Engine::layer_width_local(std::size_t I) const {
+  if (!layers_set_ || layer_count_samples_ == 0) return std::nan("");
+  const double mean_count = layer_count_sums_[I] / static_cast<double>(layer_count_samples_);
+  return mean_count / (system_.number_density * system_.cross_section() * system_.mean_free_path0);
+}
+
+std::string Engine::layer_widths_text() const {
+  if (!layers_set_)
+    return fmt("layers: the run ended at t = %.4g tau0, before system.layers.after = %.4g tau0: the layers stayed "
+               "equal",
+               ctx_.time_in_tau0(), pipeline_.layers_after_tau0);
+  double lo = INFINITY, hi = 0;
+  for (std::size_t I = 0; I < system_.cells; ++I) {
+    const double w = layer_width_local(I);
+    lo = std::min(lo, w);
+    hi = std::max(hi, w);
+  }
+  return fmt("layers: %zu, set at t = %.4g tau0; widths in local mean free paths (mean densities over %llu moment "
+             "updates since): %.3g to %.3g (target %.4g)",
+             system_.cells, layers_set_time_tau0_, static_cast<unsigned long long>(layer_count_samples_), lo, hi,
+             pipeline_.layers_mean_free_paths);
 }
 
 void Engine::build_objects() {
@@ -333,8 +464,19 @@ void Engine::step() {
   }
   ctx_.time += dt;
   ++ctx_.step;
+  if (adaptive_layers() && !layers_set_) {
+    const double t = ctx_.time_in_tau0();
+    if (t >= pipeline_.layers_after_tau0) {
+      set_layers_from_profile();  // with this step's positions, and new moments for the new layers
+      lap(Stage::reorder);
+    } else if (t >= 0.5 * pipeline_.layers_after_tau0 && ctx_.step % pipeline_.moments_every == 0) {
+      sample_layer_profile();
+      lap(Stage::moments);
+    }
+  }
   if (ctx_.step % pipeline_.moments_every == 0) {
     update_moments();
+    if (layers_set_) tally_layer_widths();
     lap(Stage::moments);
   }
   sample_and_record(false);
@@ -561,6 +703,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
     }
   }
   sample_and_record(true);
+  if (adaptive_layers()) summary_.push_back(layer_widths_text());
   for (std::size_t k = 0; k < slots_.size(); ++k) {
     try {
       slots_[k].object->finish(ctx_, outputs_[k]);
@@ -623,6 +766,26 @@ CaseOutput Engine::output() {
              {"kinetic_energy_final", sampled_.kinetic_energy},
              {"wall_seconds", wall_seconds_},
              {"reached_steady_state", steady_ ? 1.0 : 0.0}};
+  if (adaptive_layers()) {
+    // The layers' edges as the rest of the run used them (equal widths if the run ended before
+    // they were set), and each one's mean width in local mean free paths since.
+    out.system["layers_target_mean_free_paths"] = pipeline_.layers_mean_free_paths;
+    out.system["layers_set_at_tau0"] = layers_set_ ? layers_set_time_tau0_ : std::nan("");
+    ParticleDataset edges{"layer_edges", "lambda0",
+                          "the edges of the collision layers along y (layers + 1 values from -Ly/2 to +Ly/2), set "
+                          "at layers_set_at_tau0 from the transient's density profile (system.layers: "
+                          "{mean_free_paths, after}; equal widths before)",
+                          1, {}, ""};
+    for (const double e : layer_edges_) edges.data.push_back(e / system_.mean_free_path0);
+    out.system_arrays.push_back(std::move(edges));
+    ParticleDataset widths{"layer_width_local_mean_free_paths", "1",
+                           "each layer's width over its local mean free path, delta y_I / lambda_I with lambda_I = "
+                           "1/(sqrt(2) pi n_I sigma^2) and n_I its mean density over the moment updates after the "
+                           "edges were set (NaN if they never were)",
+                           1, {}, ""};
+    for (std::size_t I = 0; I < system_.cells; ++I) widths.data.push_back(layer_width_local(I));
+    out.system_arrays.push_back(std::move(widths));
+  }
   for (const auto& e : ledger_) out.run[std::string("energy_added.") + e.stage] = e.energy;
   for (std::size_t s = 0; s < ctx_.boundary_count; ++s) {
     const std::string side = s == 0 ? "y_min" : "y_max";

@@ -150,6 +150,13 @@ class Engine {
   void shuffle_subpopulations();
   void begin_diagnostics();
 
+  // Layers sized to the local mean free path (system.layers: {mean_free_paths, after}).
+  void open_layers();
+  void sample_layer_profile();
+  void set_layers_from_profile();
+  void tally_layer_widths();
+  std::string layer_widths_text() const;
+  double layer_width_local(std::size_t layer) const;
   void begin_collision_rule();
   void setup_slab();
   void check_boundaries();
@@ -222,6 +229,17 @@ class Engine {
   // (every step but those that reorder storage, which need the lists first).
   bool members_written_by_collisions() const { return mover_ && ctx_.step % kReorderEvery != 0; }
   int steady_slot_ = -1;
+  // Layers from the transient: the edges SystemInfo::layer_edges points to (equal widths until
+  // they are set), the density profile of the transient's second half on a fine grid, and after the
+  // edges are set, each layer's count summed over the moment updates since (for the report).
+  bool adaptive_layers() const { return pipeline_.layers_mean_free_paths > 0; }
+  std::vector<double> layer_edges_;
+  std::vector<double> layer_profile_;
+  std::uint64_t layer_profile_samples_ = 0;
+  bool layers_set_ = false;
+  double layers_set_time_tau0_ = 0;
+  std::vector<double> layer_count_sums_;
+  std::uint64_t layer_count_samples_ = 0;
 };
 
 }  // namespace gdsmc::host

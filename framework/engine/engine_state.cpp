@@ -2,6 +2,8 @@
 // is the format of a run's state (docs/user-guide.md, "Checkpoints and resuming").
 #include <gdsmc/state.hpp>
 
+#include <stdexcept>
+
 #include "engine/engine.hpp"
 
 namespace gdsmc::host {
@@ -73,6 +75,14 @@ void Engine::save(StateWriter& out) const {
       throw std::runtime_error(where_text(*object_uses_[k]) + ": save_state failed: " + e.what());
     }
     out.write("plugin." + object_uses_[k]->path, plugin.bytes());
+  }
+  if (adaptive_layers()) {  // system.layers: {mean_free_paths, after} only: other runs' state is unchanged
+    out.write("layers.edges", layer_edges_);
+    out.write("layers.profile", layer_profile_);
+    const std::uint64_t counts[3] = {layers_set_, layer_profile_samples_, layer_count_samples_};
+    out.write("layers.counts", counts, 3);
+    out.write("layers.set_time", layers_set_time_tau0_);
+    out.write("layers.count_sums", layer_count_sums_);
   }
 }
 
@@ -171,6 +181,33 @@ void Engine::load(StateReader& in) {
       throw StateError(where_text(*object_uses_[k]) + ": load_state read " + std::to_string(bytes.size() - plugin.remaining()) +
                        " of the " + std::to_string(bytes.size()) + " bytes its save_state wrote (next entry '" +
                        plugin.peek_name() + "')");
+  }
+  if (adaptive_layers()) {
+    std::vector<double> edges, profile, sums;
+    std::uint64_t counts[3];
+    in.read("layers.edges", edges);
+    in.read("layers.profile", profile);
+    in.read("layers.counts", counts, 3);
+    in.read("layers.set_time", layers_set_time_tau0_);
+    in.read("layers.count_sums", sums);
+    if (edges.size() != layer_edges_.size() || profile.size() != layer_profile_.size() ||
+        sums.size() != layer_count_sums_.size())
+      throw StateError("checkpoint entries 'layers.*': " + std::to_string(edges.size()) + " edges, " +
+                       std::to_string(profile.size()) + " profile bins and " + std::to_string(sums.size()) +
+                       " layer counts where this run has " + std::to_string(layer_edges_.size()) + ", " +
+                       std::to_string(layer_profile_.size()) + " and " + std::to_string(layer_count_sums_.size()));
+    try {
+      grid_.set_edges(edges);
+    } catch (const std::invalid_argument& e) {
+      throw StateError(std::string("checkpoint entry 'layers.edges': ") + e.what());
+    }
+    layer_edges_ = std::move(edges);
+    system_.layer_edges = layer_edges_.data();
+    layer_profile_ = std::move(profile);
+    layer_count_sums_ = std::move(sums);
+    layers_set_ = counts[0] != 0;
+    layer_profile_samples_ = counts[1];
+    layer_count_samples_ = counts[2];
   }
 }
 

@@ -57,8 +57,17 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
     block = StreamingTally{};
     const std::size_t b = k * kBlock, e = std::min(p.count, b + kBlock);
     std::uint32_t* counts = layer_counts ? layer_counts + k * grid.count() : nullptr;
-    if (accelerated) stream_block<true>(p, cell, counts, grid, b, e, t0, dt, ctx, streams, block);
-    else stream_block<false>(p, cell, counts, grid, b, e, t0, dt, ctx, streams, block);
+    // The uniform layers' arithmetic, or the lookup table of layers with edges: a loop for each,
+    // so neither pays for the other.
+    if (grid.uniform()) {
+      const CellGrid::LayerIndex index = grid.layer_index();
+      if (accelerated) stream_block<true>(p, cell, counts, index, grid.count(), b, e, t0, dt, ctx, streams, block);
+      else stream_block<false>(p, cell, counts, index, grid.count(), b, e, t0, dt, ctx, streams, block);
+    } else {
+      const CellGrid::TableIndex index = grid.table_index();
+      if (accelerated) stream_block<true>(p, cell, counts, index, grid.count(), b, e, t0, dt, ctx, streams, block);
+      else stream_block<false>(p, cell, counts, index, grid.count(), b, e, t0, dt, ctx, streams, block);
+    }
   });
   for (std::size_t k = 0; k < blocks; ++k) {  // tallies are summed per block, then blocks in order
     const StreamingTally& block = blocks_[k];
@@ -67,9 +76,9 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
   }
 }
 
-template <bool Accelerated>
-void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const CellGrid& grid,
-                         std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
+template <bool Accelerated, class LayerOf>
+void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const LayerOf layer_of,
+                         std::size_t layers, std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
                          const StreamFactory& streams, StreamingTally& tally) const {
   // The grid and the mover as locals: a store through a particle array may alias a member, so
   // the loop would re-read them per particle.
@@ -79,7 +88,6 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   double* const vx = p.vx.data;
   double* const vy = p.vy.data;
   double* const vz = p.vz.data;
-  const CellGrid::LayerIndex layer_of = grid.layer_index();
   const double half = half_, lx = lx_, lz = lz_;
   const Vec3 g = g_;
   const double half_dt2 = 0.5 * dt * dt;
@@ -87,7 +95,7 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   double energy = 0;
   // The block's layer counts for the sort: an increment here, where the flight's loads hide it,
   // instead of a pass of the sort's own over cell[].
-  if (counts) std::fill(counts, counts + grid.count(), 0u);
+  if (counts) std::fill(counts, counts + layers, 0u);
   const auto place = [&](std::size_t i, std::uint32_t l) {
     cell[i] = l;
     if (counts) ++counts[l];

@@ -50,9 +50,11 @@ class Mover {
   static constexpr std::size_t kHitBuffer = 256;  // wall-bound particles held back, then flown
 
  private:
-  template <bool Accelerated>
-  void stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const CellGrid& grid,
-                    std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
+  // layer_of: CellGrid::LayerIndex (equal widths) or CellGrid::TableIndex (edges), by value so
+  // that the loop keeps it in registers.
+  template <bool Accelerated, class LayerOf>
+  void stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, LayerOf layer_of,
+                    std::size_t layers, std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
                     const StreamFactory& streams, StreamingTally& tally) const;
   // The flight of one particle that leaves [-Ly/2, Ly/2] during the step, hit by hit.
   void fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, double dt, const StepContext& ctx,

@@ -206,6 +206,7 @@ class Writer {
     {
       Id g = group(file, "system");
       for (const auto& [k, v] : out.system) attr_double(g, k, v);
+      for (const auto& d : out.system_arrays) dataset(g, d.name, d.data, {d.data.size()}, d.unit, d.doc);
     }
     {
       Id g = group(file, "run");

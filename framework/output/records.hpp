@@ -39,6 +39,7 @@ struct CaseOutput {
   std::map<std::string, std::string> attributes;  // e.g. the sweep values of this case
   std::map<std::string, double> system;         // /system attributes
   std::map<std::string, double> run;            // /run attributes
+  std::vector<ParticleDataset> system_arrays;   // /system datasets (the layers' edges; held in `data`)
   std::vector<PluginProvenance> plugins;
   std::vector<DiagnosticOutput> diagnostics;
   std::vector<ParticleDataset> particles;       // empty unless output.particles (realization 0)

@@ -94,6 +94,11 @@ std::vector<unsigned char> save_run_results(const RunResults& r) {
       out.write("components", static_cast<std::int32_t>(d.components));
       out.write("data", d.data);
     }
+    out.write("system_arrays", static_cast<std::uint64_t>(c.system_arrays.size()));
+    for (const auto& d : c.system_arrays) {
+      for (const std::string* text : {&d.name, &d.unit, &d.doc}) out.write("text", *text);
+      out.write("data", d.data);
+    }
   }
   return out.take();
 }
@@ -129,6 +134,11 @@ RunResults load_run_results(const std::vector<unsigned char>& bytes) {
       std::int32_t components = 1;
       in.read("components", components);
       d.components = components;
+      in.read("data", d.data);
+    }
+    c.system_arrays.resize(read_count(in, "system_arrays"));
+    for (auto& d : c.system_arrays) {
+      for (std::string* text : {&d.name, &d.unit, &d.doc}) in.read("text", *text);
       in.read("data", d.data);
     }
   }

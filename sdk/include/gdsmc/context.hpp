@@ -41,7 +41,10 @@ struct SystemInfo {
   std::uint64_t seed = 0;
   std::uint32_t realization = 0;
   // The layers' edges along y, cells + 1 values from -Ly/2 to +Ly/2; nullptr: M layers of equal
-  // width Ly/M. Read them through layer_lower/layer_upper/layer_of, which serve both.
+  // width Ly/M. Read them through layer_lower/layer_upper/layer_of, which serve both. The one
+  // exception to "fixed for a run": layers sized from the transient (system.layers:
+  // {mean_free_paths, after}) are non-null from begin() on and their values change once, between
+  // two steps (cells does not); read them at each call.
   const double* layer_edges = nullptr;
   // The species (species_count entries); nullptr: one species of mass `mass` and diameter `sigma`.
   std::size_t species_count = 1;
