@@ -93,8 +93,9 @@ struct Pipeline {
   // run.candidate_pairs: false = distinct (N_c (N_c - 1)/2 pairs per cell), true = squared (N_c^2/2,
   // 000 Eq. 4.13 as written).
   bool candidate_pairs_squared = false;
-  // run.pair_selection: true = weighted (the default; slab layers, hard-sphere form), false = uniform.
-  bool pair_selection_weighted = true;
+  // run.pair_selection (slab layers, hard-sphere form): 0 = uniform, 1 = weighted, 2 = auto (the
+  // default: weighted in a layer only where its uniform candidates would be many; CollisionStage).
+  std::uint32_t pair_selection = 2;
   // Steady-state averages of every series over the records with s >= this (or t/tau0 >= this).
   std::optional<double> average_after_collisions_per_particle;
   std::optional<double> average_after_time_tau0;

@@ -299,14 +299,17 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
                 "the cell's occupation) or squared (N_c^2/2, as paper 000 Eq. 4.13 writes it: 1/N_c more collisions)");
     }
     if (const YAML::Node ps = run["pair_selection"]) {
-      if (ps.IsScalar() && ps.Scalar() == "uniform") p.pair_selection_weighted = false;
-      else if (ps.IsScalar() && ps.Scalar() == "weighted") p.pair_selection_weighted = true;
+      if (ps.IsScalar() && ps.Scalar() == "uniform") p.pair_selection = 0;
+      else if (ps.IsScalar() && ps.Scalar() == "weighted") p.pair_selection = 1;
+      else if (ps.IsScalar() && ps.Scalar() == "auto") p.pair_selection = 2;
       else
         c.error("run.pair_selection", ps,
-                "valid: weighted (the default: a slab layer draws its pairs in proportion to their particles' "
-                "peculiar speeds, kept current through the step, so a hot particle raises only its own pairs' "
-                "bounds) or uniform (every pair of a layer alike, against one layer majorant); homogeneous systems "
-                "and general kernels always draw uniform pairs; see the user guide");
+                "valid: auto (the default: weighted in a layer whose uniform candidates would exceed 0.7 per "
+                "particle in the step, uniform elsewhere), weighted (a slab layer draws its pairs in proportion to "
+                "their particles' peculiar speeds, kept current through the step, so a hot particle raises only its "
+                "own pairs' bounds; a pass over the layer every step) or uniform (every pair of a layer alike, "
+                "against one layer majorant); homogeneous systems and general kernels always draw uniform pairs; "
+                "see the user guide");
     }
     if (run["realizations"]) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {

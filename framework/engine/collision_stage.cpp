@@ -531,13 +531,16 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   batch.particles = &particles;
   batch.rng = &kernel;
   batch.tally = tally;  // summed over the slices
-  if (weighted_ && group.members) {
+  if (weighted_ && group.members &&
+      (selection_ == PairSelection::weighted || estimate_[c] > kWeightedFromCandidates * group.count)) {
     thread_local WeightedLayer layer;
     const std::uint32_t* members = group.members;
     if (!layer.build(particles, group.count, [members](std::uint32_t a) { return members[a]; })) {
       remainder_[c] = 0;
       return;
     }
+    // The remainder is a fraction of an envelope event here and of a uniform candidate otherwise:
+    // in [0, 1) either way, so a layer that changes its draw (automatic) carries less than one.
     remainder_[c] = collide_weighted(rule, particles, c, layer, remainder_[c], dt, select, batch);
     counts[1] = batch.collided;
     counts[2] = batch.exceeded;
@@ -636,7 +639,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
   if (particles.vx.stride != 1 || particles.vy.stride != 1 || particles.vz.stride != 1)
     throw std::logic_error("CollisionStage: velocities are expected in arrays of stride 1");
   solid_angle_ = rule.kernel_form() == KernelForm::general ? 4.0 * M_PI : M_PI;
-  weighted_ = selection_ == PairSelection::weighted && rule.kernel_form() == KernelForm::hard_sphere;
+  weighted_ = selection_ != PairSelection::uniform && rule.kernel_form() == KernelForm::hard_sphere;
   make_groups(grid, particles.count, streams);
   // Every group's majorant and hard-sphere candidate estimate first, so that a step whose work is
   // not finite or is absurd is refused before any pair is tested (the rule would cast the count

@@ -63,7 +63,9 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   const std::size_t cells = system_.cells;
   collisions_.reset(cells);
   collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
-  collisions_.set_pair_selection(p.pair_selection_weighted ? PairSelection::weighted : PairSelection::uniform);
+  collisions_.set_pair_selection(p.pair_selection == 0   ? PairSelection::uniform
+                                 : p.pair_selection == 1 ? PairSelection::weighted
+                                                         : PairSelection::automatic);
   collisions_.set_tally_count(tallies_total_.size());
   collisions_.set_subpopulation(p.subpopulation);
   collisions_.set_pool(&pool_);
