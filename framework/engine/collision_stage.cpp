@@ -384,14 +384,16 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   // is at t0 + (k - f0) / R; `events` of them drawn so far, those at or before dt while
   // events + 1 <= budget.
   double t0 = 0, f0 = credit, rate = per_bound * layer.envelope, inverse_rate = 1.0 / rate;
-  double budget = f0 + rate * dt;
+  double budget = std::isfinite(rate) ? f0 + rate * dt : 0.0;
   std::uint64_t events = 0;
   const auto anchor = [&](double t, double f) {
     t0 = t;
     f0 = std::min(std::max(f, 0.0), std::nextafter(1.0, 0.0));
     rate = per_bound * layer.envelope;
     inverse_rate = 1.0 / rate;
-    budget = f0 + rate * (dt - t0);
+    // A speed that is not finite (a rule that broke a velocity) ends the layer's step here; the
+    // engine's checks of the state name it.
+    budget = std::isfinite(rate) ? f0 + rate * (dt - t0) : 0.0;
     events = 0;
   };
   std::int64_t initiator = -1;  // an extra event's particle, the next candidate (at t0)
