@@ -534,7 +534,8 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   batch.rng = &kernel;
   batch.tally = tally;  // summed over the slices
   if (weighted_ && group.members &&
-      (selection_ == PairSelection::weighted || estimate_[c] > kWeightedFromCandidates * group.count)) {
+      (selection_ == PairSelection::weighted || estimate_[c] > kWeightedFromCandidates * group.count ||
+       missed_so_far_[c] > kMissedCollisionsTolerance * collided_so_far_[c])) {
     thread_local WeightedLayer layer;
     const std::uint32_t* members = group.members;
     if (!layer.build(particles, group.count, [members](std::uint32_t a) { return members[a]; })) {
