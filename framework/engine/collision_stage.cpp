@@ -152,6 +152,26 @@ struct BatchScratch {
   std::uint8_t accepted[kPairBatch];
   std::uint64_t seen[kSeenBits / 64];
   bool holds(std::uint32_t a) const { return (seen[(a & (kSeenBits - 1)) >> 6] >> (a & 63)) & 1; }
+  // An empty batch whose arrays the rule sees through `b`.
+  void open(PairBatch& b) {
+    std::memset(seen, 0, sizeof seen);
+    b.i = i, b.j = j, b.v1 = v1, b.v2 = v2, b.u = u, b.accepted = accepted;
+  }
+  // The first m pairs' velocities from storage (prefetched as the pairs were drawn).
+  void load_velocities(std::uint32_t m, const double* vx, const double* vy, const double* vz) {
+    for (std::uint32_t q = 0; q < m; ++q) {
+      v1[q] = Vec3{vx[i[q]], vy[i[q]], vz[i[q]]};
+      v2[q] = Vec3{vx[j[q]], vy[j[q]], vz[j[q]]};
+    }
+  }
+  // The accepted ones of the first m pairs back to storage.
+  void store_accepted(std::uint32_t m, double* vx, double* vy, double* vz) const {
+    for (std::uint32_t q = 0; q < m; ++q) {
+      if (!accepted[q]) continue;
+      vx[i[q]] = v1[q].x, vy[i[q]] = v1[q].y, vz[i[q]] = v1[q].z;
+      vx[j[q]] = v2[q].x, vy[j[q]] = v2[q].y, vz[j[q]] = v2[q].z;
+    }
+  }
   void add(std::uint32_t a) { seen[(a & (kSeenBits - 1)) >> 6] |= std::uint64_t{1} << (a & 63); }
 };
 }  // namespace
@@ -296,31 +316,16 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
   double* const vy = particles.vy.data;
   double* const vz = particles.vz.data;
   BatchScratch s;
-  std::memset(s.seen, 0, sizeof s.seen);
-  batch.i = s.i;
-  batch.j = s.j;
-  batch.v1 = s.v1;
-  batch.v2 = s.v2;
-  batch.u = s.u;
-  batch.accepted = s.accepted;
+  s.open(batch);
   batch.speed_bounds = nullptr;
   std::uint32_t m = 0;
   // The batch's velocities (prefetched as its pairs were drawn) to the rule, and the accepted
   // pairs' back to storage.
   const auto flush = [&] {
-    for (std::uint32_t q = 0; q < m; ++q) {
-      const std::uint32_t i = s.i[q], j = s.j[q];
-      s.v1[q] = Vec3{vx[i], vy[i], vz[i]};
-      s.v2[q] = Vec3{vx[j], vy[j], vz[j]};
-    }
+    s.load_velocities(m, vx, vy, vz);
     batch.count = m;
     rule.collide_batch(batch);
-    for (std::uint32_t q = 0; q < m; ++q) {
-      if (!s.accepted[q]) continue;
-      const std::uint32_t i = s.i[q], j = s.j[q];
-      vx[i] = s.v1[q].x; vy[i] = s.v1[q].y; vz[i] = s.v1[q].z;
-      vx[j] = s.v2[q].x; vy[j] = s.v2[q].y; vz[j] = s.v2[q].z;
-    }
+    s.store_accepted(m, vx, vy, vz);
     std::memset(s.seen, 0, sizeof s.seen);
     m = 0;
   };
@@ -370,13 +375,7 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   batch.speed_bound = 2.0 * layer.sum / count;  // the mean pair bound (for a rule that looks)
   batch.rate_bound = rule.rate_bound(batch.speed_bound);
   BatchScratch s;
-  std::memset(s.seen, 0, sizeof s.seen);
-  batch.i = s.i;
-  batch.j = s.j;
-  batch.v1 = s.v1;
-  batch.v2 = s.v2;
-  batch.u = s.u;
-  batch.accepted = s.accepted;
+  s.open(batch);
   batch.speed_bounds = s.w;
   std::uint32_t m = 0;
   std::uint64_t candidates = 0;
@@ -403,10 +402,7 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   // speed, the extra events of those that rose. True if the batch was cut (an extra event before
   // `last`: `initiator` is set, and the time counter starts again at its time).
   const auto flush = [&](double last) -> bool {
-    for (std::uint32_t q = 0; q < m; ++q) {
-      s.v1[q] = Vec3{vx[s.i[q]], vy[s.i[q]], vz[s.i[q]]};
-      s.v2[q] = Vec3{vx[s.j[q]], vy[s.j[q]], vz[s.j[q]]};
-    }
+    s.load_velocities(m, vx, vy, vz);
     const Rng kernel_before = *batch.rng;
     const std::uint64_t collided = batch.collided, exceeded = batch.exceeded;
     const double max_rate = batch.max_rate, energy = batch.energy_change, missed = batch.missed;
@@ -440,19 +436,11 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
       batch.collided = collided, batch.exceeded = exceeded, batch.max_rate = max_rate;
       batch.energy_change = energy, batch.missed = missed;
       if (batch.tally) std::copy(saved_tally.begin(), saved_tally.end(), batch.tally);
-      for (std::uint32_t q = 0; q < kept; ++q) {
-        s.v1[q] = Vec3{vx[s.i[q]], vy[s.i[q]], vz[s.i[q]]};
-        s.v2[q] = Vec3{vx[s.j[q]], vy[s.j[q]], vz[s.j[q]]};
-      }
+      s.load_velocities(kept, vx, vy, vz);
       batch.count = kept;
       rule.collide_batch(batch);
     }
-    for (std::uint32_t q = 0; q < kept; ++q) {
-      if (!s.accepted[q]) continue;
-      const std::uint32_t i = s.i[q], j = s.j[q];
-      vx[i] = s.v1[q].x; vy[i] = s.v1[q].y; vz[i] = s.v1[q].z;
-      vx[j] = s.v2[q].x; vy[j] = s.v2[q].y; vz[j] = s.v2[q].z;
-    }
+    s.store_accepted(kept, vx, vy, vz);
     candidates += kept;
     std::memset(s.seen, 0, sizeof s.seen);
     m = 0;
