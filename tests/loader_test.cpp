@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/internal.hpp"
 #include "engine/streams.hpp"
 #include "test_support.hpp"
 
@@ -206,28 +207,13 @@ TEST(Loader, ObjectKeepsItsLibraryAlive) {
   span.vx = vx.data(); span.vy = vy.data(); span.vz = vz.data();
   rule->bind(span);
   gdsmc::Rng rng = gdsmc::host::StreamFactory::standalone(1, 0);
-  // The pair kernel on a batch of one pair with its impact direction given.
-  const std::uint32_t i = 0, j = 1;
-  gdsmc::Vec3 v1{vx[0], vy[0], vz[0]}, v2{vx[1], vy[1], vz[1]};
-  const gdsmc::Vec3 s{1.0, 0.0, 0.0};
-  const double u = 0;
-  std::uint8_t accepted = 0;
-  gdsmc::PairBatch batch;
-  batch.count = 1;
-  batch.i = &i;
-  batch.j = &j;
-  batch.v1 = &v1;
-  batch.v2 = &v2;
-  batch.u = &u;
-  batch.direction = &s;
-  batch.accepted = &accepted;
-  batch.particles = &span;
-  batch.rng = &rng;
-  rule->collide_batch(batch);
-  EXPECT_EQ(accepted, 1);
-  EXPECT_EQ(v1.x, 0.25);
-  EXPECT_EQ(v2.x, 0.75);
-  EXPECT_EQ(batch.energy_change, -0.1875);
+  // The pair kernel on a batch of one pair with its impact direction given (as conformance calls it).
+  std::vector<double> no_tally;
+  const double energy_change =
+      gdsmc::host::conformance::collide_with_direction(*rule, span, 0, 1, {1.0, 0.0, 0.0}, 1.0, rng, no_tally);
+  EXPECT_EQ(vx[0], 0.25) << "the pair collided and its velocities were written back";
+  EXPECT_EQ(vx[1], 0.75);
+  EXPECT_EQ(energy_change, -0.1875);
   object.reset();  // the library may now be unloaded; nothing of it is used again
 }
 

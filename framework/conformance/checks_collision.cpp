@@ -171,6 +171,8 @@ void check_energy(const PairCase& pc, double declared, const Vec3& w1, const Vec
   }
 }
 
+}  // namespace
+
 // One collision of slots i and j with the impact direction s, through the rule's pair kernel: a
 // batch of one pair whose direction is given (PairBatch::direction). Writes the velocities back
 // and returns the declared energy change.
@@ -199,8 +201,6 @@ double collide_with_direction(const CollisionRule& rule, const ParticleSpan& p, 
   }
   return b.energy_change;
 }
-
-}  // namespace
 
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
                       std::size_t random_pairs) {

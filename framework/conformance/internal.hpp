@@ -140,6 +140,11 @@ Result check_determinism(const Subject& s);
 Result check_threads(const Subject& s);
 Result check_checkpoint(const Subject& s);
 Vec3 gaussian(Rng& rng, double scale);
+// One collision of slots i and j with the impact direction s, through the rule's pair kernel (a
+// batch of one pair, PairBatch::direction); writes the velocities back, returns the declared
+// energy change. An empty `tally`: none.
+double collide_with_direction(const CollisionRule& rule, const ParticleSpan& p, std::uint32_t i, std::uint32_t j,
+                              const Vec3& s, double sigma, Rng& rng, std::vector<double>& tally);
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
                       std::size_t random_pairs);
 std::string pair_failure(const PairReport& r);
