@@ -138,6 +138,37 @@ void BM_SlabStreamSort(benchmark::State& state) {
 }
 BENCHMARK(BM_SlabStreamSort)->ArgName("N")->Arg(100000)->Arg(1000000);
 
+// The flight alone, with the walls and a body force along x (a Poiseuille channel's, 004 Eq. 4:
+// every particle accelerated, g dt = 10^-3 thermal speeds per step), and the layer counts the
+// sort needs, in cache (10^4 particles: 0.5 MB) and beyond: particle moves per second. SDK 6.0's
+// target is 300 M moves/s in cache. No reordering: the flight's cost does not depend on the order.
+void BM_SlabFlight(benchmark::State& state) {
+  slab_bench(state, [](benchmark::State& st, SlabPieces& s) {
+    const SystemInfo& sys = s.run.engine->system();
+    const auto* b = static_cast<const Boundary*>(s.wall.get());
+    const double dt = s.dt(), g = 1e-3 * std::sqrt(kT0) / dt;
+    const std::array<host::Mover::Side, 2> sides{host::Mover::Side{b, "y_min"}, host::Mover::Side{b, "y_max"}};
+    // The force points along +x and -x in alternate steps, so the flow it drives stays below 10^-3
+    // thermal speeds however long the benchmark runs.
+    const host::Mover forward(sys.box, Vec3{g, 0, 0}, sides), backward(sys.box, Vec3{-g, 0, 0}, sides);
+    ParticleSpan span = s.run.engine->particles();
+    auto* cell = const_cast<std::uint32_t*>(span.cell);
+    std::uint64_t hits = 0;
+    for (auto _ : st) {
+      host::StreamingTally tally;
+      s.streams.set_step(s.step++);
+      (s.step % 2 ? forward : backward)
+          .stream(span, cell, s.grid.block_counts(span.count), s.grid, 0.0, dt, s.run.engine->context(), s.streams, tally);
+      hits += tally.sides[0].hits + tally.sides[1].hits;
+    }
+    s.reorder();
+    const double n = static_cast<double>(span.count);
+    st.counters["moves/s"] = benchmark::Counter(n * static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
+    st.counters["hits/call"] = benchmark::Counter(static_cast<double>(hits), benchmark::Counter::kAvgIterations);
+  });
+}
+BENCHMARK(BM_SlabFlight)->ArgName("N")->Arg(10000)->Arg(100000)->Arg(1000000);
+
 // The same with layers of different widths (system.layers: {mean_free_paths, after} after its
 // transient): 100 layers 11 times narrower at the centre than at the walls, as a clustered channel's;
 // each particle placed by CellGrid::TableIndex (a lookup and one compare) instead of the uniform
