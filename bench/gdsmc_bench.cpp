@@ -89,6 +89,10 @@ struct HandStats {
   double max_rate = 0, energy_change = 0;
 };
 
+// S: the distance between one particle's velocity components and the next particle's: 1 for
+// three separate arrays (the host's structure of arrays), 4 for velocities interleaved as
+// (vx, vy, vz, pad) records of 32 bytes, one particle's velocity in one cache line.
+template <std::size_t S>
 void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pairs, double volume, double sigma,
                   double dt, double w, double alpha, double& remainder, Rng& select, Rng& kernel, HandStats& st) {
   if (n < 2 || w <= 0) {
@@ -119,13 +123,18 @@ void hand_collide(double* vx, double* vy, double* vz, std::uint32_t n, double pa
     bi[q] = a;
     bj[q] = b;
     bu[q] = select.uniform32();
-    for (const double* v : {vx, vy, vz}) {
-      __builtin_prefetch(v + a, 1, 3);
-      __builtin_prefetch(v + b, 1, 3);
+    if constexpr (S == 1) {
+      for (const double* v : {vx, vy, vz}) {
+        __builtin_prefetch(v + a, 1, 3);
+        __builtin_prefetch(v + b, 1, 3);
+      }
+    } else {
+      __builtin_prefetch(vx + S * a, 1, 3);
+      __builtin_prefetch(vx + S * b, 1, 3);
     }
    }
    for (std::uint32_t q = 0; q < m; ++q) {
-    const std::uint32_t i = bi[q], j = bj[q];
+    const std::size_t i = S * bi[q], j = S * bj[q];
     const double gx = vx[i] - vx[j], gy = vy[i] - vy[j], gz = vz[i] - vz[j];
     const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
     const double u = bu[q];
@@ -191,6 +200,7 @@ struct Cell {
   host::ParticleArray<std::uint32_t> id;    // particle identities 0..N-1 (ParticleSpan::id)
   host::ParticleArray<std::uint32_t> cell;  // all in cell 0 (ParticleSpan::cell)
   host::ParticleArray<double> vx, vy, vz;   // never reallocated: a rule bound to span() stays valid
+  host::ParticleArray<double> interleaved;  // (vx, vy, vz, 0) records, for BM_HandLoopInterleaved only
   std::uint32_t n;
   double volume;
   double temperature = kT0;  // followed exactly from the declared energy changes (m = 1, u = 0)
@@ -226,8 +236,21 @@ struct Cell {
     s.x = s.y = s.z = nullptr;
     return s;
   }
+  // The velocities as interleaved records (BM_HandLoopInterleaved), from the arrays.
+  void interleave() {
+    interleaved.assign(4 * static_cast<std::size_t>(n), 0.0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      interleaved[4 * i] = vx[i];
+      interleaved[4 * i + 1] = vy[i];
+      interleaved[4 * i + 2] = vz[i];
+    }
+  }
   // Zero mean velocity, temperature exactly T0.
   void rescale() {
+    if (!interleaved.empty())
+      for (std::uint32_t i = 0; i < n; ++i) {
+        vx[i] = interleaved[4 * i]; vy[i] = interleaved[4 * i + 1]; vz[i] = interleaved[4 * i + 2];
+      }
     const VelocityMoments m = velocity_moments(span());
     const double f = std::sqrt(kT0 / m.temperature);
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -237,6 +260,7 @@ struct Cell {
     }
     temperature = kT0;
     ++rescales;
+    if (!interleaved.empty()) interleave();
   }
   // dt for ~N/100 accepted collisions: a call accepts 0.5 N n pi sigma^2 <|g|> dt on average,
   // <|g|> = 4 sqrt(T / pi) for a Maxwellian (m = 1).
@@ -262,6 +286,7 @@ struct Cell {
 
 // One collision stage by the hand loop, on the streams and with the majorant bookkeeping of the
 // host's scheme (host::CollisionStage) for one cell.
+template <std::size_t S = 1>
 void hand_stage(Cell& cell, double alpha) {
   cell.streams.set_step(cell.step);
   Rng select = cell.streams.rng(StreamPurpose::collisions, 0, 0);
@@ -269,7 +294,9 @@ void hand_stage(Cell& cell, double alpha) {
   const double thermal_speed = std::sqrt(cell.temperature / 1.0);
   const double w = cell.majorant_ratio * thermal_speed;
   HandStats st;
-  hand_collide(cell.vx.data(), cell.vy.data(), cell.vz.data(), cell.n, host::pair_count(host::PairCount::distinct, cell.n),
+  double* v = S == 1 ? cell.vx.data() : cell.interleaved.data();
+  hand_collide<S>(v, S == 1 ? cell.vy.data() : v + 1, S == 1 ? cell.vz.data() : v + 2, cell.n,
+                  host::pair_count(host::PairCount::distinct, cell.n),
                cell.volume, kSigma, cell.dt(), w, alpha, cell.remainder, select, kernel, st);
   if (st.max_rate > w) cell.majorant_ratio = gdsmc::host::kMajorantHeadroom * st.max_rate / thermal_speed;
   cell.account(st.candidates, st.accepted, st.exceeded, st.energy_change);
@@ -364,7 +391,7 @@ void BM_StaticAdapter(benchmark::State& state) {
 void BM_HandLoop(benchmark::State& state) {
   const double alpha = static_cast<double>(state.range(1)) / 100.0;
   Cell& cell = cached<Cell>("hand", state.range(0), state.range(1));
-  run_cell(state, cell, [&] { hand_stage(cell, alpha); });
+  run_cell(state, cell, [&] { hand_stage<1>(cell, alpha); });
 }
 
 void cell_args(benchmark::internal::Benchmark* b) {
@@ -374,7 +401,22 @@ void cell_args(benchmark::internal::Benchmark* b) {
 }
 BENCHMARK(BM_PluginCollideCell)->Apply(cell_args);
 BENCHMARK(BM_StaticAdapter)->Apply(cell_args);
-BENCHMARK(BM_HandLoop)->Apply(cell_args);
+// The hand loops also at 10^7 (240 MB of velocities: beyond every cache).
+void hand_args(benchmark::internal::Benchmark* b) {
+  cell_args(b);
+  b->Args({10000000, 90});
+}
+BENCHMARK(BM_HandLoop)->Apply(hand_args);
+
+// The hand loop on velocities interleaved as 32-byte records (SDK 6.0 item 1: structure of arrays
+// against one cache line per particle): same draws, same arithmetic, the bits of BM_HandLoop.
+void BM_HandLoopInterleaved(benchmark::State& state) {
+  const double alpha = static_cast<double>(state.range(1)) / 100.0;
+  Cell& cell = cached<Cell>("hand4", state.range(0), state.range(1));
+  if (cell.interleaved.empty()) cell.interleave();
+  run_cell(state, cell, [&] { hand_stage<4>(cell, alpha); });
+}
+BENCHMARK(BM_HandLoopInterleaved)->Apply(hand_args);
 
 // ---------------------------------------------------------------------------------------------
 // Engine::step of the HCS pipeline.
