@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 namespace gdsmc::host {
 
@@ -178,8 +179,10 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   CellGrid::LayerIndex index{};
   if constexpr (equal) index = layer_of;
   // The block's layer counts for the sort: an increment in the flight instead of a pass of the
-  // sort's own over cell[].
+  // sort's own over cell[]. Without counts (no sort follows) the rows count into scratch.
   if (counts) std::fill(counts, counts + layers, 0u);
+  thread_local std::vector<std::uint32_t> rows;
+  rows.assign(4 * layers, 0u);
   const double g_y = g_.y;
   double energy = 0;
   alignas(64) double e[kChunk];
@@ -203,11 +206,11 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       for (std::size_t k = 0; k < m; ++k) sum += e[k];
       energy = sum;
     }
-    // The counts as runs of one layer, added when the layer changes: storage is in layer order
-    // (Engine::reorder_by_layer), and an increment of the same counter particle after particle
-    // waits for the previous one's store (half the pass).
+    // The counts in four rows, particle k in row k mod 4, summed at the block's end: one counter
+    // incremented particle after particle waits for its previous store, and counting runs of one
+    // layer instead mispredicts wherever the layers are narrow (perf: 40 % of the pass in a
+    // clustered channel of 180 layers).
     std::size_t hits = 0;
-    std::uint32_t run_layer = 0, run = 0;
     for (std::size_t k = 0; k < m; ++k) {
       const std::size_t i = chunk + k;
       if (out[k]) {
@@ -220,15 +223,8 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       }
       const std::uint32_t l = equal ? layer[k] : layer_of(a.y[i]);
       cell[i] = l;
-      if (l == run_layer) {
-        ++run;
-      } else {
-        if (counts) counts[run_layer] += run;
-        run_layer = l;
-        run = 1;
-      }
+      ++rows[(k & 3) * layers + l];
     }
-    if (counts) counts[run_layer] += run;
     for (std::size_t h = 0; h < hits; ++h) {
       const std::uint32_t i = hit[h];
       fly_with_hits(p, i, t0, dt, ctx, streams, tally);
@@ -237,6 +233,8 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       if (counts) ++counts[l];
     }
   }
+  if (counts)
+    for (std::size_t c = 0; c < layers; ++c) counts[c] += rows[c] + rows[layers + c] + rows[2 * layers + c] + rows[3 * layers + c];
   tally.acceleration_energy += energy;
 }
 
