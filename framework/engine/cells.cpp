@@ -289,13 +289,15 @@ void CellGrid::homogeneous_moments(const ParticleSpan& p, double mean_density, C
   run(pieces, [&](std::size_t k) {
     std::size_t c, b, e;
     PieceSums& ps = open_piece(k, c, b, e);
+    double sx = ps.s[0], sy = ps.s[1], sz = ps.s[2], c2 = ps.c2;  // locals: see sampled_moments
     for (std::size_t i = b; i < e; ++i) {
       const double cx = p.vx[i] - shift[0], cy = p.vy[i] - shift[1], cz = p.vz[i] - shift[2];
-      ps.s[0] += cx;
-      ps.s[1] += cy;
-      ps.s[2] += cz;
-      ps.c2 += cx * cx + cy * cy + cz * cz;
+      sx += cx;
+      sy += cy;
+      sz += cz;
+      c2 += cx * cx + cy * cy + cz * cz;
     }
+    ps.s[0] = sx, ps.s[1] = sy, ps.s[2] = sz, ps.c2 = c2;
   });
   double s[3] = {0, 0, 0}, c2 = 0;
   for (std::size_t k = 0; k < pieces; ++k) {
@@ -387,13 +389,17 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
     std::size_t c, b, e;
     PieceSums& ps = open_piece(k, c, b, e);
     const std::uint32_t* mem = members(c);
+    // The sums in locals: kept in ps, which a store could alias, each addition waited for the
+    // store of the previous one.
+    double sx = ps.s[0], sy = ps.s[1], sz = ps.s[2], v2 = ps.v2;
     for (std::size_t q = b; q < e; ++q) {
       const std::uint32_t i = mem ? mem[q] : static_cast<std::uint32_t>(q);
-      ps.s[0] += p.vx[i];
-      ps.s[1] += p.vy[i];
-      ps.s[2] += p.vz[i];
-      ps.v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+      sx += p.vx[i];
+      sy += p.vy[i];
+      sz += p.vz[i];
+      v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
     }
+    ps.s[0] = sx, ps.s[1] = sy, ps.s[2] = sz, ps.v2 = v2;
   });
   double* u = scratch_mean_.data();
   std::fill(u, u + 3 * layers_, 0.0);
