@@ -223,6 +223,7 @@ class Writer {
         attr_string(g, "version", p.version);
         attr_string(g, "instance", p.instance);
         attr_string(g, "library", p.file);
+        attr_string(g, "library_hash", p.library_hash);
         for (const auto& [k, v] : p.parameters) attr_string(g, "param." + k, v);
       }
     }
