@@ -70,9 +70,12 @@ one atomically, so a run killed at any moment (SIGKILL, a crash, a lost node) lo
 interval. `gdsmc run PIPELINE.yaml --resume` (same --set and -o) continues every unfinished run
 where its state was saved and gives the output of the uninterrupted run, to the bit; run.threads
 and run.checkpoint may change, nothing else: a checkpoint of another pipeline text, another gdsmc
-or plugin version is refused with what differs. The directory is removed once the output is
-written; a fresh run refuses to start over an existing one. A state holds every particle (about
-N x 28 bytes homogeneous, N x 60 slab, per run under way).
+or plugin version, or plugin library content (a 64-bit hash of each .so) is refused with what
+differs. Every entry of a checkpoint carries a checksum, checked before anything runs: a damaged
+file is refused naming it. --resume says "finished" (exit 0) when the output of this pipeline is
+complete, "nothing to resume" when there is no checkpoint, "damaged" naming the file. The
+directory is removed once the output is written; a fresh run refuses to start over an existing
+one. A state holds every particle (about N x 28 bytes homogeneous, N x 60 slab, per run under way).
 
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
@@ -120,7 +123,8 @@ Options (those of `run`, so that a run's command line can be checked by changing
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            as for run: the runs at once that the memory estimate assumes
   --resume               also check that the checkpoint beside the output belongs to this
-                         pipeline, gdsmc and plugins (and say how many runs it holds)
+                         pipeline, gdsmc and plugins, and read every file of it as run --resume
+                         would (checksums, each run's state); say how many runs it holds
   -h, --help             this text
 )";
 
