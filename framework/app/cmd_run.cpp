@@ -392,8 +392,10 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
   } catch (const std::exception& e) {
     if (checkpoints) {  // the finished runs are in the checkpoint: nothing is lost
       end_line();
+      bool all_kept = false;
       std::cerr << "gdsmc: error: cannot write " << p.output_file.string() << ": " << e.what()
-                << "; " << checkpoints->kept_text() << ": once that is fixed, " << resume_hint << "\n";
+                << "; " << checkpoints->kept_text(&all_kept) << ": once that is fixed, " << resume_hint
+                << (all_kept ? " (it only writes the file)" : "") << "\n";
       return 1;
     }
     return lost(e);

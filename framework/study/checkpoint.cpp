@@ -625,7 +625,7 @@ void CheckpointStore::check_runs(const std::vector<StudyCase>& cases, bool resto
     }
 }
 
-std::string CheckpointStore::kept_text() const {
+std::string CheckpointStore::kept_text(bool* all_kept) const {
   std::vector<std::size_t> kept, from_state, from_start;
   for (std::size_t run = 0; run < runs_; ++run) {
     bool finished = false, saved = false;
@@ -640,6 +640,7 @@ std::string CheckpointStore::kept_text() const {
     }
     (finished ? kept : saved ? from_state : from_start).push_back(run);
   }
+  if (all_kept) *all_kept = kept.size() == runs_;
   if (kept.size() == runs_)
     return std::string(runs_ == 1 ? "the run's results are" : "every run's results are") + " kept in " + dir_.string();
   std::string s = kept.empty() ? "no run's results are kept in " + dir_.string()

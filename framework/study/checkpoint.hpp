@@ -47,7 +47,8 @@ class CheckpointStore {
   // After a failure to write the output: which runs' results the checkpoint keeps (their file
   // holds the finished run) and which will run again at --resume (a final checkpoint that was
   // not written: from their last saved state or their start), read from the files.
-  std::string kept_text() const;
+  // `all_kept`: set when every run's results are kept (--resume then only writes the file).
+  std::string kept_text(bool* all_kept = nullptr) const;
   // The pipeline text as it decides the results (run.threads and run.checkpoint aside): what a
   // checkpoint, or a finished output's "pipeline" attribute, must match to be this run's.
   static std::string pipeline_identity(const std::string& resolved_text);
