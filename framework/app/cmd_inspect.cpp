@@ -131,7 +131,10 @@ void print_plugins(hid_t root, const std::string& indent) {
     line += attribute(g, "plugin") + " " + attribute(g, "version");
     const std::string instance = attribute(g, "instance");
     if (!instance.empty() && instance != attribute(g, "plugin")) line += " (name: " + instance + ")";
-    std::cout << line << "\n" << indent << "                library " << attribute(g, "library") << "\n";
+    std::cout << line << "\n" << indent << "                library " << attribute(g, "library");
+    const std::string hash = attribute(g, "library_hash");
+    if (!hash.empty()) std::cout << " (content hash " << hash << ")";
+    std::cout << "\n";
     if (!params.empty()) std::cout << indent << "                params  " << params << "\n";
   }
 }

@@ -70,9 +70,12 @@ one atomically, so a run killed at any moment (SIGKILL, a crash, a lost node) lo
 interval. `gdsmc run PIPELINE.yaml --resume` (same --set and -o) continues every unfinished run
 where its state was saved and gives the output of the uninterrupted run, to the bit; run.threads
 and run.checkpoint may change, nothing else: a checkpoint of another pipeline text, another gdsmc
-or plugin version is refused with what differs. The directory is removed once the output is
-written; a fresh run refuses to start over an existing one. A state holds every particle (about
-N x 28 bytes homogeneous, N x 60 slab, per run under way).
+or plugin version, or plugin library content (a 64-bit hash of each .so) is refused with what
+differs. Every entry of a checkpoint carries a checksum, checked before anything runs: a damaged
+file is refused naming it. --resume says "finished" (exit 0) when the output of this pipeline is
+complete, "nothing to resume" when there is no checkpoint, "damaged" naming the file. The
+directory is removed once the output is written; a fresh run refuses to start over an existing
+one. A state holds every particle (about N x 28 bytes homogeneous, N x 60 slab, per run under way).
 
 Progress (s, t/tau0, T/T0, time left) goes to stderr: one refreshed line on a terminal,
 a plain line every 10 s otherwise. The summary after the run goes to stdout.
@@ -120,7 +123,8 @@ Options (those of `run`, so that a run's command line can be checked by changing
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            as for run: the runs at once that the memory estimate assumes
   --resume               also check that the checkpoint beside the output belongs to this
-                         pipeline, gdsmc and plugins (and say how many runs it holds)
+                         pipeline, gdsmc and plugins, and read every file of it as run --resume
+                         would (checksums, each run's state); say how many runs it holds
   -h, --help             this text
 )";
 
@@ -238,6 +242,12 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
     try {
       target = check_output_path(p.output_file, run_inputs(p, cases));
       if (!run_it) probe_temporary(target);
+      if (p.checkpoint || o.resume) {  // the checkpoint directory, and its longest file name
+        std::size_t runs = 0;
+        for (const auto& c : cases) runs += c.pipeline.realizations;
+        check_checkpoint_directory(target, CheckpointStore::directory_for(p.output_file),
+                                   ".run-" + std::to_string(runs) + ".partial-" + std::to_string(4194304));
+      }
     } catch (const OutputPathError& e) {
       print_errors({output_origin(o, p) + ": " + e.what()});
       return 1;
@@ -278,6 +288,36 @@ void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& resu
   std::cout << "output: " << fs::absolute(p.output_file).string() << "\n";
 }
 
+// --resume where there is no checkpoint study file: the output is complete (the run finished and
+// its checkpoint was removed: 0, "nothing to resume"), or there is nothing to resume (1). Returns
+// -1 when there is a checkpoint to check (CheckpointStore says whether it is damaged).
+int resume_without_checkpoint(const Pipeline& p, const fs::path& checkpoint_dir, bool run_it) {
+  std::error_code ec;
+  if (fs::exists(checkpoint_dir / "study", ec) || fs::exists(checkpoint_dir, ec)) return -1;
+  const std::string out = p.output_file.string();
+  if (fs::exists(p.output_file, ec)) {
+    const std::optional<std::string> pipeline = read_root_text(p.output_file, "pipeline");
+    if (pipeline && CheckpointStore::pipeline_identity(*pipeline) == CheckpointStore::pipeline_identity(p.resolved_text)) {
+      std::cerr << "gdsmc: --resume: finished: " << out
+                << " is the complete output of this pipeline (its checkpoint was removed when it was written); nothing "
+                   "to resume, nothing "
+                << (run_it ? "done" : "to check") << ". Run without --resume to compute it again (" << out
+                << " would be replaced)\n";
+      return 0;
+    }
+    print_errors({p.file.string() + ": --resume: nothing to resume: there is no checkpoint at " + checkpoint_dir.string() +
+                  ", and " + out +
+                  (pipeline ? " is the output of another pipeline (or of other --set values)"
+                            : " is not a gdsmc output") +
+                  "; run without --resume to start (" + out + " would be replaced), or give another -o"});
+    return 1;
+  }
+  print_errors({p.file.string() + ": --resume: nothing to resume: there is no checkpoint at " + checkpoint_dir.string() +
+                " and no output " + out + " (a run writes a checkpoint there when its pipeline sets run.checkpoint" +
+                (p.checkpoint ? "" : ", which this one does not") + "); run without --resume to start"});
+  return 1;
+}
+
 // "continue with `gdsmc run PIPELINE --resume ...`": the command that continues from the checkpoint.
 std::string resume_text(const Options& o, const Pipeline& p) {
   std::string resume_command = "gdsmc run " + p.file.string() + " --resume";
@@ -300,8 +340,11 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
     end_line();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "gdsmc: error: cannot write " << p.output_file.string() << ": " << e.what()
-              << "; the results computed in " << format_seconds(seconds)
-              << " are lost (they were held only in memory) and nothing was written\n";
+              << "; the results computed in " << format_seconds(seconds);
+    if (checkpoints)  // what the checkpoint keeps of them
+      std::cerr << " were not written; " << checkpoints->kept_text() << ": once that is fixed, " << resume_text(o, p) << "\n";
+    else
+      std::cerr << " are lost (they were held only in memory) and nothing was written\n";
     return 1;
   };
   if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
@@ -349,9 +392,10 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
   } catch (const std::exception& e) {
     if (checkpoints) {  // the finished runs are in the checkpoint: nothing is lost
       end_line();
+      bool all_kept = false;
       std::cerr << "gdsmc: error: cannot write " << p.output_file.string() << ": " << e.what()
-                << "; every run's results are kept in " << checkpoint_dir.string() << ": once that is fixed, "
-                << resume_hint << " (it only writes the file)\n";
+                << "; " << checkpoints->kept_text(&all_kept) << ": once that is fixed, " << resume_hint
+                << (all_kept ? " (it only writes the file)" : "") << "\n";
       return 1;
     }
     return lost(e);
@@ -429,6 +473,11 @@ int cmd_run(const Options& options, bool run_it) {
                   "it: continue it with --resume (`validate --resume` checks that it fits), or remove the directory"});
     return 1;
   }
+  if (o.resume) {
+    // No checkpoint: the run finished (its output is there), or there is nothing to resume.
+    const int status = job::root_value(job::root() ? resume_without_checkpoint(p, checkpoint_dir, run_it) : -1);
+    if (status >= 0) return status;
+  }
   if (o.resume || (run_it && p.checkpoint)) {
     // Rank 0 begins the checkpoint (or checks it, to resume); then the other ranks check it as a
     // resume does: it must be on a file system they share.
@@ -447,6 +496,17 @@ int cmd_run(const Options& options, bool run_it) {
                               (o.resume ? "checked" : "began") +
                               " (every rank must see the same file system there): ");
     if (const int status = agree(opened, hold)) return status;
+    // Every run file read before anything runs, as the resume reads it (validate: each whole state).
+    int checked = 0;
+    if (o.resume && job::root()) {
+      try {
+        checkpoints->check_runs(cases, !run_it);
+      } catch (const std::exception& e) {
+        print_errors({p.file.string() + ": " + e.what()});
+        checked = 1;
+      }
+    }
+    if (const int status = agree(checked, hold)) return status;
   }
   if (!run_it) {
     if (checkpoints)

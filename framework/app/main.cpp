@@ -46,7 +46,8 @@ gdsmc validate PIPELINE.yaml [options]
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --threads N            the runs at once the memory estimate assumes
   --resume               also check that the checkpoint beside the output belongs to this
-                         pipeline, gdsmc and plugins, and say how many runs it holds
+                         pipeline, gdsmc and plugins, read every file of it as run --resume
+                         would, and say how many runs it holds
   -h, --help             the help of `validate`
 
 gdsmc plugins [NAME | FILE.so]... [options]

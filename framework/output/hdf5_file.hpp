@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -62,5 +63,9 @@ class OutputFile {
 // Check `file`, create it under a temporary name and write `out` (no inputs to protect: for tests
 // and tools that write a study's output in one go).
 void write_hdf5(const std::filesystem::path& file, const StudyOutput& out);
+
+// A string attribute of the root group of an HDF5 file (e.g. an output's "pipeline"); nullopt
+// when the file is not an HDF5 file that has it.
+std::optional<std::string> read_root_text(const std::filesystem::path& file, const std::string& name);
 
 }  // namespace gdsmc::host

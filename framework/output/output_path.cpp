@@ -91,6 +91,26 @@ std::string temporary_prefix(const fs::path& file) {
   return "." + file.filename().string().substr(0, 100) + ".gdsmc-partial-";
 }
 
+void check_checkpoint_directory(const OutputTarget& target, const fs::path& directory, const std::string& longest_file) {
+  const std::string name = directory.filename().string();
+  const long name_max = ::pathconf(target.directory.c_str(), _PC_NAME_MAX);
+  if (name_max > 0 && name.size() > static_cast<std::size_t>(name_max))
+    throw OutputPathError("the checkpoint directory this run creates (run.checkpoint), " +
+                          quote_path(name.substr(0, 40) + "...") + ", is " + std::to_string(name.size()) +
+                          " bytes long; the filesystem of " + quote_path(target.directory) + " allows at most " +
+                          std::to_string(name_max) + ": give the output a name of at most " +
+                          std::to_string(name_max - (name.size() - target.file.filename().string().size())) + " bytes");
+  const std::size_t length = (fs::absolute(directory) / longest_file).string().size();
+  if (length >= PATH_MAX)
+    throw OutputPathError("the files of the checkpoint directory this run creates (run.checkpoint), " +
+                          quote_path(directory.string().substr(0, 40) + "...") + ", have paths of " +
+                          std::to_string(length) + " bytes; at most " + std::to_string(PATH_MAX - 1) + " are allowed");
+  struct stat st;
+  if (::stat(directory.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+    throw OutputPathError(quote_path(directory) + ", where this run keeps its checkpoint (run.checkpoint), exists and "
+                          "is not a directory: remove it or give another output name");
+}
+
 OutputTarget check_output_path(const fs::path& file, const std::vector<RunInput>& inputs) {
   const std::string s = file.string();
   if (s.empty()) throw OutputPathError("the file name is empty; give a file name such as NAME.h5");

@@ -44,6 +44,13 @@ struct OutputTarget {
 // OutputPathError. Creates nothing: probe_temporary() checks that the directory is writable.
 OutputTarget check_output_path(const std::filesystem::path& file, const std::vector<RunInput>& inputs);
 
+// The checkpoint directory a run with run.checkpoint creates beside the output (`directory`, the
+// output's name + ".checkpoint") and the longest name it writes there: within the filesystem's
+// limits of name and path length, and a directory if it exists. Throws OutputPathError naming the
+// directory and the limit (run and validate both check it before anything runs).
+void check_checkpoint_directory(const OutputTarget& target, const std::filesystem::path& directory,
+                                const std::string& longest_file);
+
 // A temporary file beside the output, created (never opened over an existing file) with a name
 // that cannot collide: ".NAME.gdsmc-partial-HOST-NS-PID-XXXXXX" (NS identifies the PID namespace).
 // It is removed on destruction unless renamed, and only while the name still refers to the file

@@ -2,13 +2,15 @@
 
 #include <gdsmc/plugin.hpp>
 
+#include "util/content_hash.hpp"
+
 namespace gdsmc::host {
 
 std::vector<PluginProvenance> plugin_provenance(const Pipeline& p) {
   std::vector<PluginProvenance> out;
   auto prov = [&](const std::string& role, const PluginUse& u) {
     PluginProvenance pp{role, u.instance_name, u.plugin->descriptor->name, u.plugin->descriptor->version,
-                        u.plugin->file.string(), {}};
+                        u.plugin->file.string(), ContentHash::hex(u.plugin->content_hash), {}};
     for (const auto& [k, e] : u.params.entries()) pp.parameters[k] = value_text(e.value);
     out.push_back(std::move(pp));
   };

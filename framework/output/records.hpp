@@ -10,6 +10,7 @@ namespace gdsmc::host {
 
 struct PluginProvenance {
   std::string role, instance, plugin, version, file;
+  std::string library_hash;  // the library file's content hash (16 hex digits, util/content_hash.hpp)
   std::map<std::string, std::string> parameters;  // as resolved, reduced units
 };
 

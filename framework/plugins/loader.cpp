@@ -1,5 +1,7 @@
 #include "plugins/loader.hpp"
 
+#include "util/content_hash.hpp"
+
 #include <elf.h>
 #include <fcntl.h>
 #include <link.h>
@@ -182,6 +184,11 @@ LoadedPlugin load_unchecked(const fs::path& file) {
   }
   if (!p.descriptor || p.descriptor->name.empty() || !p.descriptor->create)
     throw PluginLoadError(file.string() + ": its descriptor is incomplete (no name or no factory)");
+  try {
+    p.content_hash = file_content_hash(file);
+  } catch (const std::exception& e) {
+    throw PluginLoadError(file.string() + ": " + e.what());
+  }
   p.library = std::move(lib);
   return p;
 }

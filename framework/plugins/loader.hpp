@@ -26,6 +26,9 @@ struct LoadedPlugin {
   std::shared_ptr<boost::dll::shared_library> library;
   const PluginDescriptor* descriptor = nullptr;
   std::uint32_t abi_major = 0, abi_minor = 0;
+  // The library file's content (util/content_hash.hpp), read when it was loaded: what identifies
+  // the code that made a result (provenance, checkpoints), where the version string may not.
+  std::uint64_t content_hash = 0;
 };
 
 // Load one shared library and check it is a gdsmc plugin of a compatible ABI. Nothing in the file

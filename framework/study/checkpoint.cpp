@@ -8,9 +8,12 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <set>
 
 #include <yaml-cpp/yaml.h>
+
+#include "util/content_hash.hpp"
 
 #include <gdsmc/version.hpp>
 
@@ -21,11 +24,108 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "gdsmc checkpoint";
-constexpr std::uint32_t kFormatVersion = 2;  // 2: the engine keeps its stage times (engine.stage_seconds)
+// 2: the engine keeps its stage times (engine.stage_seconds); 3: a checksum per entry, plugin
+// libraries by content hash.
+constexpr std::uint32_t kFormatVersion = 3;
 
 std::string errno_text() { return std::strerror(errno); }
 
-// Entries straight into a file (a state of 10^7 particles is never held twice in memory).
+// Every entry of a checkpoint file carries a checksum. The file is the entries as the SDK's
+// StateWriter frames them (name length, name, kind, element size, count, payload), then a table:
+// one 64-bit ContentHash per entry, over the entry's bytes (header and payload), then the entry
+// count, the bytes of the entries, the table's own hash and the 8 bytes "GDSMCSUM". The reader
+// checks the whole file against its table before it hands out a byte, so a flipped bit, a
+// truncated file or a file still being written is refused naming the file and the entry. The
+// checksums live entirely in the host's file writer and reader: the SDK's entry format and ABI are
+// unchanged (a plugin's own entries travel inside the host's entry "plugin.<role>").
+constexpr char kTableMagic[8] = {'G', 'D', 'S', 'M', 'C', 'S', 'U', 'M'};
+constexpr std::uint64_t kTableTail = 32;  // count, entry bytes, table hash, magic
+
+// Follows the SDK's entry framing through a stream of bytes, hashing each entry.
+class EntryScanner {
+ public:
+  // Feeds bytes; `done(name, begin, end, hash)` is called at the end of each entry (bytes
+  // [begin, end) of the stream). A header that cannot be (a name longer than the SDK allows)
+  // makes feed() return false.
+  template <class Done>
+  bool feed(const unsigned char* p, std::size_t n, Done&& done) {
+    while (n) {
+      std::size_t take = 0;
+      switch (phase_) {
+        case Phase::length:
+        case Phase::tail: {
+          const std::size_t want = (phase_ == Phase::length ? 4 : 10) - have_;
+          take = std::min(want, n);
+          std::memcpy(head_ + have_, p, take);
+          have_ += take;
+          if (take == want) {
+            if (phase_ == Phase::length) {
+              std::uint32_t length;
+              std::memcpy(&length, head_, 4);
+              if (length > 4096) {
+                hash_.update(p, take);
+                return false;
+              }
+              name_.clear();
+              left_ = length;
+              phase_ = Phase::name;
+            } else {
+              std::uint64_t count;
+              std::memcpy(&count, head_ + 2, 8);
+              const unsigned size = head_[1];
+              left_ = size && count > ~std::uint64_t{0} / size ? ~std::uint64_t{0} : count * size;
+              phase_ = Phase::payload;
+            }
+            have_ = 0;
+          }
+          break;
+        }
+        case Phase::name:
+          take = static_cast<std::size_t>(std::min<std::uint64_t>(left_, n));
+          name_.append(reinterpret_cast<const char*>(p), take);
+          left_ -= take;
+          if (!left_) phase_ = Phase::tail;
+          break;
+        case Phase::payload:
+          take = static_cast<std::size_t>(std::min<std::uint64_t>(left_, n));
+          left_ -= take;
+          break;
+      }
+      hash_.update(p, take);
+      at_ += take;
+      p += take;
+      n -= take;
+      if (phase_ == Phase::payload && !left_) end_entry(done);
+    }
+    if (phase_ == Phase::payload && !left_) end_entry(done);  // an entry without payload
+    return true;
+  }
+  // Between entries (not inside one).
+  bool at_boundary() const { return phase_ == Phase::length && have_ == 0; }
+  const std::string& name() const { return name_; }    // of the entry under way
+  std::uint64_t entry_begin() const { return begin_; }  // its first byte
+  std::uint64_t payload_left() const { return phase_ == Phase::payload ? left_ : 0; }
+
+ private:
+  enum class Phase { length, name, tail, payload };
+  template <class Done>
+  void end_entry(Done&& done) {
+    done(name_, begin_, at_, hash_.finish());
+    hash_.reset();
+    phase_ = Phase::length;
+    have_ = 0;
+    begin_ = at_;
+  }
+  Phase phase_ = Phase::length;
+  unsigned char head_[10] = {};
+  std::size_t have_ = 0;
+  std::uint64_t left_ = 0, at_ = 0, begin_ = 0;
+  std::string name_;
+  ContentHash hash_;
+};
+
+// Entries straight into a file (a state of 10^7 particles is never held twice in memory), each
+// with its checksum in the table at the end.
 class FileStateWriter final : public StateWriter {
  public:
   explicit FileStateWriter(const fs::path& path) : path_(path) {
@@ -36,8 +136,18 @@ class FileStateWriter final : public StateWriter {
   ~FileStateWriter() override {
     if (file_) std::fclose(file_);
   }
-  // Flush, fsync and close; throws on any error (disk full).
+  // The checksum table, then flush, fsync and close; throws on any error (disk full).
   void close() {
+    if (!scanner_.at_boundary()) throw std::logic_error("checkpoint " + path_.string() + ": an entry was left unfinished");
+    ContentHash table;
+    const std::uint64_t tail[2] = {static_cast<std::uint64_t>(sums_.size()), bytes_};
+    raw(sums_.data(), sums_.size() * sizeof(std::uint64_t));
+    raw(tail, sizeof tail);
+    table.update(sums_.data(), sums_.size() * sizeof(std::uint64_t));
+    table.update(tail, sizeof tail);
+    const std::uint64_t table_hash = table.finish();
+    raw(&table_hash, sizeof table_hash);
+    raw(kTableMagic, sizeof kTableMagic);
     const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
     const int saved = errno;
     const bool closed = std::fclose(file_) == 0;
@@ -50,23 +160,36 @@ class FileStateWriter final : public StateWriter {
 
  protected:
   void put(const void* data, std::size_t bytes) override {
-    if (std::fwrite(data, 1, bytes, file_) != bytes)
-      throw std::runtime_error("cannot write " + path_.string() + ": " + errno_text());
+    raw(data, bytes);
+    bytes_ += bytes;
+    scanner_.feed(static_cast<const unsigned char*>(data), bytes,
+                  [&](const std::string&, std::uint64_t, std::uint64_t, std::uint64_t hash) { sums_.push_back(hash); });
   }
 
  private:
+  void raw(const void* data, std::size_t bytes) {
+    if (bytes && std::fwrite(data, 1, bytes, file_) != bytes)
+      throw std::runtime_error("cannot write " + path_.string() + ": " + errno_text());
+  }
   fs::path path_;
   std::FILE* file_ = nullptr;
+  EntryScanner scanner_;
+  std::vector<std::uint64_t> sums_;
+  std::uint64_t bytes_ = 0;
 };
 
+// The entries of a file that passed its checksums. Opening reads the whole file once to check
+// every entry against the table (CheckpointError naming the file and the entry); reads then
+// serve the entries alone. Without `verify` (a file already checked, read again for a message:
+// describe, kept_text) only the table's tail is checked.
+enum class Verify { all, tail };
 class FileStateReader final : public StateReader {
  public:
-  explicit FileStateReader(const fs::path& path) : path_(path) {
+  explicit FileStateReader(const fs::path& path, Verify verify = Verify::all) : path_(path) {
     file_ = std::fopen(path.c_str(), "rb");
     if (!file_) throw CheckpointError("cannot read " + path.string() + ": " + errno_text());
-    std::error_code ec;
-    size_ = fs::file_size(path, ec);
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+    check(verify);
   }
   ~FileStateReader() override { std::fclose(file_); }
   std::string peek_name() override {
@@ -83,6 +206,7 @@ class FileStateReader final : public StateReader {
   }
   std::uint64_t remaining() const override { return size_ - at_; }
   bool at_end() const { return at_ == size_; }
+  std::size_t entries() const { return entries_; }
 
  protected:
   void get(void* data, std::size_t bytes) override {
@@ -93,15 +217,89 @@ class FileStateReader final : public StateReader {
   }
 
  private:
+  [[noreturn]] void damaged(const std::string& what) const {
+    throw CheckpointError(path_.string() + " is damaged: " + what +
+                          "; it cannot be used (a bit changed on disk or in a copy, or the file was cut short)");
+  }
+  void read_at(std::uint64_t offset, void* data, std::size_t bytes) {
+    if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0 || std::fread(data, 1, bytes, file_) != bytes)
+      throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
+  }
+  void check(Verify verify) {
+    std::error_code ec;
+    const std::uint64_t file_size = fs::file_size(path_, ec);
+    if (ec) throw CheckpointError("cannot read " + path_.string() + ": " + ec.message());
+    char magic[8] = {};
+    std::uint64_t tail[3] = {};  // entries, entry bytes, table hash
+    if (file_size >= kTableTail) {
+      read_at(file_size - kTableTail, tail, sizeof tail);
+      read_at(file_size - sizeof magic, magic, sizeof magic);
+    }
+    if (file_size < kTableTail || std::memcmp(magic, kTableMagic, sizeof magic) != 0)
+      throw CheckpointError(path_.string() + " is truncated or not a checkpoint file of this gdsmc: it does not end with "
+                            "its table of checksums (" + std::to_string(file_size) +
+                            " bytes); it cannot be used (a write cut short, a file cut in a copy, or a checkpoint "
+                            "of an older gdsmc, which had no checksums)");
+    const std::uint64_t count = tail[0], bytes = tail[1];
+    if (count > file_size / 8 || bytes > file_size || bytes + 8 * count + kTableTail != file_size)
+      damaged("its table of checksums claims " + std::to_string(count) + " entries in " + std::to_string(bytes) +
+              " bytes, which does not fit its " + std::to_string(file_size) + " bytes");
+    if (verify == Verify::tail) {
+      if (std::fseek(file_, 0, SEEK_SET) != 0) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
+      size_ = bytes;
+      entries_ = count;
+      return;
+    }
+    std::vector<std::uint64_t> sums(count);
+    if (count) read_at(bytes, sums.data(), count * 8);
+    ContentHash table;
+    table.update(sums.data(), count * 8);
+    table.update(tail, 16);
+    if (table.finish() != tail[2]) damaged("its table of checksums does not match its own checksum");
+    // Every entry against its checksum.
+    if (std::fseek(file_, 0, SEEK_SET) != 0) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
+    EntryScanner scanner;
+    std::vector<unsigned char> buffer(1 << 20);
+    std::size_t entry = 0;
+    auto done = [&](const std::string& name, std::uint64_t begin, std::uint64_t end, std::uint64_t hash) {
+      if (entry >= count)
+        damaged("entry " + std::to_string(entry + 1) + " '" + name + "' (at byte " + std::to_string(begin) +
+                ") is beyond the " + std::to_string(count) + " entries its table lists");
+      if (hash != sums[entry])
+        damaged("entry " + std::to_string(entry + 1) + " of " + std::to_string(count) + ", '" + name + "' (bytes " +
+                std::to_string(begin) + " to " + std::to_string(end) +
+                "), does not match its checksum");
+      ++entry;
+    };
+    at_ = 0;
+    for (std::uint64_t left = bytes; left;) {
+      const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, buffer.size()));
+      if (std::fread(buffer.data(), 1, n, file_) != n) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
+      if (!scanner.feed(buffer.data(), n, done))
+        damaged("entry " + std::to_string(entry + 1) + " (at byte " + std::to_string(scanner.entry_begin()) +
+                ") has a damaged header");
+      if (scanner.payload_left() > left - n)
+        damaged("entry " + std::to_string(entry + 1) + ", '" + scanner.name() + "' (at byte " +
+                std::to_string(scanner.entry_begin()) + "), claims more bytes than the file holds");
+      left -= n;
+    }
+    if (!scanner.at_boundary() || entry != count)
+      damaged("its entries end inside entry " + std::to_string(entry + 1) + " of the " + std::to_string(count) +
+              " its table lists");
+    if (std::fseek(file_, 0, SEEK_SET) != 0) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
+    size_ = bytes;
+    entries_ = count;
+  }
   fs::path path_;
   std::FILE* file_ = nullptr;
   std::uint64_t size_ = 0, at_ = 0;
+  std::size_t entries_ = 0;
 };
 
 // The pipeline as it decides the results: the resolved text without run.threads and
 // run.checkpoint, which do not change a bit of the output (a resume may use other values).
-std::string pipeline_identity(const Pipeline& p) {
-  YAML::Node root = YAML::Load(p.resolved_text);
+std::string identity_of(const std::string& resolved_text) {
+  YAML::Node root = YAML::Load(resolved_text);
   if (root.IsMap() && root["run"] && root["run"].IsMap()) {
     root["run"].remove("threads");
     root["run"].remove("checkpoint");
@@ -111,15 +309,25 @@ std::string pipeline_identity(const Pipeline& p) {
   return e.c_str();
 }
 
+// One line per plugin: "ROLE: NAME VERSION (library HASH)", HASH its library file's content hash:
+// a library rebuilt with other code but the same version string is another plugin.
+constexpr const char* kLibraryMark = " (library ";
+template <class F>
+void for_each_use(const Pipeline& p, F&& f) {
+  f(p.initial_state);
+  f(p.collision);
+  for (const auto* uses : {&p.forcings, &p.boundaries, &p.diagnostics})
+    for (const auto& u : *uses) f(u);
+}
+// "ROLE: NAME VERSION".
+std::string use_text(const PluginUse& u) {
+  return u.path + ": " + u.plugin->descriptor->name + " " + u.plugin->descriptor->version;
+}
 std::string plugin_lines(const Pipeline& p) {
   std::string t;
-  auto line = [&](const PluginUse& u) {
-    t += u.path + ": " + u.plugin->descriptor->name + " " + u.plugin->descriptor->version + "\n";
-  };
-  line(p.initial_state);
-  line(p.collision);
-  for (const auto* uses : {&p.forcings, &p.boundaries, &p.diagnostics})
-    for (const auto& u : *uses) line(u);
+  for_each_use(p, [&](const PluginUse& u) {
+    t += use_text(u) + kLibraryMark + ContentHash::hex(u.plugin->content_hash) + ")\n";
+  });
   return t;
 }
 
@@ -179,10 +387,12 @@ fs::path CheckpointStore::directory_for(const fs::path& output) {
 }
 
 CheckpointStore::CheckpointStore(fs::path dir, const std::vector<StudyCase>& cases, bool resume)
-    : dir_(std::move(dir)), gdsmc_version_(version_string), pipeline_(pipeline_identity(cases.front().pipeline)) {
+    : dir_(std::move(dir)), gdsmc_version_(version_string), pipeline_(identity_of(cases.front().pipeline.resolved_text)) {
   std::set<std::string> all;  // every case's plugins (a sweep of named variants may change them)
+  std::map<std::string, std::string> libraries;  // "ROLE: NAME VERSION" -> its library file, for messages
   for (const auto& c : cases) {
     all.insert(plugin_lines(c.pipeline));
+    for_each_use(c.pipeline, [&](const PluginUse& u) { libraries[use_text(u)] = u.plugin->file.string(); });
     runs_ += c.pipeline.realizations;
   }
   std::string plugins;
@@ -208,9 +418,15 @@ CheckpointStore::CheckpointStore(fs::path dir, const std::vector<StudyCase>& cas
     if (ec) throw CheckpointError("cannot write " + study.string() + ": " + ec.message());
     return;
   }
-  if (!fs::exists(study, ec))
-    throw CheckpointError("--resume: there is no checkpoint at " + dir_.string() +
+  if (!fs::exists(study, ec)) {
+    bool runs = false;
+    for (const auto& e : fs::directory_iterator(dir_, ec)) runs = runs || e.path().filename().string().rfind("run-", 0) == 0;
+    if (runs)
+      throw CheckpointError("--resume: the checkpoint " + dir_.string() + " is damaged: it holds run files but not " +
+                            study.string() + ", which says whose runs they are; remove the directory to start over");
+    throw CheckpointError("--resume: nothing to resume: there is no checkpoint at " + dir_.string() +
                           " (a run writes one there when its pipeline sets run.checkpoint)");
+  }
   // Temporaries of writes a kill interrupted.
   for (const auto& e : fs::directory_iterator(dir_, ec))
     if (e.path().filename().string().rfind(".", 0) == 0) fs::remove(e.path(), ec);
@@ -234,19 +450,46 @@ CheckpointStore::CheckpointStore(fs::path dir, const std::vector<StudyCase>& cas
       differences.push_back("the pipeline (after --set; run.threads and run.checkpoint aside) differs at " +
                             first_difference(pipeline, pipeline_));
     if (saved_plugins != plugins) {
-      // Name each plugin line that is not the same.
+      // Name each plugin line that is not the same: a library of the same plugin and version whose
+      // content differs (rebuilt) with both hashes, any other difference as the two lines.
       const std::set<std::string> before = line_set(saved_plugins), after = line_set(plugins);
+      auto identity = [](const std::string& l) { return l.substr(0, l.find(kLibraryMark)); };
+      auto hash_of = [](const std::string& l) {
+        const std::size_t at = l.find(kLibraryMark);
+        return at == std::string::npos ? std::string("none") : l.substr(at + std::strlen(kLibraryMark), 16);
+      };
       std::string what;
+      std::set<std::string> named;
+      for (const auto& l : before) {
+        if (after.count(l)) continue;
+        for (const auto& now : after)
+          if (!before.count(now) && identity(now) == identity(l)) {
+            const std::string role = l.substr(0, l.find(':'));
+            const auto file = libraries.find(identity(now));
+            what += (what.empty() ? "" : "; ") + ("plugin '" + role + "' (" + identity(l).substr(role.size() + 2) +
+                                                 (file == libraries.end() ? "" : ", " + file->second) +
+                                                 ") is not the library that wrote the checkpoint: its content hash is " +
+                                                 hash_of(now) + ", the checkpoint's " + hash_of(l) +
+                                                 " (rebuilt or replaced with the same version string)");
+            named.insert(l);
+            named.insert(now);
+          }
+      }
       for (const auto& l : before)
-        if (!after.count(l)) what += (what.empty() ? "" : "; ") + ("the checkpoint has " + l);
+        if (!after.count(l) && !named.count(l)) what += (what.empty() ? "" : "; ") + ("the checkpoint has " + l);
       for (const auto& l : after)
-        if (!before.count(l)) what += (what.empty() ? "" : "; ") + ("this run has " + l);
+        if (!before.count(l) && !named.count(l)) what += (what.empty() ? "" : "; ") + ("this run has " + l);
       differences.push_back("the plugins differ: " + what);
     }
     if (runs != runs_ && pipeline == pipeline_)
       differences.push_back("it holds " + std::to_string(runs) + " runs, this study has " + std::to_string(runs_));
   } catch (const StateError& e) {
-    throw CheckpointError(study.string() + " is damaged: " + e.what());
+    throw CheckpointError("--resume: the checkpoint " + dir_.string() + " is damaged: " + study.string() +
+                          " cannot be read: " + e.what() + "; remove the directory to start over");
+  } catch (const CheckpointError& e) {
+    if (std::string(e.what()).rfind("--resume", 0) == 0) throw;
+    throw CheckpointError("--resume: the checkpoint " + dir_.string() + " is damaged: " + e.what() +
+                          "; remove the directory to start over");
   }
   if (!differences.empty()) {
     std::string m = "--resume: the checkpoint " + dir_.string() + " belongs to another run: ";
@@ -270,7 +513,7 @@ std::string CheckpointStore::describe(const std::vector<StudyCase>& cases) const
     for (std::uint32_t r = 0; r < c.pipeline.realizations; ++r, ++run) {
       if (!has_run(run)) continue;
       try {
-        FileStateReader in(run_file(run));
+        FileStateReader in(run_file(run), Verify::tail);  // checked by check_runs (or restore)
         read_run_header(in);
         const Engine::SavedProgress progress = Engine::saved_progress(in);
         if (progress.finished) {
@@ -316,25 +559,106 @@ void CheckpointStore::write(std::size_t index, const StudyCase& c, std::uint32_t
   }
 }
 
-std::unique_ptr<Engine> CheckpointStore::restore(std::size_t index, const StudyCase& c, std::uint32_t realization,
-                                                 unsigned threads) const {
+std::string CheckpointStore::pipeline_identity(const std::string& resolved_text) { return identity_of(resolved_text); }
+
+namespace {
+// "run-3 and run-5", "run-0, run-1 and run-2".
+std::string run_list(const std::vector<std::size_t>& runs) {
+  std::string s;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    s += (k == 0 ? "" : k + 1 == runs.size() ? " and " : ", ") + ("run-" + std::to_string(runs[k]));
+  return s;
+}
+}  // namespace
+
+std::unique_ptr<Engine> CheckpointStore::read_run(std::size_t index, const StudyCase& c, std::uint32_t realization,
+                                                  unsigned threads, bool restore) const {
   const fs::path file = run_file(index);
   try {
     FileStateReader r(file);
     const RunHeader h = read_run_header(r);
-    if (h.format != kFormat || h.version != gdsmc_version_ || h.run != index || h.realization != realization ||
-        h.plugins != plugin_lines(c.pipeline))
-      throw CheckpointError(file.string() + " is not the checkpoint of run " + std::to_string(index) + " (realization " +
-                            std::to_string(realization) + ") of this study with gdsmc " + gdsmc_version_ +
-                            " and these plugins");
+    if (h.format != kFormat || h.version != gdsmc_version_)
+      throw CheckpointError(file.string() + " is not a run file of a gdsmc " + gdsmc_version_ + " checkpoint (it says '" +
+                            h.format + "', gdsmc " + h.version + ")");
+    if (h.run != index || h.realization != realization)
+      throw CheckpointError(file.string() + " holds run " + std::to_string(h.run) + " (realization " +
+                            std::to_string(h.realization) + "), not run " + std::to_string(index) + " (realization " +
+                            std::to_string(realization) + "): files of the checkpoint were renamed or swapped");
+    if (h.plugins != plugin_lines(c.pipeline))
+      throw CheckpointError(file.string() + " was written with other plugins than this run's: " +
+                            first_difference(h.plugins, plugin_lines(c.pipeline)));
+    if (!restore) return nullptr;
     auto engine = std::make_unique<Engine>(c.pipeline, realization, threads, r);
     if (!r.at_end())
       throw CheckpointError(file.string() + ": " + std::to_string(r.remaining()) + " bytes left after the state (next entry '" +
                             r.peek_name() + "')");
     return engine;
   } catch (const StateError& e) {
-    throw CheckpointError("cannot resume from " + file.string() + ": " + e.what());
+    throw CheckpointError(file.string() + " cannot be read as run " + std::to_string(index) + "'s state: " + e.what());
   }
+}
+
+std::unique_ptr<Engine> CheckpointStore::restore(std::size_t index, const StudyCase& c, std::uint32_t realization,
+                                                 unsigned threads) const {
+  try {
+    return read_run(index, c, realization, threads, true);
+  } catch (const CheckpointError& e) {
+    throw CheckpointError(std::string("cannot resume: ") + e.what());
+  }
+}
+
+void CheckpointStore::check_runs(const std::vector<StudyCase>& cases, bool restore) const {
+  std::size_t index = 0;
+  for (const auto& c : cases)
+    for (std::uint32_t r = 0; r < c.pipeline.realizations; ++r, ++index) {
+      if (!has_run(index)) continue;
+      try {
+        read_run(index, c, r, 1, restore);
+      } catch (const CheckpointError& e) {
+        throw CheckpointError("--resume: the checkpoint " + dir_.string() + " is damaged: " + e.what() +
+                              ". Remove " + run_file(index).string() +
+                              " to run that run again from its start (the other runs continue from their state), "
+                              "or remove the directory to start over");
+      } catch (const std::exception& e) {
+        throw CheckpointError("--resume: " + run_file(index).string() + " cannot be restored: " + e.what());
+      }
+    }
+}
+
+std::string CheckpointStore::kept_text(bool* all_kept) const {
+  std::vector<std::size_t> kept, from_state, from_start;
+  for (std::size_t run = 0; run < runs_; ++run) {
+    bool finished = false, saved = false;
+    if (has_run(run)) {
+      try {
+        FileStateReader in(run_file(run), Verify::tail);  // written by this process or checked when resumed
+        read_run_header(in);
+        finished = Engine::saved_progress(in).finished;
+        saved = true;
+      } catch (const std::exception&) {
+      }
+    }
+    (finished ? kept : saved ? from_state : from_start).push_back(run);
+  }
+  if (all_kept) *all_kept = kept.size() == runs_;
+  if (kept.size() == runs_)
+    return std::string(runs_ == 1 ? "the run's results are" : "every run's results are") + " kept in " + dir_.string();
+  std::string s = kept.empty() ? "no run's results are kept in " + dir_.string()
+                               : "the results of " + std::to_string(kept.size()) + " of the " + std::to_string(runs_) +
+                                     " runs are kept in " + dir_.string() + " (" + run_list(kept) + ")";
+  std::vector<std::size_t> again = from_state;
+  again.insert(again.end(), from_start.begin(), from_start.end());
+  std::sort(again.begin(), again.end());
+  const bool one = again.size() == 1;
+  s += "; " + run_list(again) + " will run again at --resume (" +
+       (one ? "its final checkpoint was" : "their final checkpoints were") + " not written)";
+  const std::string its = one ? "its" : "their";
+  if (!from_state.empty() && !from_start.empty())
+    s += ": " + run_list(from_state) + " from " + (from_state.size() == 1 ? "its" : "their") + " last saved state, " +
+         run_list(from_start) + " from " + (from_start.size() == 1 ? "its" : "their") + " start";
+  else
+    s += ", from " + its + (from_state.empty() ? " start" : " last saved state");
+  return s;
 }
 
 void CheckpointStore::remove() const {

@@ -39,6 +39,19 @@ class CheckpointStore {
   // What the checkpoint holds, for the resume message: "12 runs: 3 finished, 2 under way (at
   // t = 1.2 to 3.4 tau0, s = ...), 7 not started".
   std::string describe(const std::vector<StudyCase>& cases) const;
+  // Resume: every run file there is, read as a resume reads it: its checksums, whose run it is
+  // and, with `restore`, the whole engine state (validate --resume). Throws CheckpointError
+  // naming the file ("... is damaged: entry 12 of 40, 'particles.velocity', ..."), before anything
+  // runs.
+  void check_runs(const std::vector<StudyCase>& cases, bool restore) const;
+  // After a failure to write the output: which runs' results the checkpoint keeps (their file
+  // holds the finished run) and which will run again at --resume (a final checkpoint that was
+  // not written: from their last saved state or their start), read from the files.
+  // `all_kept`: set when every run's results are kept (--resume then only writes the file).
+  std::string kept_text(bool* all_kept = nullptr) const;
+  // The pipeline text as it decides the results (run.threads and run.checkpoint aside): what a
+  // checkpoint, or a finished output's "pipeline" attribute, must match to be this run's.
+  static std::string pipeline_identity(const std::string& resolved_text);
   // The engine of run `index`, restored from its file (CheckpointError on a foreign or damaged one).
   std::unique_ptr<Engine> restore(std::size_t index, const StudyCase& c, std::uint32_t realization,
                                   unsigned threads) const;
@@ -49,6 +62,9 @@ class CheckpointStore {
 
  private:
   std::filesystem::path run_file(std::size_t index) const;
+  // Run `index`'s file checked (checksums, header) and, with `restore`, its engine restored.
+  std::unique_ptr<Engine> read_run(std::size_t index, const StudyCase& c, std::uint32_t realization, unsigned threads,
+                                   bool restore) const;
   std::filesystem::path dir_;
   std::string gdsmc_version_, pipeline_;
   std::size_t runs_ = 0;

@@ -82,7 +82,7 @@ std::vector<unsigned char> save_run_results(const RunResults& r) {
     write_map(out, "run", c.run);
     out.write("plugins", static_cast<std::uint64_t>(c.plugins.size()));
     for (const auto& p : c.plugins) {
-      for (const std::string* text : {&p.role, &p.instance, &p.plugin, &p.version, &p.file}) out.write("text", *text);
+      for (const std::string* text : {&p.role, &p.instance, &p.plugin, &p.version, &p.file, &p.library_hash}) out.write("text", *text);
       write_map(out, "parameters", p.parameters);
     }
     out.write("particles", static_cast<std::uint64_t>(c.particles.size()));
@@ -125,7 +125,7 @@ RunResults load_run_results(const std::vector<unsigned char>& bytes) {
     read_map(in, "run", "value", c.run);
     c.plugins.resize(read_count(in, "plugins"));
     for (auto& p : c.plugins) {
-      for (std::string* text : {&p.role, &p.instance, &p.plugin, &p.version, &p.file}) in.read("text", *text);
+      for (std::string* text : {&p.role, &p.instance, &p.plugin, &p.version, &p.file, &p.library_hash}) in.read("text", *text);
       read_map(in, "parameters", "text", p.parameters);
     }
     c.particles.resize(read_count(in, "particles"));

@@ -613,5 +613,98 @@ TEST(Fuzz, MutatedShippedPipelinesExitCleanly) {
   }
 }
 
+// Damaged checkpoints: a checkpoint of two finished runs (kept because the output could not be
+// written: a file size limit above each run file and below the output), then, one at a time,
+// every run file cut at random bytes, random bits flipped anywhere in a file (entries, the table
+// of checksums, its tail), the two run files swapped, a run file replaced by the study file or
+// emptied, and the study file damaged. `validate --resume` and `run --resume` must each refuse
+// every one with exit 1, an `error:` line naming the file, and nothing written; the checkpoint as
+// it was then resumes to the bits of the uninterrupted run.
+TEST(Fuzz, DamagedCheckpointsAreRefusedNamingTheFile) {
+  const auto base_seed = static_cast<std::uint64_t>(std::stoull(env("GDSMC_FUZZ_SEED", std::to_string(kDefaultSeed))));
+  TempDir dir;
+  const fs::path pipeline = dir.write(
+      "pipeline.yaml",
+      "run:\n  seed: 5\n  particles: 2000\n  realizations: 2\n"
+      "  time_step: {value: 0.01, unit: tau0, follow_temperature: true}\n  stop: {collisions_per_particle: 2}\n"
+      "  record_every: 10\n  checkpoint: {every: {collisions_per_particle: 0.5}}\n"
+      "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.7}\n"
+      "diagnostics: [temperature, cumulants, velocity_marginals]\noutput: {file: out.h5, realizations: true}\n");
+  ProcessResult ref = run_gdsmc({"run", pipeline.string(), "--quiet", "--threads", "1", "-o", "ref.h5"}, dir.path());
+  ASSERT_EQ(ref.exit_code, 0) << ref.describe();
+  // dash counts 512-byte blocks: 60 KiB, above each finished run's file (~30 KB), below the output (~200 KB).
+  const ShellResult kept = shell("cd '" + dir.path().string() + "' && ulimit -f 120 && exec '" + executable().string() +
+                                 "' run pipeline.yaml --quiet --threads 1");
+  ASSERT_NE(kept.status, 0) << kept.out;
+  ASSERT_TRUE(contains(kept.out, "every run's results are kept in out.h5.checkpoint")) << kept.out;
+  const fs::path ck = dir / "out.h5.checkpoint";
+  const std::map<std::string, std::string> originals{
+      {"run-0", read_text(ck / "run-0")}, {"run-1", read_text(ck / "run-1")}, {"study", read_text(ck / "study")}};
+
+  struct Damage {
+    std::string what, file;                      // what was done; the file the message must name
+    std::map<std::string, std::string> contents;  // the files as damaged
+  };
+  std::vector<Damage> damages;
+  std::uint64_t state = mutation_seed(base_seed, "checkpoint", 0);
+  auto next = [&](std::uint64_t n) {  // splitmix64
+    state += 0x9E3779B97F4A7C15ull;
+    std::uint64_t z = state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return (z ^ (z >> 31)) % n;
+  };
+  for (const std::string file : {"run-0", "run-1", "study"}) {
+    const std::string& bytes = originals.at(file);
+    for (int k = 0; k < 6; ++k) {  // cut short
+      const std::size_t at = k == 0 ? 0 : k == 1 ? bytes.size() - 1 : next(bytes.size());
+      Damage d{file + " cut at byte " + std::to_string(at), file, originals};
+      d.contents[file] = bytes.substr(0, at);
+      damages.push_back(std::move(d));
+    }
+    for (int k = 0; k < (file == "study" ? 6 : 12); ++k) {  // bits flipped: anywhere, then in the last 64 bytes
+      const std::size_t at = k < 8 ? next(bytes.size()) : bytes.size() - 1 - next(std::min<std::size_t>(64, bytes.size()));
+      const int bit = static_cast<int>(next(8));
+      Damage d{file + " bit " + std::to_string(bit) + " of byte " + std::to_string(at) + " flipped", file, originals};
+      d.contents[file][at] = static_cast<char>(d.contents[file][at] ^ (1 << bit));
+      damages.push_back(std::move(d));
+    }
+  }
+  {
+    Damage d{"run-0 and run-1 swapped", "run-0", originals};
+    std::swap(d.contents["run-0"], d.contents["run-1"]);
+    damages.push_back(std::move(d));
+    Damage s{"run-1 replaced by the study file", "run-1", originals};
+    s.contents["run-1"] = originals.at("study");
+    damages.push_back(std::move(s));
+    Damage e{"run-0 emptied", "run-0", originals};
+    e.contents["run-0"].clear();
+    damages.push_back(std::move(e));
+  }
+
+  std::vector<std::string> failures;
+  for (const Damage& d : damages) {
+    for (const auto& [name, bytes] : d.contents) std::ofstream(ck / name, std::ios::binary | std::ios::trunc) << bytes;
+    for (const std::string command : {"validate", "run"}) {
+      const ProcessResult r = run_gdsmc({command, pipeline.string(), "--resume", "--quiet", "--threads", "1"}, dir.path());
+      std::string why;
+      if (r.exit_code != 1) why = "exit " + std::to_string(r.exit_code) + (r.signal ? " (signal)" : "");
+      else if (!contains(r.err, "error: ")) why = "no error line";
+      else if (!contains(r.err, "out.h5.checkpoint/" + d.file)) why = "the message does not name " + d.file;
+      else if (fs::exists(dir / "out.h5")) why = "an output was written";
+      if (!why.empty()) failures.push_back(command + ", " + d.what + ": " + why + "\n" + tail(r.err, 600));
+    }
+  }
+  EXPECT_TRUE(failures.empty()) << failures.size() << " of " << 2 * damages.size() << " refusals wrong; the first:\n"
+                                << (failures.empty() ? "" : failures.front());
+  for (const auto& [name, bytes] : originals) std::ofstream(ck / name, std::ios::binary | std::ios::trunc) << bytes;
+  const ProcessResult r = run_gdsmc({"run", pipeline.string(), "--resume", "--quiet"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << "the undamaged checkpoint resumes\n" << r.describe();
+  const auto expected = h5::contents(dir / "ref.h5"), got = h5::contents(dir / "out.h5");
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [key, bytes] : expected) EXPECT_TRUE(got.count(key) && got.at(key) == bytes) << key;
+}
+
 }  // namespace
 }  // namespace gdsmc::test
