@@ -330,7 +330,7 @@ TEST(HcsPhysics, CumulantA2Alpha07) { check_a2(0.7); }
 // or a cumulant with a wrong normalization, is many standard errors off. The paired difference
 // per realization (same run, same seed) has its standard error over 12 realizations; tolerance
 // 3 of them. The neglected a2 a3, a3^2 terms are 4e-5 here; a4 and higher enter mu_2 too but are
-// below the resolution of this test (its standard error is about 2e-3). cooling_rate 1.2, which
+// below the resolution of this test (its standard error is about 1e-3). cooling_rate 1.2, which
 // divided by the temperature sampled after each step's collisions, failed this test by 13 standard
 // errors (+0.025).
 TEST(HcsPhysics, CoolingRateMatchesItsCumulantExpansionAlpha03) {

@@ -2,6 +2,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <algorithm>
 
 #include <gdsmc/gdsmc.hpp>
 #include <gdsmc/physics.hpp>
@@ -35,8 +37,13 @@ class CoolingRate final : public gdsmc::Diagnostic {
       "zeta = 0, and the cooling is the drag's 2 gamma = zeta0 (or the refined value). After the run, over\n"
       "the record windows that lie in the run's steady averaging window (run.average_after; the host sets\n"
       "ctx.in_average_window, this diagnostic has no parameter of its own): zeta_tau_mean = the ratio of\n"
-      "the sums over those windows, its batch-means standard error from the per-window values, and\n"
-      "zeta_over_zeta0_mean = zeta_tau_mean / zeta0_tau.";
+      "the sums over those windows of -dE_coll / (N T_w) and of the weights / (N T_w) (each window counts by\n"
+      "its length in mean free times; version 1.2 summed them in absolute units, so in a cooling gas the\n"
+      "first windows after the start of the average outweighed the rest), its batch-means standard error\n"
+      "from the per-window values, and zeta_over_zeta0_mean = zeta_tau_mean / zeta0_tau. The host's running\n"
+      "sum of the collisional energy rounds by eps |sum| at each step: once the gas has cooled by ~1e10\n"
+      "since t = 0 a sample interval's loss is no longer resolved; such intervals (loss below 1e4 x that\n"
+      "rounding) are left out, counted in the scalar unresolved_intervals and named in the summary.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit CoolingRate(const gdsmc::Params&) {}
 
@@ -59,6 +66,20 @@ class CoolingRate final : public gdsmc::Diagnostic {
     const double E = ctx.collision_energy_change;
     if (have_prev_ && ctx.time > prev_time_ && T > 0 && prev_T_ > 0) {
       const double dt = ctx.time - prev_time_;
+      // The host's running sum carries a rounding of eps |sum| per step: an interval whose loss is
+      // not above 1e4 times that (a gas cooled by 1e10 or more since t = 0) is left out and counted.
+      const double steps = static_cast<double>(ctx.step - prev_step_);
+      const double resolution = std::numeric_limits<double>::epsilon() * std::fabs(E) * std::max(1.0, steps);
+      if (!(std::fabs(E - prev_energy_) > 1e4 * resolution)) {
+        ++unresolved_;
+        prev_T_ = T;
+        prev_time_ = ctx.time;
+        prev_energy_ = E;
+        prev_step_ = ctx.step;
+        T_sum_ += T;
+        ++T_count_;
+        return;
+      }
       // int T^(3/2) dt for T^(-1/2) linear in t between the samples (Haff's law)
       const double integral = 0.5 * dt * prev_T_ * T * (1.0 / std::sqrt(prev_T_) + 1.0 / std::sqrt(T));
       win_loss_ += -(E - prev_energy_);
@@ -67,6 +88,7 @@ class CoolingRate final : public gdsmc::Diagnostic {
     prev_T_ = T;
     prev_time_ = ctx.time;
     prev_energy_ = E;
+    prev_step_ = ctx.step;
     have_prev_ = true;
     T_sum_ += T;
     ++T_count_;
@@ -79,8 +101,10 @@ class CoolingRate final : public gdsmc::Diagnostic {
       zeta_tau = win_loss_ / win_weight_;
       zeta = zeta_tau / tau;
       if (last_in_window_ && ctx.in_average_window) {  // the whole record window is steady
-        loss_ += win_loss_;
-        weight_ += win_weight_;
+        // per unit N T_w: each window weighs by its length in mean free times, whatever T has
+        // fallen to (in absolute units a cooling gas's first windows would outweigh the rest)
+        loss_ += win_loss_ / (N_ * Tw);
+        weight_ += win_weight_ / (N_ * Tw);
         per_window_.add(zeta_tau);
       }
     }
@@ -99,11 +123,20 @@ class CoolingRate final : public gdsmc::Diagnostic {
     out.scalar("zeta_tau_mean", zt, "1", "steady zeta tau(T) over the record windows in the averaging window (ratio of sums)");
     out.scalar("zeta_tau_standard_error", per_window_.standard_error(), "1", "batch-means standard error from the per-window values");
     out.scalar("zeta_over_zeta0_mean", zt / zeta0_tau_, "1", "zeta_tau_mean / zeta0_tau");
+    out.scalar("unresolved_intervals", static_cast<double>(unresolved_), "1",
+               "sample intervals left out: collisional energy loss below 1e4 x the rounding of the host's running sum");
     char buf[300];
     std::snprintf(buf, sizeof buf,
                   "cooling_rate: in the averaging window (%zu windows): zeta tau = %.5f +- %.5f, zeta0 tau = %.5f, zeta/zeta0 = %.4f (alpha = %g)",
                   per_window_.count(), zt, per_window_.standard_error(), zeta0_tau_, zt / zeta0_tau_, alpha_);
     out.summary(buf);
+    if (unresolved_ > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "cooling_rate: %zu sample intervals left out: their collisional energy loss is below 1e4 x the "
+                    "rounding of the host's running sum (the gas has cooled by ~1e10 or more); zeta is from the others",
+                    unresolved_);
+      out.summary(buf);
+    }
   }
   void save_state(gdsmc::StateWriter& out) const override {
     out.write("T_sum", T_sum_);
@@ -113,6 +146,8 @@ class CoolingRate final : public gdsmc::Diagnostic {
     out.write("prev_T", prev_T_);
     out.write("prev_time", prev_time_);
     out.write("prev_energy", prev_energy_);
+    out.write("prev_step", static_cast<std::uint64_t>(prev_step_));
+    out.write("unresolved", static_cast<std::uint64_t>(unresolved_));
     out.write("win_loss", win_loss_);
     out.write("win_weight", win_weight_);
     out.write("loss", loss_);
@@ -129,6 +164,11 @@ class CoolingRate final : public gdsmc::Diagnostic {
     in.read("prev_T", prev_T_);
     in.read("prev_time", prev_time_);
     in.read("prev_energy", prev_energy_);
+    std::uint64_t u64 = 0;
+    in.read("prev_step", u64);
+    prev_step_ = u64;
+    in.read("unresolved", u64);
+    unresolved_ = static_cast<std::size_t>(u64);
     in.read("win_loss", win_loss_);
     in.read("win_weight", win_weight_);
     in.read("loss", loss_);
@@ -144,6 +184,8 @@ class CoolingRate final : public gdsmc::Diagnostic {
   bool have_prev_ = false, last_in_window_ = false;
   double prev_T_ = 0, prev_time_ = 0, prev_energy_ = 0;
   double win_loss_ = 0, win_weight_ = 0;
+  std::uint64_t prev_step_ = 0;
+  std::size_t unresolved_ = 0;
   double loss_ = 0, weight_ = 0;
   gdsmc::BatchMeans per_window_;
 };
