@@ -70,7 +70,7 @@ class CoolingRate final : public gdsmc::Diagnostic {
       // not above 1e4 times that (a gas cooled by 1e10 or more since t = 0) is left out and counted.
       const double steps = static_cast<double>(ctx.step - prev_step_);
       const double resolution = std::numeric_limits<double>::epsilon() * std::fabs(E) * std::max(1.0, steps);
-      if (!(std::fabs(E - prev_energy_) > 1e4 * resolution)) {
+      if (resolution > 0 && !(std::fabs(E - prev_energy_) > 1e4 * resolution)) {  // elastic: E = 0, resolved
         ++unresolved_;
         prev_T_ = T;
         prev_time_ = ctx.time;

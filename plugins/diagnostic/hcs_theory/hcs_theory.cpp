@@ -55,7 +55,8 @@ class HcsTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "hcs_theory";
   static constexpr const char* version = "1.3.0";
-  static constexpr const char* summary = "Haff's law and first-Sonine a2 of the HCS beside the measured T and a2";
+  static constexpr const char* summary =
+      "Haff's law, first- and second-Sonine a2, a3 of the HCS and the cooling rate's cumulant expansion, beside the measured T, a2, a3";
   static constexpr const char* documentation =
       "For a freely cooling gas of inelastic hard spheres (restitution alpha, read from the\n"
       "collision rule's published 'restitution'):\n"
