@@ -15,6 +15,7 @@
 #include "app/commands.hpp"
 #include "app/progress.hpp"
 #include "config/reading.hpp"
+#include "engine/plugin_calls.hpp"
 #include "output/hdf5_file.hpp"
 #include "study/checkpoint.hpp"
 #include "study/ranks.hpp"
@@ -404,6 +405,9 @@ int agree(int status, StderrHold& hold) {
 }  // namespace
 
 int cmd_run(const Options& options, bool run_it) {
+  // A crash inside a plugin (SIGSEGV, SIGBUS, SIGFPE, abort) names it, its role, the step and the
+  // run, and removes the temporary output and the lock (engine/plugin_calls.hpp).
+  install_fatal_signal_handlers();
   // In an MPI job (study/ranks.hpp) every rank checks the pipeline and runs its share of the
   // study; rank 0 alone prints progress and the summary, and writes the file.
   StderrHold hold(job::distributed() && !job::root());
