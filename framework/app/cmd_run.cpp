@@ -471,10 +471,14 @@ int cmd_run(const Options& options, bool run_it) {
   const bool tty = ::isatty(STDERR_FILENO);
   std::function<void(const StudyProgress&)> report;
   if (!o.quiet) report = progress_reporter(tty);
-  std::optional<OutputFile> out;  // rank 0's alone in an MPI job
+  // Rank 0's alone in an MPI job: the output's lock (held until the run ends: another run that
+  // would write the same output is refused meanwhile), then the output's temporary file.
+  std::optional<OutputLock> lock;
+  std::optional<OutputFile> out;
   int created = 0;
   if (job::root()) {
     try {
+      lock.emplace(target);
       for (const auto& line : remove_stale_temporaries(target)) std::cerr << "gdsmc: " << line << "\n";
       out.emplace(target, &g_interrupted);
     } catch (const OutputPathError& e) {
