@@ -10,6 +10,7 @@
 #include <cmath>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "app/progress.hpp"
@@ -427,15 +428,17 @@ std::string two_variant_sweep(const std::string& rule, const std::string& params
 
 // A collision rule that crashes mid-run (SIGSEGV by an invalid write, SIGBUS, SIGFPE, abort) used
 // to kill gdsmc with no word and leave the hidden temporary file behind. Now the process still
-// dies of its signal (exit status 128 + N, a core dump where enabled), after one message naming
+// dies of its signal (exit status 128 + N, a core dump where enabled; a stack overflow too), after one message naming
 // the plugin, its role and pipeline entry, the call, the step and the run, and with no file left.
 TEST(ReliabilityRun, ACrashInsideAPluginNamesItItsRoleTheStepAndTheRunAndLeavesNoFile) {
-  const std::pair<const char*, int> signals[] = {{"SEGV", SIGSEGV}, {"BUS", SIGBUS}, {"FPE", SIGFPE}, {"ABRT", SIGABRT}};
-  for (const auto& [name, sig] : signals) {
-    SCOPED_TRACE(name);
+  // STACK: a stack overflow, a SIGSEGV reported from the alternate signal stack.
+  const std::tuple<const char*, const char*, int> signals[] = {
+      {"SEGV", "SEGV", SIGSEGV}, {"BUS", "BUS", SIGBUS}, {"FPE", "FPE", SIGFPE}, {"ABRT", "ABRT", SIGABRT}, {"STACK", "SEGV", SIGSEGV}};
+  for (const auto& [how, name, sig] : signals) {
+    SCOPED_TRACE(how);
     TempDir dir;
     const auto file = dir.write(
-        "pipeline.yaml", two_variant_sweep("crashing_rule", "after: 3000, signal: " + std::string(name), "diagnostics: [temperature]\n"));
+        "pipeline.yaml", two_variant_sweep("crashing_rule", "after: 3000, signal: " + std::string(how), "diagnostics: [temperature]\n"));
     gdsmc::test::ProcessLimits limits;
     limits.core_dumps = false;
     Process p({"run", file.string(), "--quiet", "--plugin-path", gdsmc::test::test_plugin("crashing_rule").string()},

@@ -74,8 +74,20 @@ const char* signal_name(int sig) {
 }
 
 std::atomic<int> g_fatal{0};
+pid_t g_installer = 0;  // the process that installed the handler (not a child forked to load a plugin)
+
+void die_of(int sig) {
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  ::sigaction(sig, &dfl, nullptr);
+  ::raise(sig);
+}
 
 extern "C" void on_fatal_signal(int sig, siginfo_t*, void*) {
+  // A child forked to probe a plugin library reports to its parent by its status alone (and
+  // removes nothing of the parent's).
+  if (::getpid() != g_installer) return die_of(sig);
   // One report: a second thread that crashes meanwhile waits for the first to end the process.
   if (g_fatal.exchange(1)) {
     for (;;) ::pause();
@@ -94,17 +106,14 @@ extern "C" void on_fatal_signal(int sig, siginfo_t*, void*) {
   } else {
     m << " outside any plugin call: a defect of gdsmc itself (please report it with the pipeline)";
   }
-  m << "\ngdsmc: the run failed; nothing was written (its temporary file is removed); exit status "
+  // (Not "the run failed; ...": under mpirun rank 0 says that, once, for the job.)
+  m << "\ngdsmc: no output written (the temporary file is removed); the process ends with the signal: exit status "
     << static_cast<std::uint64_t>(128 + sig) << " (128 + the signal)\n";
   m.write();
   remove_live_temporaries_from_signal_handler();
   // End with the signal itself (its default action: the exit status 128 + sig, a core dump where
   // enabled): blocked in this handler, it is delivered as the handler returns.
-  struct sigaction dfl {};
-  dfl.sa_handler = SIG_DFL;
-  sigemptyset(&dfl.sa_mask);
-  ::sigaction(sig, &dfl, nullptr);
-  ::raise(sig);
+  die_of(sig);
 }
 
 }  // namespace
@@ -125,6 +134,7 @@ void set_thread_run_name(std::string name) { t_run_name = std::move(name); }
 const std::string& thread_run_name() { return t_run_name; }
 
 void install_fatal_signal_handlers() {
+  g_installer = ::getpid();
   prepare_signal_stack();
   struct sigaction action {};
   action.sa_sigaction = on_fatal_signal;
