@@ -261,10 +261,10 @@ bool still_named(int fd, const fs::path& path, dev_t& dev, ino_t& ino) {
 
 OutputLock::OutputLock(const OutputTarget& target) : path_(output_lock_path(target.file)) {
   for (int attempt = 0; attempt < 16; ++attempt) {
+    // A directory where no file can be created is refused by the temporary file's creation, with
+    // its own message: the run then goes on to that without a lock.
     const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
-    if (fd < 0)
-      throw OutputPathError("cannot create the lock file " + quote_path(path_) + " beside the output: " +
-                            std::strerror(errno));
+    if (fd < 0) return;
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int error = errno;
       if (error != EWOULDBLOCK) {  // no locks on this file system: go on without one

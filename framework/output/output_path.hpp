@@ -81,7 +81,8 @@ class TemporaryFile {
 class OutputLock {
  public:
   // Throws OutputPathError: "another gdsmc run is writing 'out.h5' now (process 123 on host h, ...)".
-  // On a file system without locks (flock fails otherwise) the run goes on without one.
+  // Where the lock file cannot be created (the temporary file then says why) or the file system
+  // has no locks, the run goes on without one.
   explicit OutputLock(const OutputTarget& target);
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
