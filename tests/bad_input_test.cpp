@@ -208,6 +208,31 @@ TEST(BadInput, DuplicateKey) {
   }
 }
 
+// Every error in a named sweep variant carries the file:line:column of its entry. A misspelt first
+// key ("colision.alpha"), a key below a value ("collision.alpha.x") or a section the variant adds
+// that the system cannot have ("boundaries.y" in a homogeneous system) made a node the file does
+// not hold, and was reported with the file name alone.
+TEST(BadInput, EveryErrorInASweepVariantCarriesFileLineColumn) {
+  const std::vector<std::pair<std::string, std::string>> variants = {
+      {"{colision.alpha: 0.5}", "colision: unknown key 'colision'; did you mean collision?"},
+      {"{collision.alpha.x: 0.5}", "collision.alpha: parameter 'alpha' of plugin 'inelastic_hard_spheres'"},
+      {"{boundaries.y: diffuse}", "boundaries: boundaries need a slab"},
+      {"{collision.alpah: 0.5}", "collision.alpah: plugin 'inelastic_hard_spheres' has no parameter 'alpah'"},
+  };
+  for (const auto& [variant, message] : variants) {
+    SCOPED_TRACE(variant);
+    const std::string entry = "    typo: " + variant + "\n";
+    const std::string yaml = replace_once(kGood, "output: {file: out.h5}\n",
+                                          "sweep:\n  model:\n    fine: {collision.alpha: 0.8}\n" + entry +
+                                              "output: {file: out.h5}\n");
+    const Refusal r = refuse(yaml);
+    const std::string located = r.file + ":" + std::to_string(line_of(yaml, entry.substr(0, entry.size() - 1))) + ":";
+    EXPECT_TRUE(contains(r.result.err, "error: " + located)) << r.result.err;
+    EXPECT_TRUE(contains(r.result.err, message)) << r.result.err;
+    EXPECT_FALSE(contains(r.result.err, "error: " + r.file + ": ")) << "an error without line and column\n" << r.result.err;
+  }
+}
+
 // Several mistakes at once are all reported (the user fixes them in one go).
 TEST(BadInput, EveryErrorIsReported) {
   std::string yaml = replace_once(kGood, "alpha: 0.9}", "alpha: 1.2}");

@@ -498,4 +498,48 @@ TEST(OutputSafety, OptionPrefixesAreRefused) {
   EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{});
 }
 
+// Two runs writing one output at once both exited 0, and the first run's results were silently
+// replaced. The output's lock (".out.h5.gdsmc-lock", flock) is held while a run writes: a second
+// run with the same output is refused at start naming the first, while a run with another output
+// in the same directory goes on; the lock is removed when the run ends (interrupted too), and one
+// left by a killed run (no live holder) blocks nothing and is removed.
+TEST(OutputSafety, ASecondRunWritingTheSameOutputIsRefusedWhileTheFirstLives) {
+  TempDir dir;
+  const auto long_run = dir.write("long.yaml", pipeline_yaml(kLongStop));
+  const auto file = dir.write("pipeline.yaml", pipeline_yaml());
+  {
+    Process first({"run", long_run.string(), "--quiet"}, dir.path());
+    ASSERT_TRUE(first.wait_until_catches(SIGINT));
+    for (int k = 0; k < 3000 && temporaries(dir.path()).empty(); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_EQ(temporaries(dir.path()).size(), 1u);
+    EXPECT_TRUE(fs::exists(dir / ".out.h5.gdsmc-lock"));
+    const ProcessResult second = run_gdsmc({"run", file.string(), "--quiet"}, dir.path());
+    EXPECT_EQ(second.exit_code, 1) << second.describe();
+    EXPECT_TRUE(contains(second.err, "another gdsmc run is writing 'out.h5' now (gdsmc process " +
+                                         std::to_string(first.pid()) + " on host " + host_name() + ")"))
+        << second.describe();
+    // Another output beside it is not blocked.
+    const ProcessResult other = run_gdsmc({"run", file.string(), "--quiet", "-o", "other.h5"}, dir.path());
+    EXPECT_EQ(other.exit_code, 0) << other.describe();
+    first.send(SIGINT);
+    EXPECT_EQ(first.wait(30).exit_code, 130);
+  }
+  EXPECT_EQ(names(dir.path()), (std::vector<std::string>{"long.yaml", "other.h5", "pipeline.yaml"}))
+      << "the lock is removed with the interrupted run";
+  // A killed run's lock is stale: the next run takes it and removes it when it ends.
+  {
+    Process killed({"run", long_run.string(), "--quiet"}, dir.path());
+    ASSERT_TRUE(killed.wait_until_catches(SIGINT));
+    for (int k = 0; k < 3000 && temporaries(dir.path()).empty(); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    killed.send(SIGKILL);
+    EXPECT_EQ(killed.wait(30).signal, SIGKILL);
+  }
+  EXPECT_TRUE(fs::exists(dir / ".out.h5.gdsmc-lock"));
+  const ProcessResult after = run_gdsmc({"run", file.string(), "--quiet"}, dir.path());
+  EXPECT_EQ(after.exit_code, 0) << after.describe();
+  EXPECT_EQ(names(dir.path()), (std::vector<std::string>{"long.yaml", "other.h5", "out.h5", "pipeline.yaml"}));
+}
+
 }  // namespace

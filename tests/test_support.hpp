@@ -216,6 +216,7 @@ class Process {
     }
   }
   void send(int sig) { ::kill(pid_, sig); }
+  pid_t pid() const { return pid_; }
   // Whether the process has installed a handler for `sig` (Linux: SigCgt in /proc/<pid>/status).
   bool catches(int sig) const {
     std::ifstream status("/proc/" + std::to_string(pid_) + "/status");

@@ -15,6 +15,7 @@
 #include "app/commands.hpp"
 #include "app/progress.hpp"
 #include "config/reading.hpp"
+#include "engine/plugin_calls.hpp"
 #include "output/hdf5_file.hpp"
 #include "study/checkpoint.hpp"
 #include "study/ranks.hpp"
@@ -448,6 +449,9 @@ int agree(int status, StderrHold& hold) {
 }  // namespace
 
 int cmd_run(const Options& options, bool run_it) {
+  // A crash inside a plugin (SIGSEGV, SIGBUS, SIGFPE, abort) names it, its role, the step and the
+  // run, and removes the temporary output and the lock (engine/plugin_calls.hpp).
+  install_fatal_signal_handlers();
   // In an MPI job (study/ranks.hpp) every rank checks the pipeline and runs its share of the
   // study; rank 0 alone prints progress and the summary, and writes the file.
   StderrHold hold(job::distributed() && !job::root());
@@ -527,10 +531,14 @@ int cmd_run(const Options& options, bool run_it) {
   const bool tty = ::isatty(STDERR_FILENO);
   std::function<void(const StudyProgress&)> report;
   if (!o.quiet) report = progress_reporter(tty);
-  std::optional<OutputFile> out;  // rank 0's alone in an MPI job
+  // Rank 0's alone in an MPI job: the output's lock (held until the run ends: another run that
+  // would write the same output is refused meanwhile), then the output's temporary file.
+  std::optional<OutputLock> lock;
+  std::optional<OutputFile> out;
   int created = 0;
   if (job::root()) {
     try {
+      lock.emplace(target);
       for (const auto& line : remove_stale_temporaries(target)) std::cerr << "gdsmc: " << line << "\n";
       out.emplace(target, &g_interrupted);
     } catch (const OutputPathError& e) {

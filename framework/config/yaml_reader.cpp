@@ -58,8 +58,19 @@ SourceLocation Checker::where(const std::string& path, const YAML::Node& node) c
   for (const auto& o : overrides_)
     if (sets(o)) return SourceLocation{"--set " + o, 0, 0};
   const YAML::Mark m = node.Mark();
-  if (m.line < 0) return SourceLocation{file_.string(), 0, 0};
-  return SourceLocation{file_.string(), m.line + 1, m.column + 1};  // yaml-cpp marks are 0-based
+  if (m.line >= 0) return SourceLocation{file_.string(), m.line + 1, m.column + 1};  // yaml-cpp marks are 0-based
+  // A node the file does not hold: an assignment made it, one that sets something below `path`
+  // (a misspelt first key, "colision.alpha", is reported at "colision"; "collision.alpha.x" at
+  // "collision.alpha"). Located at that assignment: a sweep entry's file:line:column.
+  auto below = [&](const std::string& assignment) {
+    const std::string key = canonical_key(assignment.substr(0, assignment.find('=')));
+    return !path.empty() && (key.rfind(path + ".", 0) == 0 || key.rfind(path + "[", 0) == 0);
+  };
+  for (auto it = from_sweep_.rbegin(); it != from_sweep_.rend(); ++it)
+    if (below(it->first)) return it->second;
+  for (const auto& o : overrides_)
+    if (below(o)) return SourceLocation{"--set " + o, 0, 0};
+  return SourceLocation{file_.string(), 0, 0};
 }
 
 void Checker::error(const SourceLocation& at, const std::string& path, const std::string& message) {

@@ -47,12 +47,16 @@ std::vector<DiagnosticOutput> Engine::check_setup(const Pipeline& p) {
 
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
     : pipeline_(p), pool_(run_threads(p, threads)), streams_(p.seed, realization) {
+  run_name_ = thread_run_name();
+  build_sites();
   system_ = p.system_info(p.particles, realization);
   open_layers();
   build_objects();
   std::vector<AttributeSpec> attributes;
-  for (const auto& o : objects_)
-    for (auto& a : o->attributes()) attributes.push_back(std::move(a));
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    PluginCall call(site_of(*object_uses_[k]), "attributes");
+    for (auto& a : objects_[k]->attributes()) attributes.push_back(std::move(a));
+  }
   publish(attributes, setup == Setup::objects_only ? Setup::objects_only : Setup::full);
   begin_collision_rule();
   ctx_.system = &system_;
@@ -79,7 +83,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
     } else {
       grid_.homogeneous(system_.particles, system_.volume);
     }
-    collision_->bind(store_.span());
+    checked_collision_.bind(store_.span());
     if (setup == Setup::full) generate_initial_state();
   }
   ctx_.cells = cells_.data();
@@ -223,10 +227,54 @@ std::string Engine::layer_widths_text() const {
              pipeline_.layers_mean_free_paths);
 }
 
+namespace {
+const char* role_of(PluginKind kind) {
+  switch (kind) {
+    case PluginKind::collision_rule: return "collision rule";
+    case PluginKind::forcing: return "forcing";
+    case PluginKind::boundary: return "boundary";
+    case PluginKind::initial_state: return "initial state";
+    case PluginKind::diagnostic: return "diagnostic";
+  }
+  return "plugin";
+}
+}  // namespace
+
+// One site per plugin entry, for the fatal-signal handler: every text it points to is built here,
+// once (site_texts_ is sized first, so that no string moves after a site points into it).
+void Engine::build_sites() {
+  const Pipeline& p = pipeline_;
+  std::vector<const PluginUse*> uses{&p.initial_state, &p.collision};
+  for (const auto& u : p.forcings) uses.push_back(&u);
+  for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s) uses.push_back(&p.boundaries[s]);
+  for (const auto& u : p.diagnostics) uses.push_back(&u);
+  site_texts_.reserve(uses.size());
+  sites_.reserve(uses.size());
+  for (const PluginUse* u : uses) {
+    site_texts_.push_back(u->path + ", " + u->where.str());
+    PluginCallSite site;
+    site.plugin = u->plugin ? u->plugin->descriptor->name.c_str() : "?";
+    site.role = u->plugin ? role_of(u->plugin->descriptor->kind) : "plugin";
+    site.where = site_texts_.back().c_str();
+    site.step = &ctx_.step;
+    site.run = run_name_.c_str();
+    sites_.push_back(site);
+    site_uses_.push_back(u);
+  }
+}
+
+const PluginCallSite& Engine::site_of(const PluginUse& use) const {
+  for (std::size_t k = 0; k < site_uses_.size(); ++k)
+    if (site_uses_[k] == &use) return sites_[k];
+  static const PluginCallSite unknown{};
+  return unknown;
+}
+
 void Engine::build_objects() {
   const Pipeline& p = pipeline_;
   auto make = [&](const PluginUse& u) -> PluginObject* {
     try {
+      PluginCall call(site_of(u), "its constructor");
       objects_.push_back(create_object(*u.plugin, u.params));
       object_uses_.push_back(&u);
     } catch (const std::exception& e) {
@@ -240,6 +288,7 @@ void Engine::build_objects() {
   for (std::size_t k = 0; k < p.forcings.size(); ++k) {
     auto* f = static_cast<Forcing*>(make(p.forcings[k]));
     Vec3 g{0, 0, 0};
+    PluginCall call(site_of(p.forcings[k]), "acceleration");
     if (f->acceleration(g)) {
       accelerations_.push_back(static_cast<std::uint32_t>(k));
       acceleration_ = acceleration_ + g;
@@ -248,9 +297,12 @@ void Engine::build_objects() {
     (f->stage() == Forcing::Stage::before_streaming ? forcings_before_ : forcings_after_)
         .emplace_back(f, static_cast<std::uint32_t>(k));
   }
-  for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s)
-    boundaries_[s] = static_cast<Boundary*>(make(p.boundaries[s]));
-  for (const auto& u : p.diagnostics) slots_.push_back(DiagnosticSlot{static_cast<Diagnostic*>(make(u)), &u});
+  for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s) {
+    guarded_boundaries_[s].set(static_cast<Boundary*>(make(p.boundaries[s])), &site_of(p.boundaries[s]));
+    boundaries_[s] = &guarded_boundaries_[s];
+  }
+  for (const auto& u : p.diagnostics) slots_.push_back(DiagnosticSlot{static_cast<Diagnostic*>(make(u)), &u, &site_of(u)});
+  checked_collision_.set(collision_, &site_of(p.collision));
 }
 
 // The collision rule reads what it needs from the system and the published quantities (after
@@ -258,6 +310,7 @@ void Engine::build_objects() {
 void Engine::begin_collision_rule() {
   const PluginUse& u = pipeline_.collision;
   try {
+    PluginCall call(site_of(u), "begin");
     collision_->begin(system_, board_);
     tally_names_ = collision_->tallies();
   } catch (const ParameterError& e) {
@@ -315,12 +368,16 @@ void Engine::open_ledger() {
 void Engine::publish(const std::vector<AttributeSpec>& attributes, Setup setup) {
   if (setup == Setup::full) store_.allocate(pipeline_.particles, attributes, system_.geometry == Geometry::slab);
   else ParticleStore::check_attributes(attributes);
-  for (const auto& o : objects_) o->publish(board_);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    PluginCall call(site_of(*object_uses_[k]), "publish");
+    objects_[k]->publish(board_);
+  }
 }
 
 void Engine::generate_initial_state() {
   const ParticleSpan span = store_.span();
   try {
+    PluginCall call(site_of(pipeline_.initial_state), "generate");
     initial_state_->generate(system_, board_, span, streams_.streams(StreamPurpose::initial_state, 0));
   } catch (const ParameterError& e) {
     throw std::runtime_error(where_text(pipeline_.initial_state) + ": parameter '" + e.parameter() + "': " + e.what());
@@ -372,6 +429,7 @@ void Engine::begin_diagnostics() {
     outputs_.emplace_back(slot.use->instance_name, &summary_);
     outputs_.back().set_bins(centres);
     try {
+      PluginCall call(*slot.site, "begin");
       slot.object->begin(system_, board_, outputs_.back());
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(*slot.use) + ": " + e.what());
@@ -510,7 +568,17 @@ void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>
   for (const auto& [f, index] : forcings) {
     const Streams streams = streams_.streams(StreamPurpose::forcing, index);
     ctx_.streams = &streams;
-    ledger_[1 + index].energy += f->apply(ctx_, span);
+    double added;
+    {
+      PluginCall call(site_of(pipeline_.forcings[index]), "apply");
+      added = f->apply(ctx_, span);
+    }
+    if (!std::isfinite(added))
+      throw std::runtime_error(where_text(pipeline_.forcings[index]) + " returned a non-finite energy (" +
+                               fmt("%g", added) + ") from apply() at step " + std::to_string(ctx_.step) +
+                               fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
+                               ": the forcing produced invalid velocities");
+    ledger_[1 + index].energy += added;
   }
   ctx_.streams = nullptr;
 }
@@ -585,14 +653,22 @@ void Engine::collide(double dt) {
   CollisionStage::Totals t;
   try {
     const CollisionStage::PendingMembers pending{&grid_, store_.cells()};
-    t = collisions_.run(*collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
+    t = collisions_.run(checked_collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
                         global_.temperature, system_.mass, system_.sigma, dt, streams_, cells_reversed_,
                         members_written_by_collisions() ? &pending : nullptr);
   } catch (const CollisionStage::Overload& e) {
+    if (checked_collision_.wrote_non_finite()) non_finite("");
     throw std::runtime_error(now_text() + fmt(", with dt = %.3g tau0: ", dt / system_.time_unit0) + e.what() +
                              ": the time step no longer resolves the collisions; use a smaller run.time_step" +
                              (pipeline_.time_step_follows_temperature ? "" : " or run.time_step.follow_temperature: true"));
   }
+  // What the rule wrote, checked batch by batch, and what it declared: a non-finite value stops
+  // the run here, naming it, whatever else follows from it (diagnostics or none).
+  if (checked_collision_.wrote_non_finite() || !std::isfinite(t.energy_change))
+    non_finite(fmt("%g", t.energy_change));
+  if (checked_collision_.handed_non_finite())
+    throw std::runtime_error(now_text() + ": the collision stage found a non-finite velocity in storage: " +
+                             velocity_culprits());
   ctx_.collisions += t.accepted;
   ctx_.candidates += t.candidates;
   ctx_.majorant_exceeded += t.majorant_exceeded;
@@ -600,6 +676,38 @@ void Engine::collide(double dt) {
   ctx_.collision_energy_change += t.energy_change;
   ledger_[0].energy = ctx_.collision_energy_change;
   for (std::size_t k = 0; k < tallies_total_.size(); ++k) tallies_total_[k].value += t.tallies[k];
+}
+
+// A non-finite velocity or energy found after a stage: named after the plugin that produced it.
+// The collision rule's velocities and declared energy are checked every step (collide), a
+// forcing's declared energy after every apply, a boundary's velocities at every hit (the mover);
+// the rest (a forcing that writes a non-finite velocity but declares a finite energy) shows in
+// the temperature of the moment update, every run.moments_every steps (run()).
+void Engine::non_finite(const std::string& energy) const {
+  const std::string at = fmt(" at step %llu (t = %.6g tau0", static_cast<unsigned long long>(ctx_.step),
+                             ctx_.time_in_tau0()) +
+                         (run_name_.empty() ? ")" : ", " + run_name_ + ")");
+  if (checked_collision_.wrote_non_finite()) {
+    const CheckedCollisionRule::Bad b = checked_collision_.first_bad();
+    throw std::runtime_error(
+        where_text(pipeline_.collision) + " wrote a non-finite velocity" + at +
+        fmt(": particles %u and %u (cell %u) left a collision with (%g, %g, %g) and (%g, %g, %g)", b.i, b.j, b.cell,
+            b.v1.x, b.v1.y, b.v1.z, b.v2.x, b.v2.y, b.v2.z) +
+        "; the run is stopped (a collision rule must return finite velocities: `gdsmc conformance` checks it)");
+  }
+  throw std::runtime_error(where_text(pipeline_.collision) + " declared a non-finite kinetic-energy change (" + energy +
+                           ")" + at + "; the run is stopped (`gdsmc conformance` checks a rule's declared energy)");
+}
+
+// Who wrote a non-finite velocity the per-call checks did not see: the collision rule and the
+// boundaries are checked as they act, so a forcing (one that declared a finite energy) is left.
+std::string Engine::velocity_culprits() const {
+  const std::string checked = " (the collision rule and the boundaries, checked at every step, did not)";
+  if (pipeline_.forcings.size() == 1) return where_text(pipeline_.forcings[0]) + " produced invalid velocities" + checked;
+  if (pipeline_.forcings.empty()) return "a plugin produced invalid velocities";
+  std::string who = "one of the forcings produced invalid velocities" + checked + ": ";
+  for (std::size_t k = 0; k < pipeline_.forcings.size(); ++k) who += (k ? ", " : "") + where_text(pipeline_.forcings[k]);
+  return who;
 }
 
 void Engine::sample_and_record(bool force_record) {
@@ -619,7 +727,10 @@ void Engine::sample_and_record(bool force_record) {
       const Streams streams = streams_.streams(StreamPurpose::diagnostic, static_cast<std::uint32_t>(k));
       ctx_.moments = &sampled_;
       ctx_.streams = &streams;
-      slot.object->sample(ctx_, span);
+      {
+        PluginCall call(*slot.site, "sample");
+        slot.object->sample(ctx_, span);
+      }
       ctx_.moments = nullptr;
       ctx_.streams = nullptr;
       slot.time_sum += t;
@@ -629,7 +740,10 @@ void Engine::sample_and_record(bool force_record) {
     if (!record) continue;
     const double n = static_cast<double>(slot.samples);
     outputs_[k].begin_record(slot.time_sum / n, slot.s_sum / n);
-    slot.object->record(ctx_, outputs_[k]);
+    {
+      PluginCall call(*slot.site, "record");
+      slot.object->record(ctx_, outputs_[k]);
+    }
     outputs_[k].check_record(slot.use->plugin->descriptor->name);
     slot.time_sum = slot.s_sum = 0;
     slot.samples = 0;
@@ -687,7 +801,8 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
     if (!std::isfinite(global_.temperature) || global_.temperature <= 0)
       throw std::runtime_error("the temperature became " + fmt("%.6g", global_.temperature) + " at step " +
                                std::to_string(ctx_.step) + " (t = " + fmt("%.6g", ctx_.time_in_tau0()) +
-                               " tau0): a plugin produced invalid velocities");
+                               " tau0; checked every run.moments_every = " + std::to_string(pipeline_.moments_every) +
+                               " steps): " + velocity_culprits());
     if (report) {
       const auto now = clock::now();
       if (std::chrono::duration<double>(now - last_report).count() >= interval) {
@@ -708,6 +823,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   if (adaptive_layers()) summary_.push_back(layer_widths_text());
   for (std::size_t k = 0; k < slots_.size(); ++k) {
     try {
+      PluginCall call(*slots_[k].site, "finish");
       slots_[k].object->finish(ctx_, outputs_[k]);
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(*slots_[k].use) + " failed at the end of the run: " + e.what());

@@ -15,6 +15,7 @@
 
 #include "config/pipeline.hpp"
 #include "engine/cells.hpp"
+#include "engine/checked_plugins.hpp"
 #include "engine/collision_stage.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/particle_store.hpp"
@@ -131,6 +132,7 @@ class Engine {
   struct DiagnosticSlot {
     Diagnostic* object;
     const PluginUse* use;
+    const PluginCallSite* site = nullptr;
     double time_sum = 0, s_sum = 0;
     std::uint64_t samples = 0;
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
@@ -175,6 +177,21 @@ class Engine {
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
 
   const Pipeline& pipeline_;
+  // For the fatal-signal handler (engine/plugin_calls.hpp): this run's name, and one site per
+  // plugin entry of the pipeline (the texts they point to are kept beside them).
+  std::string run_name_;
+  std::vector<PluginCallSite> sites_;
+  std::vector<const PluginUse*> site_uses_;
+  std::vector<std::string> site_texts_;
+  void build_sites();
+  const PluginCallSite& site_of(const PluginUse& use) const;
+  // The collision rule as the collision stage calls it (marked, its velocities checked), and the
+  // boundaries as the mover calls them (marked).
+  CheckedCollisionRule checked_collision_;
+  std::array<GuardedBoundary, 2> guarded_boundaries_;
+  // A non-finite velocity or energy: which plugin, or which could have, produced it.
+  [[noreturn]] void non_finite(const std::string& what) const;
+  std::string velocity_culprits() const;
   WorkPool pool_;
   SystemInfo system_;
   ParticleStore store_;

@@ -1,6 +1,7 @@
 #include "output/output_path.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <limits.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -261,10 +262,84 @@ void TemporaryFile::rename_over(const OutputTarget& target) {
 
 void probe_temporary(const OutputTarget& target) { TemporaryFile probe(target); }
 
+fs::path output_lock_path(const fs::path& file) {
+  const fs::path directory = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  return directory / ("." + file.filename().string().substr(0, 100) + ".gdsmc-lock");
+}
+
+namespace {
+// Whether `fd` (locked) is still the file at `path`: a run that ended may have removed the name
+// between our open and our flock, and a lock on a removed file guards nothing.
+bool still_named(int fd, const fs::path& path, dev_t& dev, ino_t& ino) {
+  struct stat held, named;
+  if (::fstat(fd, &held) != 0 || ::lstat(path.c_str(), &named) != 0) return false;
+  dev = held.st_dev;
+  ino = held.st_ino;
+  return held.st_dev == named.st_dev && held.st_ino == named.st_ino;
+}
+}  // namespace
+
+OutputLock::OutputLock(const OutputTarget& target) : path_(output_lock_path(target.file)) {
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    // A directory where no file can be created is refused by the temporary file's creation, with
+    // its own message: the run then goes on to that without a lock.
+    const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+    if (fd < 0) return;
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int error = errno;
+      if (error != EWOULDBLOCK) {  // no locks on this file system: go on without one
+        ::close(fd);
+        return;
+      }
+      char holder[512] = {};
+      const ssize_t n = ::pread(fd, holder, sizeof holder - 1, 0);
+      ::close(fd);
+      std::string who = n > 0 ? std::string(holder, static_cast<std::size_t>(n)) : std::string();
+      while (!who.empty() && (who.back() == '\n' || who.back() == ' ')) who.pop_back();
+      throw OutputPathError("another gdsmc run is writing " + quote_path(target.file) + " now" +
+                            (who.empty() ? "" : " (" + who + ")") +
+                            ": two runs cannot write one output; wait until it ends, or give this run another "
+                            "output name (-o FILE)");
+    }
+    dev_t dev = 0;
+    ino_t ino = 0;
+    if (!still_named(fd, path_, dev, ino)) {
+      ::close(fd);
+      continue;
+    }
+    const Creator w = this_creator();
+    const std::string who = "gdsmc process " + w.pid + " on host " + w.host + "\n";
+    if (::ftruncate(fd, 0) == 0) (void)!::pwrite(fd, who.data(), who.size(), 0);
+    fd_ = fd;
+    live_slot_ = publish_live(path_.string(), dev, ino);
+    return;
+  }
+  throw OutputPathError("cannot lock " + quote_path(path_) + ": it keeps being replaced");
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ < 0) return;
+  withdraw_live(live_slot_);
+  dev_t dev = 0;
+  ino_t ino = 0;
+  if (still_named(fd_, path_, dev, ino)) ::unlink(path_.c_str());  // while it is still held
+  ::close(fd_);
+}
+
 std::vector<std::string> remove_stale_temporaries(const OutputTarget& target) {
   std::vector<std::string> removed;
   const Creator me = this_creator();
   if (me.ns == "0") return removed;  // without the PID namespace no PID can be proved dead
+  // An output lock no live process holds (its run was killed): removed while this process holds
+  // it, so that no run that takes it meanwhile loses it.
+  const fs::path lock = output_lock_path(target.file);
+  const int lock_fd = ::open(lock.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW);
+  if (lock_fd >= 0) {
+    dev_t dev = 0;
+    ino_t ino = 0;
+    if (::flock(lock_fd, LOCK_EX | LOCK_NB) == 0 && still_named(lock_fd, lock, dev, ino)) ::unlink(lock.c_str());
+    ::close(lock_fd);
+  }
   const std::string prefix = temporary_prefix(target.file);
   std::error_code ec;
   for (fs::directory_iterator it(target.directory, ec), end; !ec && it != end; it.increment(ec)) {

@@ -81,7 +81,31 @@ class TemporaryFile {
   int live_slot_ = -1;  // where a signal handler finds this file (see remove_live_temporaries_from_signal_handler)
 };
 
-// Remove every TemporaryFile still alive, from a signal handler: only async-signal-safe calls
+// The lock of an output name while a run writes it: ".NAME.gdsmc-lock" beside the output, held
+// with flock(2) (released by the kernel when the process ends, however it ends, so that a lock
+// left by a killed run never blocks) and removed when the run ends. A second run that would write
+// the same output while the first is alive is refused at start, naming the first.
+class OutputLock {
+ public:
+  // Throws OutputPathError: "another gdsmc run is writing 'out.h5' now (process 123 on host h, ...)".
+  // Where the lock file cannot be created (the temporary file then says why) or the file system
+  // has no locks, the run goes on without one.
+  explicit OutputLock(const OutputTarget& target);
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+  ~OutputLock();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+  int live_slot_ = -1;  // removed by remove_live_temporaries_from_signal_handler too
+};
+
+// The lock file of `file`: ".NAME.gdsmc-lock" in its directory.
+std::filesystem::path output_lock_path(const std::filesystem::path& file);
+
+// Remove every TemporaryFile (and OutputLock) still alive, from a signal handler: only async-signal-safe calls
 // (lstat, unlink) on paths kept in static storage. For a run ended by _exit.
 void remove_live_temporaries_from_signal_handler() noexcept;
 
@@ -91,7 +115,8 @@ void probe_temporary(const OutputTarget& target);
 
 // Remove the temporary files of `target` left by gdsmc processes of this host and PID namespace
 // that no longer exist (killed during a run); never another host's, a live process's or a file
-// that is not a regular file owned by this user. Returns one line per file removed.
+// that is not a regular file owned by this user. Returns one line per file removed. An output lock
+// that no live process holds is removed too (silently: it says nothing about the results).
 std::vector<std::string> remove_stale_temporaries(const OutputTarget& target);
 
 // The prefix of every temporary file name of `file` (".NAME.gdsmc-partial-"), NAME cut to keep

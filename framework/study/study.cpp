@@ -1,5 +1,7 @@
 #include "study/study.hpp"
 
+#include "engine/plugin_calls.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -232,6 +234,17 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
     if (sends) return [&, index](const Progress& pr) { exchange->post_progress(index, pr); };
     return [&, index](const Progress& pr) { clock.update(index, runs[index].label, pr); };
   };
+  // How a crash inside a plugin names the run (engine/plugin_calls.hpp): set on the thread that
+  // builds its engine.
+  auto name_run = [&](std::size_t index) {
+    std::string name;
+    if (job::distributed()) name = "rank " + std::to_string(job::rank()) + " of " + std::to_string(job::size()) + ", ";
+    if (runs.size() > 1 || !runs[index].label.empty())
+      name += "run " + std::to_string(index + 1) + " of " + std::to_string(runs.size());
+    if (!runs[index].label.empty()) name += " (" + runs[index].label + ")";
+    if (name.size() >= 2 && name.compare(name.size() - 2, 2, ", ") == 0) name.resize(name.size() - 2);
+    set_thread_run_name(std::move(name));
+  };
   auto done = [&](std::size_t index) {
     if (!sends) return finish(index);
     exchange->post_result(index, save_run_results(runs[index].results));
@@ -241,6 +254,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
   if (workers == 1 && !exchange) {
     // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
     for (std::size_t index = 0; index < runs.size(); ++index) {
+      name_run(index);
       execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, interrupt,
               per_run, checkpoints);
       finish(index);
@@ -262,6 +276,7 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
         }
         try {
           if (sends) exchange->post_started(index);  // rank 0 names it if this rank dies
+          name_run(index);
           execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, &stop,
                   per_run, checkpoints);
           done(index);
