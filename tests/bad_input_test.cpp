@@ -40,12 +40,12 @@ struct Refusal {
   std::string text;  // the pipeline
 };
 
-Refusal refuse(const std::string& yaml, const std::vector<std::string>& extra = {}) {
+Refusal refuse(const std::string& yaml, const std::vector<std::string>& extra = {}, const std::string& command = "run") {
   TempDir dir;
   Refusal r;
   r.text = yaml;
   r.file = dir.write("pipeline.yaml", yaml).string();
-  std::vector<std::string> args = {"run", r.file};
+  std::vector<std::string> args = {command, r.file};
   args.insert(args.end(), extra.begin(), extra.end());
   r.result = run_gdsmc(args, dir.path());
   EXPECT_EQ(r.result.exit_code, 1) << r.result.describe();
@@ -87,6 +87,21 @@ TEST(BadInput, UnknownPluginSuggestsClosestName) {
   EXPECT_TRUE(contains(err, "inelastic_hard_sphere'")) << err;          // names what was asked for
   EXPECT_TRUE(contains(err, "did you mean inelastic_hard_spheres")) << err;  // and the closest name
   EXPECT_TRUE(contains(err, r.file + ":" + std::to_string(line_of(yaml, "collision:")) + ":")) << err;
+}
+
+// A refused pipeline prints the warnings noticed before its errors: a plugins: directory that does
+// not exist is why a plugin it should hold is unknown (issue 30; before, only the error was printed).
+TEST(BadInput, AMissingPluginDirectoryIsWarnedBesideTheUnknownPluginItExplains) {
+  std::string yaml = replace_once(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: my_rule, alpha: 0.9}");
+  yaml = "plugins: [my_plugins_dir]\n" + yaml;
+  for (const char* command : {"run", "validate"}) {
+    const Refusal r = refuse(yaml, {}, command);
+    const std::string& err = r.result.err;
+    EXPECT_TRUE(contains(err, "warning: ")) << command << ": " << err;
+    EXPECT_TRUE(contains(err, "my_plugins_dir does not exist")) << command << ": " << err;
+    EXPECT_TRUE(contains(err, "my_rule")) << command << ": " << err;  // and the error it explains
+    EXPECT_LT(err.find("my_plugins_dir does not exist"), err.find("error: ")) << command << ": " << err;
+  }
 }
 
 TEST(BadInput, UnknownParameterSuggestsAlpha) {

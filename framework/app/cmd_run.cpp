@@ -213,6 +213,7 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
   try {
     p = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
   } catch (const PipelineError& e) {
+    print_warnings(e.warnings());
     print_errors(e.messages());
     return 1;
   } catch (const std::bad_alloc& e) {

@@ -241,7 +241,7 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
 
   Checker c(file, overrides);
   check_document(c, root, extra_plugin_paths, std::move(registry), p);
-  if (!c.errors().empty()) throw PipelineError(c.errors());
+  if (!c.errors().empty()) throw PipelineError(c.errors(), p.warnings);
   return p;
 }
 
