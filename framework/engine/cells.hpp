@@ -43,11 +43,15 @@ class CellGrid {
   struct LayerIndex {
     double half, height, layers;
     std::uint32_t last;
+    // floor of f = (y + half) / height * M, clamped to [0, last] (NaN: 0). Selections only, the
+    // clamp on the double before a 32-bit conversion (M < 2^31), so that the mover's flight
+    // computes it for several particles at once.
     std::uint32_t operator()(double y) const {
       const double f = (y + half) / height * layers;
-      if (!(f > 0)) return 0;
-      const auto k = static_cast<std::uint64_t>(f);
-      return static_cast<std::uint32_t>(k < last ? k : last);
+      const double top = static_cast<double>(last);
+      const double below = f < top ? f : top;
+      const double k = f > 0 ? below : 0.0;
+      return static_cast<std::uint32_t>(static_cast<std::int32_t>(k));
     }
   };
   LayerIndex layer_index() const {

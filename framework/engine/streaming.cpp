@@ -89,20 +89,7 @@ struct FlightArrays {
   double* __restrict vx;
   double* __restrict vy;
   double* __restrict vz;
-  std::uint32_t* __restrict cell;
-  std::uint32_t* __restrict counts;  // the block's layer counts, or nullptr
 };
-
-// The layer of y by the equal layers' arithmetic (CellGrid::LayerIndex, the same value to the last
-// bit), written so that the compiler can do it for several particles at once: the clamp to the
-// last layer on the double, before a conversion to a 32-bit integer (M < 2^31).
-inline std::uint32_t equal_layer(const CellGrid::LayerIndex& index, double y) {
-  const double f = (y + index.half) / index.height * index.layers;
-  const double last = static_cast<double>(index.last);
-  const double below = f < last ? f : last;
-  const double k = f > 0 ? below : 0.0;
-  return static_cast<std::uint32_t>(static_cast<std::int32_t>(k));
-}
 
 constexpr std::size_t kChunk = Mover::kHitBuffer;
 
@@ -165,7 +152,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fly_pass(
       vy[k] = outside ? vy0 : vy1;
       vz[k] = outside ? vz0 : vz1;
     }
-    if constexpr (Equal) layer[k] = equal_layer(index, y1);
+    if constexpr (Equal) layer[k] = index(y1);
   }
 }
 }  // namespace
@@ -175,15 +162,15 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
                          std::size_t layers, std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
                          const StreamFactory& streams, StreamingTally& tally) const {
   constexpr bool equal = std::is_same_v<LayerOf, CellGrid::LayerIndex>;
-  const FlightArrays a{p.x.data, p.y.data, p.z.data, p.vx.data, p.vy.data, p.vz.data, cell, counts};
+  const FlightArrays a{p.x.data, p.y.data, p.z.data, p.vx.data, p.vy.data, p.vz.data};
   CellGrid::LayerIndex index{};
   if constexpr (equal) index = layer_of;
   // The block's layer counts for the sort: an increment in the flight instead of a pass of the
-  // sort's own over cell[]. Without counts (no sort follows) the rows count into scratch.
+  // sort's own over cell[]; without counts (no sort follows) the rows are counted and dropped.
   if (counts) std::fill(counts, counts + layers, 0u);
   thread_local std::vector<std::uint32_t> rows;
   rows.assign(4 * layers, 0u);
-  const double g_y = g_.y;
+  const bool vertical = Accelerated && g_.y != 0;  // the apex test of a parabola along y
   double energy = 0;
   alignas(64) double e[kChunk];
   alignas(64) std::uint64_t out[kChunk], far[kChunk];  // 0 or 1, as wide as a double lane
@@ -191,14 +178,10 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   std::uint32_t hit[kChunk];
   for (std::size_t chunk = begin; chunk < end; chunk += kChunk) {
     const std::size_t m = std::min(end - chunk, kChunk);
-    bool vertical = false;
-    if constexpr (Accelerated) vertical = g_y != 0;
-    if constexpr (Accelerated) {
-      if (vertical)
-        fly_pass<true, true, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_y, g_.z, e, out, far, layer);
-    }
-    if (!vertical)
-      fly_pass<Accelerated, false, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_y, g_.z, e, out, far, layer);
+    if (vertical)
+      fly_pass<Accelerated, Accelerated, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_.y, g_.z, e, out, far, layer);
+    else
+      fly_pass<Accelerated, false, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_.y, g_.z, e, out, far, layer);
     // Pass 2, in index order: the hits listed, the wraps of far positions, the work summed in order
     // (the same bits as one particle after another), the layer and its count.
     if constexpr (Accelerated) {
