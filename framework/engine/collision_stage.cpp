@@ -6,6 +6,7 @@
 
 #include "engine/interrupt.hpp"
 #include "engine/majorant.hpp"
+#include "engine/weighted_layer.hpp"
 #include "util/text.hpp"
 
 namespace gdsmc::host {
@@ -151,11 +152,18 @@ struct BatchScratch {
   std::uint32_t la[kPairBatch], lb[kPairBatch];
   std::uint8_t accepted[kPairBatch];
   std::uint64_t seen[kSeenBits / 64];
+  bool dirty = true;  // seen may hold bits of pairs no longer open (a batch left by an exception)
   bool holds(std::uint32_t a) const { return (seen[(a & (kSeenBits - 1)) >> 6] >> (a & 63)) & 1; }
-  // An empty batch whose arrays the rule sees through `b`.
+  // An empty batch whose arrays the rule sees through `b`. The scratch is kept per thread (a layer
+  // step holds a few candidates: clearing 512 bytes per layer cost more than drawing them).
   void open(PairBatch& b) {
-    std::memset(seen, 0, sizeof seen);
+    if (dirty) std::memset(seen, 0, sizeof seen);
+    dirty = false;
     b.i = i, b.j = j, b.v1 = v1, b.v2 = v2, b.u = u, b.accepted = accepted;
+  }
+  // The set emptied after the first m pairs (local indices la, lb) were closed: their words only.
+  void forget(std::uint32_t m) {
+    for (std::uint32_t q = 0; q < m; ++q) seen[(la[q] & (kSeenBits - 1)) >> 6] = seen[(lb[q] & (kSeenBits - 1)) >> 6] = 0;
   }
   // The first m pairs' velocities from storage (prefetched as the pairs were drawn).
   void load_velocities(std::uint32_t m, const double* vx, const double* vy, const double* vz) {
@@ -172,137 +180,12 @@ struct BatchScratch {
       vx[j[q]] = v2[q].x, vy[j[q]] = v2[q].y, vz[j[q]] = v2[q].z;
     }
   }
-  void add(std::uint32_t a) { seen[(a & (kSeenBits - 1)) >> 6] |= std::uint64_t{1} << (a & 63); }
+  void add(std::uint32_t a) {
+    seen[(a & (kSeenBits - 1)) >> 6] |= std::uint64_t{1} << (a & 63);
+    dirty = true;
+  }
 };
 }  // namespace
-
-// The envelope of a layer's weighted pairs (000 Eq. 4.13 with a pair's majorant c_a + c_b, c the
-// peculiar speed |v - u| about the layer's mean velocity u at the step's start, so that
-// |g| <= c_a + c_b by the triangle inequality). The speeds are sorted into classes k of
-// [2^(k-1), 2^k) kUnit c-bar (class 0: below kUnit c-bar), each with the bound B_k = 2^k kUnit c-bar
-// of its members. An envelope event picks class k with probability n_k B_k / E, E = sum n_k B_k,
-// and a member a uniformly; it is a candidate with probability c_a / B(a), B(a) the bound of a's
-// class now. A particle whose speed leaves its class after a collision moves up (rise()); one that
-// slows keeps its class until the next step's build.
-struct CollisionStage::WeightedLayer {
-  static constexpr int kClasses = 24;
-  static constexpr double kUnit = 1.0 / 256.0;  // class 0: below c-bar / 256
-  std::vector<double> speed;                     // c_a, by local index, kept current
-  std::vector<std::uint8_t> cls;                 // a's class
-  std::vector<std::uint32_t> by_class, pos;      // local indices class by class; a's place there
-  std::uint32_t start[kClasses + 1] = {};
-  double bound[kClasses] = {}, inverse[kClasses] = {}, cumulative[kClasses] = {};
-  double u[3] = {0, 0, 0};  // the layer's mean velocity at the step's start
-  double unit = 0;
-  double envelope = 0;  // E
-  double sum = 0;       // S = sum c_a at the build
-  int top = 0;          // classes 0 .. top - 1 hold particles
-
-  int class_of(double c) const {
-    if (c < unit) return 0;
-    // c in [2^(k-1), 2^k) units: the binary exponent of c / unit >= 1 (a normal or infinite double),
-    // read from its bits as std::ilogb gives it, without ilogb's call per particle.
-    const double x = c / unit;
-    std::uint64_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    const int k = static_cast<int>((bits >> 52) & 0x7ff) - 1023 + 1;
-    return k < kClasses ? k : kClasses - 1;
-  }
-  void sum_envelope() {
-    double total = 0;
-    top = 0;
-    for (int k = 0; k < kClasses; ++k) {
-      total += (start[k + 1] - start[k]) * bound[k];
-      cumulative[k] = total;
-      if (start[k + 1] > start[k]) top = k + 1;
-    }
-    envelope = total;
-  }
-  // The classes of the `count` particles `particle(a)`; false if none moves relative to the others.
-  template <class Particle>
-  bool build(const ParticleSpan& p, std::uint32_t count, Particle&& particle) {
-    speed.resize(count);
-    cls.resize(count);
-    by_class.resize(count);
-    pos.resize(count);
-    // The sums in locals (registers): as members of this thread_local object each addition waited
-    // for the store of the previous one (perf: a third of a clustered channel's build).
-    double ux = 0, uy = 0, uz = 0;
-    for (std::uint32_t a = 0; a < count; ++a) {
-      const std::uint32_t i = particle(a);
-      ux += p.vx.data[i], uy += p.vy.data[i], uz += p.vz.data[i];
-    }
-    u[0] = ux / count, u[1] = uy / count, u[2] = uz / count;
-    double total = 0, largest = 0;
-    double* const speeds = speed.data();
-    for (std::uint32_t a = 0; a < count; ++a) {
-      const std::uint32_t i = particle(a);
-      const double c = peculiar_speed(p.vx.data[i], p.vy.data[i], p.vz.data[i]);
-      speeds[a] = c;
-      total += c;
-      largest = std::max(largest, c);
-    }
-    sum = total;
-    if (!(sum > 0) || !std::isfinite(sum)) return false;
-    unit = kUnit * sum / count;
-    std::uint32_t n[kClasses] = {};
-    for (std::uint32_t a = 0; a < count; ++a) ++n[cls[a] = static_cast<std::uint8_t>(class_of(speed[a]))];
-    start[0] = 0;
-    for (int k = 0; k < kClasses; ++k) start[k + 1] = start[k] + n[k];
-    std::uint32_t next[kClasses];
-    std::copy(start, start + kClasses, next);
-    for (std::uint32_t a = 0; a < count; ++a) by_class[pos[a] = next[cls[a]]++] = a;
-    for (int k = 0; k < kClasses; ++k) {
-      // The last class is open above: its bound is twice the largest speed.
-      bound[k] = k == kClasses - 1 ? std::max(2.0 * largest, std::ldexp(unit, k)) : std::ldexp(unit, k);
-      inverse[k] = 1.0 / bound[k];
-    }
-    sum_envelope();
-    return true;
-  }
-  double peculiar_speed(double vx, double vy, double vz) const {
-    const double dx = vx - u[0], dy = vy - u[1], dz = vz - u[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
-  }
-  // An envelope event from x uniform in [0, 1): the member a, and in `thin` a number uniform in
-  // [0, 1) independent of a (the rest of x), for the test thin B(a) < c_a.
-  std::uint32_t pick(double x, double& thin) const {
-    x *= envelope;
-    int k = 0;
-    while (k < top - 1 && x >= cumulative[k]) ++k;
-    const std::uint32_t n = start[k + 1] - start[k];
-    const double y = (x - (k ? cumulative[k - 1] : 0.0)) * inverse[k];
-    std::uint32_t m = y > 0 ? static_cast<std::uint32_t>(y) : 0;
-    if (m >= n) m = n - 1;  // round-off at the class's upper edge (n > 0: x < cumulative[k] of a filled class)
-    thin = std::min(std::max(y - m, 0.0), 1.0);
-    return by_class[start[k] + m];
-  }
-  bool candidate(std::uint32_t a, double thin) const { return thin * bound[cls[a]] < speed[a]; }
-  // a's speed after a collision: a moves up to the class of c if c is above its class's bound.
-  // Returns the rise of its bound B(a) (0 if none), which the caller covers until the envelope
-  // takes it over. The open last class raises its bound to c (above 2^22 c-bar / 256: not seen).
-  double rise(std::uint32_t a, double c) {
-    speed[a] = c;
-    const int from = cls[a];
-    if (c < bound[from]) return 0;
-    int to = class_of(c);
-    if (to <= from) to = from;  // the last class, beyond its bound
-    const double before = bound[from];
-    // Up one class at a time: a goes to the end of its class, whose upper edge then moves down by one.
-    for (int k = from; k < to; ++k) {
-      const std::uint32_t last = start[k + 1] - 1, other = by_class[last];
-      by_class[pos[a]] = other;
-      pos[other] = pos[a];
-      by_class[last] = a;
-      pos[a] = last;
-      --start[k + 1];
-    }
-    cls[a] = static_cast<std::uint8_t>(to);
-    if (c >= bound[to]) bound[to] = std::nextafter(c, INFINITY), inverse[to] = 1.0 / bound[to];
-    sum_envelope();
-    return bound[to] - before;
-  }
-};
 
 CollisionStage::CollisionStage(PairCount scheme) : scheme_(scheme) {}
 CollisionStage::~CollisionStage() = default;
@@ -324,7 +207,7 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
   double* const vx = particles.vx.data;
   double* const vy = particles.vy.data;
   double* const vz = particles.vz.data;
-  BatchScratch s;
+  thread_local BatchScratch s;
   s.open(batch);
   batch.speed_bounds = nullptr;
   std::uint32_t m = 0;
@@ -335,7 +218,8 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     batch.count = m;
     rule.collide_batch(batch);
     s.store_accepted(m, vx, vy, vz);
-    std::memset(s.seen, 0, sizeof s.seen);
+    s.forget(m);
+    s.dirty = false;
     m = 0;
   };
   for (std::uint64_t k = 0; k < candidates; ++k) {
@@ -349,6 +233,8 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     const std::uint32_t i = particle(a), j = particle(b);
     s.i[m] = i;
     s.j[m] = j;
+    s.la[m] = a;
+    s.lb[m] = b;
     s.u[m] = u;
     prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
     prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
@@ -381,9 +267,9 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   double* const vz = particles.vz.data;
   const double per_bound = 2.0 * pair_count(scheme_, count) / count * batch.sigma * batch.sigma * M_PI *
                            rule.rate_bound(1.0) / group.volume;  // K
-  batch.speed_bound = 2.0 * layer.sum / count;  // the mean pair bound (for a rule that looks)
+  batch.speed_bound = 2.0 * layer.bulk_bound();  // the bulk's pair bound (for a rule that looks)
   batch.rate_bound = rule.rate_bound(batch.speed_bound);
-  BatchScratch s;
+  thread_local BatchScratch s;
   s.open(batch);
   batch.speed_bounds = s.w;
   std::uint32_t m = 0;
@@ -391,13 +277,13 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   // The time counter: since the anchor time t0 with credit f0 at rate R, envelope event k (k >= 1)
   // is at t0 + (k - f0) / R; `events` of them drawn so far, those at or before dt while
   // events + 1 <= budget.
-  double t0 = 0, f0 = credit, rate = per_bound * layer.envelope, inverse_rate = 1.0 / rate;
+  double t0 = 0, f0 = credit, rate = per_bound * layer.envelope(), inverse_rate = 1.0 / rate;
   double budget = std::isfinite(rate) ? f0 + rate * dt : 0.0;
   std::uint64_t events = 0;
   const auto anchor = [&](double t, double f) {
     t0 = t;
     f0 = std::min(std::max(f, 0.0), std::nextafter(1.0, 0.0));
-    rate = per_bound * layer.envelope;
+    rate = per_bound * layer.envelope();
     inverse_rate = 1.0 / rate;
     // A speed that is not finite (a rule that broke a velocity) ends the layer's step here; the
     // engine's checks of the state name it.
@@ -451,7 +337,8 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
     }
     s.store_accepted(kept, vx, vy, vz);
     candidates += kept;
-    std::memset(s.seen, 0, sizeof s.seen);
+    s.forget(m);
+    s.dirty = false;
     m = 0;
     if (first_extra <= last) {
       // The envelope events after E are dropped; the counter goes on from E with the new envelope.
@@ -467,6 +354,7 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   for (;;) {
     std::uint32_t a;
     double t, thin;
+    bool from_bulk = false;
     if (initiator >= 0) {
       a = static_cast<std::uint32_t>(initiator);
       initiator = -1;
@@ -476,16 +364,19 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
       ++events;
       if ((events & 0xFFFF) == 0) poll_interrupt(interrupt_);
       t = draw_time();
-      a = layer.pick(select.uniform(), thin);
+      a = layer.pick(select.uniform(), thin, from_bulk);
     } else {
       if (m > 0 && flush(dt)) continue;
       break;
     }
+    // a thinned first (its speed is current once no open pair holds it), then its partner and the
+    // acceptance number for a candidate only.
+    if (m > 0 && s.holds(a) && flush(t)) continue;  // cut before t: this draw goes
+    if (!layer.candidate(a, thin, from_bulk)) continue;
     std::uint32_t b = select.below(count - 1);
     b += (b >= a);
     const double u = select.uniform32();
-    if (m > 0 && (s.holds(a) || s.holds(b)) && flush(t)) continue;  // cut before t: this draw goes
-    if (!layer.candidate(a, thin)) continue;
+    if (m > 0 && s.holds(b) && flush(t)) continue;
     s.add(a);
     s.add(b);
     const std::uint32_t i = members[a], j = members[b];
@@ -495,13 +386,19 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
     s.lb[m] = b;
     s.u[m] = u;
     s.t[m] = t;
-    s.w[m] = layer.speed[a] + layer.speed[b];
+    s.w[m] = layer.speed(a) + layer.speed(b);
     prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
     prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
     if (++m == kPairBatch) flush(t);
   }
   counts_[3 * c] = candidates;
   return f0 + rate * (dt - t0) - static_cast<double>(events);
+}
+
+double CollisionStage::saved_by_weighting(std::size_t c) const {
+  // Uniform acceptance <|g|>/w with a Maxwellian's <|g|> = (4/sqrt(pi)) sqrt(T/m), w = ratio sqrt(T/m).
+  const double uniform = 4.0 / std::sqrt(M_PI) / ratio_[c];
+  return estimate_[c] * std::max(0.0, 1.0 - uniform / kWeightedAcceptance);
 }
 
 void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma,
@@ -531,11 +428,22 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   batch.rng = &kernel;
   batch.tally = tally;  // summed over the slices
   if (weighted_ && group.members &&
-      (selection_ == PairSelection::weighted || estimate_[c] > kWeightedFromCandidates * group.count ||
+      (selection_ == PairSelection::weighted || saved_by_weighting(c) > kWeightedFromCandidates * group.count ||
        missed_so_far_[c] > kMissedCollisionsTolerance * collided_so_far_[c])) {
     thread_local WeightedLayer layer;
-    const std::uint32_t* members = group.members;
-    if (!layer.build(particles, group.count, [members](std::uint32_t a) { return members[a]; })) {
+    // About the layer's mean velocity at the last moment update (any u bounds |g|; one near the
+    // mean keeps the speeds small), with the bulk bound kBulkSpeedBound times the mean speed.
+    double u[3] = {0, 0, 0};
+    if (cells_ && cells_[c].count >= 2) {
+      std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
+    } else {
+      for (std::uint32_t a = 0; a < group.count; ++a) {
+        const std::uint32_t i = group.members[a];
+        u[0] += particles.vx.data[i], u[1] += particles.vy.data[i], u[2] += particles.vz.data[i];
+      }
+      for (double& x : u) x /= group.count;
+    }
+    if (!layer.build(particles, group.members, group.count, u, kBulkSpeedBound)) {
       remainder_[c] = 0;
       return;
     }
@@ -638,6 +546,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
   if (ratio_.size() != n) reset(n);
   if (particles.vx.stride != 1 || particles.vy.stride != 1 || particles.vz.stride != 1)
     throw std::logic_error("CollisionStage: velocities are expected in arrays of stride 1");
+  cells_ = cells;
   solid_angle_ = rule.kernel_form() == KernelForm::general ? 4.0 * M_PI : M_PI;
   weighted_ = selection_ != PairSelection::uniform && rule.kernel_form() == KernelForm::hard_sphere;
   make_groups(grid, particles.count, streams);

@@ -18,6 +18,8 @@
 
 namespace gdsmc::host {
 
+class WeightedLayer;  // engine/weighted_layer.hpp
+
 // How many pairs a cell of N_c particles offers to the candidate count (CellCollision::pairs).
 enum class PairCount : std::uint32_t {
   distinct = 0,  // N_c (N_c - 1) / 2: every distinct pair once; unbiased when N_c fluctuates
@@ -40,15 +42,21 @@ std::size_t subpopulation_count(std::size_t particles, std::size_t size);
 enum class PairSelection : std::uint32_t {
   uniform = 0,   // every pair alike, against the layer majorant w_I (the class's default)
   weighted = 1,  // hard-sphere form: pairs weighted by the peculiar speeds, kept current through the
-                 // step (CollisionStage::WeightedLayer, collide_weighted); a pass over the layer every step
-  // weighted in a layer whose uniform candidate estimate this step exceeds kWeightedFromCandidates
-  // per particle, or whose uniform majorant has missed more than kMissedCollisionsTolerance of its
-  // collisions since the start; uniform elsewhere: the pass over a layer costs about what 0.7 uniform candidates per
-  // particle do (clustered channel, Kn = 0.05, e_n = 0.7: weighted 1.9x slower at 0.06 candidates
-  // per particle per step, even at 0.69)
+                 // step (WeightedLayer, collide_weighted); a pass over the layer every step
+  // weighted in a layer where weighting would save more than kWeightedFromCandidates uniform
+  // candidates per particle this step (saved_by_weighting), or whose uniform majorant has missed
+  // more than kMissedCollisionsTolerance of its collisions since the start; uniform elsewhere
   automatic = 2,
 };
-constexpr double kWeightedFromCandidates = 0.7;
+// The pass that builds a weighted layer costs about what 0.07 uniform candidates per particle do
+// (3 ns a member against 44 ns a candidate, clustered channels of paper 004, one thread).
+constexpr double kWeightedFromCandidates = 0.07;
+// The fraction of weighted candidates accepted (72-73 % in every channel of paper 004).
+constexpr double kWeightedAcceptance = 0.72;
+// The bulk bound B_0 of a weighted layer (WeightedLayer) over its members' mean speed: with 2, a
+// Maxwellian's speeds exceed it with probability P(chi_3^2 > 32/pi) = 1.7 % (listed in classes) and
+// half of the bulk's envelope events are candidates.
+constexpr double kBulkSpeedBound = 2.0;
 
 class CollisionStage {
  public:
@@ -153,9 +161,13 @@ class CollisionStage {
   std::vector<double> speed_, estimate_;  // this step's sqrt(T_ref/m) and candidate estimate per cell
   std::vector<double> max_rate_, missed_;  // per group, this step
   std::vector<double> missed_so_far_, collided_so_far_;  // per group, since the start of the run
-  struct WeightedLayer;
   PairSelection selection_ = PairSelection::uniform;
+  const CellMoments* cells_ = nullptr;  // this step's layer moments (run()'s `cells`)
   bool weighted_ = false;  // this step: weighted pairs in the layers
+  // The uniform candidates of group c this step that weighted pairs would not draw: the estimate
+  // times 1 - (uniform acceptance) / kWeightedAcceptance, the uniform acceptance taken as a
+  // Maxwellian's <|g|> over the majorant.
+  double saved_by_weighting(std::size_t c) const;
   // T_ref of group c: its own temperature if it had >= 2 particles and T > 0, else `temperature`.
   static double reference_temperature(const CellMoments* cells, std::size_t c, double temperature);
   std::vector<std::uint64_t> counts_;     // per group: candidates, accepted, exceeded
