@@ -15,7 +15,7 @@ import sys
 import h5py
 import numpy as np
 
-from report_figures import band, paper_hline, paper_points, plt, savefig
+from report_figures import band, paper_hline, paper_points, plt, runs_line, savefig
 
 # 002, Sec. 3: crossing densities from Eqs. 16-18, (phi0^k, phi0) per alpha.
 PAPER_CROSSING = {0.9: (0.12, 0.09), 0.8: (0.13, 0.09), 0.6: (0.15, 0.10)}
@@ -295,7 +295,8 @@ def main():
           "`configs/enskog_viscosity_sweep.yaml`: the modified simple shear flow of paper 002 "
           "(Enskog collisions `enskog_hard_spheres`, `uniform_shear` at Kn(0) = 0.1, `anti_drag` and "
           "`hcs_replacement`, Eq. 15), initial Maxwellian, for α ∈ {1, 0.9, 0.8, 0.7, 0.6} × "
-          "φ ∈ {0, 0.1, 0.2, 0.3, 0.4, 0.5} (φ = 0 is run at φ = 10⁻⁴, χ = 1.0003).")
+          "φ ∈ {0, 0.1, 0.2, 0.3, 0.4, 0.5} (φ = 0 is run at φ = 10⁻⁴, χ = 1.0003); "
+          f"{runs_line(sweep, hcs)}.")
         w(f"\n{n_cases} cases × {realizations} realizations of N = {particles} particles; wall time "
           f"{duration(sec_sweep)} for the sweep and {duration(sec_hcs)} for the HCS runs that measure c0, "
           f"on this machine (2 cores shared with other work).\n")

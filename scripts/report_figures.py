@@ -12,7 +12,30 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402,F401  (re-exported: `from report_figures import plt`)
 import numpy as np  # noqa: E402
 
-PAPER_COLOUR = "0.35"  # the paper's stated numbers: grey dotted lines, black open markers
+PAPER_COLOUR = "0.35"
+
+
+def runs_line(*paths):
+    """'gdsmc VERSION, runs of DATE': the version each output records (gdsmc_version) and the UTC
+    time its file was written (the end of its run), the earliest to the latest; for a report's
+    header (issue 29: every report says the gdsmc version and the date of the runs behind it)."""
+    import datetime
+
+    import h5py
+
+    versions, times = [], []
+    for path in paths:
+        with h5py.File(path, "r") as f:
+            v = f.attrs.get("gdsmc_version", "?")
+        v = v.decode() if isinstance(v, bytes) else str(v)
+        if v not in versions:
+            versions.append(v)
+        times.append(os.path.getmtime(path))
+    fmt = "%Y-%m-%d %H:%M UTC"
+    first, last = (datetime.datetime.fromtimestamp(t, datetime.timezone.utc).strftime(fmt)
+                   for t in (min(times), max(times)))
+    when = first if first == last else f"{first} to {last}"
+    return f"gdsmc {', '.join(versions)}, runs of {when}"  # the paper's stated numbers: grey dotted lines, black open markers
 
 
 def savefig(fig, docdir, subdir, name, dpi=110):
