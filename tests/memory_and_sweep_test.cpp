@@ -113,20 +113,21 @@ TEST(MemoryCheck, TheEstimateCountsParticlesAttributesRecordsRealizationsAndKept
   EXPECT_EQ(layout.attribute_values, 0u);
   const host::CaseMemory m = host::case_memory(p, layout);
   EXPECT_EQ(m.bytes_per_particle, 28);
-  EXPECT_EQ(m.steps, 50);  // s = 1 at dt = 0.02 tau0
-  EXPECT_EQ(m.records_bytes, 52.0 * static_cast<double>(layout.values_per_record[0]) * 8);  // + initial and final records
-  EXPECT_EQ(m.peak, 400 * 28 + 3 * m.records_bytes);
+  EXPECT_EQ(m.steps, 89);  // s = 1 at dt/sqrt(pi) = 0.0113 a step of dt = 0.02 tau0
+  EXPECT_EQ(m.records_bytes, 91.0 * static_cast<double>(layout.values_per_record[0]) * 8);  // + initial and final records
+  EXPECT_EQ(m.setup_bytes, 0);  // the plugins' own allocations, counted from 1 MiB on
+  EXPECT_EQ(m.peak, 400 * 28 + 4 * m.records_bytes);  // the running records up to twice their size
   EXPECT_EQ(m.kept, m.records_bytes);
 
   host::RunLayout declared{3, {10}};
   const host::CaseMemory a = host::case_memory(p, declared);
   EXPECT_EQ(a.bytes_per_particle, 28 + 3 * 8);
-  EXPECT_EQ(a.records_bytes, 52.0 * 10 * 8);
+  EXPECT_EQ(a.records_bytes, 91.0 * 10 * 8);
 
   const host::Pipeline k = load_yaml(dir, kSmallHcsPipeline, {"run.realizations=3", "output.realizations=true", "run.record_every=5"});
   const host::CaseMemory r = host::case_memory(k, declared);
-  EXPECT_EQ(r.records_bytes, (50 / 5 + 2) * 10.0 * 8);
-  EXPECT_EQ(r.peak, 400 * 52 + 5 * r.records_bytes);  // three realizations, the running one, the first output
+  EXPECT_EQ(r.records_bytes, (89 / 5 + 2) * 10.0 * 8);
+  EXPECT_EQ(r.peak, 400 * 52 + 6 * r.records_bytes);  // three realizations, the running one (twice), the first output
   EXPECT_EQ(r.kept, (2 + 3) * r.records_bytes);       // mean and error, and each realization's own
 
   const host::Pipeline slab = load_yaml(dir, kSmallHcsPipeline + "boundaries: {y: periodic}\n",

@@ -1,5 +1,6 @@
 #include "app/progress.hpp"
 
+#include "engine/plugin_calls.hpp"
 #include "output/output_path.hpp"
 
 #include <unistd.h>
@@ -15,7 +16,8 @@ std::atomic<bool> g_interrupted{false};
 
 namespace {
 // The first signal sets the flag, which the run polls between steps and inside the collision
-// stage. A second one while the first is pending means the run is inside a long plugin call that
+// stage, and starts the watchdog: a plugin call under way then that has not returned 3 s later
+// ends the run naming the plugin (engine/plugin_calls.hpp). A second one while the first is pending means the run is inside a long plugin call that
 // cannot poll it: leave at once (exchange, write, lstat and unlink are async-signal-safe; the
 // output is renamed to its final name only once complete, and its temporary file is removed).
 extern "C" void on_signal(int) {
@@ -25,6 +27,7 @@ extern "C" void on_signal(int) {
     remove_live_temporaries_from_signal_handler();
     ::_exit(130);
   }
+  watch_interrupt_from_signal_handler();  // a plugin call that does not return ends the run anyway
 }
 }  // namespace
 

@@ -10,6 +10,7 @@
 #include "config/params.hpp"
 #include "config/sections.hpp"
 #include "config/yaml_reader.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -196,6 +197,32 @@ void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pip
 namespace {
 
 // Everything after the document: the registry (unless shared), every section, every plugin.
+// The walls' work per step: a particle travels |v_y| dt, on average dt/sqrt(pi) lambda0 in y at
+// T0 (dt in tau0 = lambda0/sqrt(2T0/m)), so it meets a wall about dt/(sqrt(pi) Ly) times a step.
+// Above kMaxWallHitsPerStep a step would spend its time reflecting particles (a slab 1e-6 lambda0
+// wide took ~17 s a step, deaf to Ctrl-C): refused; above one, the gap is crossed within a step
+// (the walls are resolved poorly): warned about. Both with the number.
+constexpr double kMaxWallHitsPerStep = 100;
+void check_wall_hits(Checker& c, const YAML::Node& root, Pipeline& p) {
+  const double gap = p.box_y / p.mean_free_path0();  // Ly in lambda0
+  const double hits = p.time_step_tau0 / (std::sqrt(M_PI) * gap);
+  if (!(hits > 1)) return;
+  const YAML::Node sys = root["system"];
+  const YAML::Node at = sys["box"] && sys["box"].IsMap() && sys["box"]["y"] ? sys["box"]["y"] : sys;
+  const std::string what = fmt("a step of %.3g tau0 across a gap Ly = %.3g lambda0: each particle would meet the walls "
+                               "about %.3g times a step (|v_y| dt / Ly at T0; %.3g wall hits a step for %zu particles)",
+                               p.time_step_tau0, gap, hits, hits * static_cast<double>(p.particles), p.particles);
+  const double largest = std::sqrt(M_PI) * gap;  // one hit a particle a step
+  if (hits > kMaxWallHitsPerStep)
+    c.error("system.box.y", at,
+            what + fmt(", more than %.0f: the run would spend its steps reflecting particles; use a time step of at "
+                       "most %.3g tau0 (one wall hit a particle a step) or a wider gap",
+                       kMaxWallHitsPerStep, largest));
+  else
+    p.warnings.push_back(c.where("system.box.y", at).str() + ": system.box.y: " + what +
+                         fmt(": the gap is crossed within a step; a step of at most %.3g tau0 resolves it", largest));
+}
+
 void check_document(Checker& c, const YAML::Node& root, const std::vector<fs::path>& extra_plugin_paths,
                     std::shared_ptr<PluginRegistry> registry, Pipeline& p) {
   const fs::path& file = p.file;
@@ -218,6 +245,7 @@ void check_document(Checker& c, const YAML::Node& root, const std::vector<fs::pa
             std::to_string(p.particles) + " particles in " + std::to_string(p.layers) +
                 " layers is fewer than one particle per layer on average; use at most " + std::to_string(p.particles) +
                 " layers (the paper uses N/M = 200)");
+  if (p.geometry == Geometry::slab && p.box_y > 0 && p.time_step_tau0 > 0) check_wall_hits(c, root, p);
   if (YAML::Node out = root["output"]) parse_output(c, out, p);
   if (p.output_file.empty()) p.output_file = file.stem().string() + ".h5";
   if (const YAML::Node sw = root["sweep"]) parse_sweep(c, sw, p);

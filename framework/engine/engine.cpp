@@ -578,6 +578,20 @@ void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>
                                fmt("%g", added) + ") from apply() at step " + std::to_string(ctx_.step) +
                                fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
                                ": the forcing produced invalid velocities");
+    // A forcing that multiplies the gas's thermal energy within one step (a shear rate of 1e6 /
+    // tau0 at dt = 0.01 tau0: 3e7 times) makes every later step and diagnostic absurd (a theory
+    // diagnostic then integrates its model for ever): refused with the number, one compare a step.
+    const double thermal = 1.5 * static_cast<double>(global_.count) * global_.temperature;
+    if (added > kMaxForcingEnergyPerStep * thermal && thermal > 0)
+      throw std::runtime_error(
+          where_text(pipeline_.forcings[index]) +
+          fmt(" added %.3g times the gas's thermal energy (3/2 N T = %.3g) in one step", added / thermal, thermal) +
+          " at step " + std::to_string(ctx_.step) +
+          fmt(" (t = %.6g tau0, dt = %.3g tau0", ctx_.time_in_tau0(), ctx_.dt / system_.time_unit0) +
+          (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
+          fmt(": more than %.0f times is absurd for one step (the step cannot resolve its heating); use a smaller "
+              "run.time_step or a gentler forcing",
+              kMaxForcingEnergyPerStep));
     ledger_[1 + index].energy += added;
   }
   ctx_.streams = nullptr;

@@ -39,6 +39,10 @@ struct Progress {
   bool final = false;             // the report after the last step of the run
 };
 
+// The most energy a forcing may add in one step, in units of the gas's thermal energy 3/2 N T:
+// above it the run is refused at that step, naming the forcing and the factor.
+inline constexpr double kMaxForcingEnergyPerStep = 100;
+
 class Engine;
 
 // When a run writes its state (Engine::save) through `write`: every `every_seconds` of wall time

@@ -1,5 +1,6 @@
 #include "engine/memory_estimate.hpp"
 
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <new>
 #include <sstream>
 
+#include "config/units.hpp"
 #include "engine/engine.hpp"
 #include "util/text.hpp"
 
@@ -17,6 +19,13 @@ namespace gdsmc::host {
 namespace {
 
 thread_local RunLayout* g_collecting = nullptr;  // set by setup_layout() while it sets a case up
+
+// malloc's bytes in use (arenas and mmapped blocks) of the whole process.
+double heap_in_use() {
+  const struct mallinfo2 m = ::mallinfo2();
+  return static_cast<double>(m.uordblks) + static_cast<double>(m.hblkhd);
+}
+thread_local double g_heap_before = 0;
 
 // A "Key:   123 kB" line of a /proc file, in bytes (-1 if absent).
 double proc_kib(const char* file, const std::string& key) {
@@ -38,11 +47,22 @@ void report_layout(const std::vector<AttributeSpec>& attributes, const std::vect
   if (!g_collecting) return;
   RunLayout& l = *g_collecting;
   l = RunLayout{};
+  l.setup_bytes = std::max(heap_in_use() - g_heap_before, 0.0);
   for (const auto& a : attributes) l.attribute_values += static_cast<std::size_t>(std::max(a.components, 0));
   for (const auto& d : diagnostics) {
     std::size_t values = 2 + d.columns.size() + d.profiles.size() * d.bins();  // time and s are the host's
     l.values_per_record.push_back(values);
+    l.profiles.push_back(d.profiles.size());
+    if (!d.profiles.empty()) l.bins = d.bins();
   }
+}
+
+RunLayout RunLayout::with_bins(std::size_t n) const {
+  RunLayout l = *this;
+  for (std::size_t d = 0; d < l.values_per_record.size(); ++d)
+    l.values_per_record[d] = l.values_per_record[d] - profiles[d] * bins + profiles[d] * n;
+  l.bins = n;
+  return l;
 }
 
 RunLayout setup_layout(const Pipeline& p) {
@@ -51,6 +71,7 @@ RunLayout setup_layout(const Pipeline& p) {
     explicit Collect(RunLayout* l) { g_collecting = l; }
     ~Collect() { g_collecting = nullptr; }
   } collect(&layout);
+  g_heap_before = heap_in_use();
   Engine::check_setup(p);
   return layout;
 }
@@ -65,20 +86,25 @@ CaseMemory case_memory(const Pipeline& p, const RunLayout& layout) {
   m.bytes_per_particle = 3 * 8 + 4 + 8.0 * static_cast<double>(layout.attribute_values);
   if (p.geometry == Geometry::slab)
     m.bytes_per_particle += 3 * 8 + 4 + 4 + 4 + 4.0 * static_cast<double>(p.layers) / CellGrid::kSortBlock;
-  // Records are kept for the whole run. s grows by about dt/tau0 per step (hard spheres collide
-  // 2/sqrt(pi) times per tau0 at T0), which bounds the steps of a stop at s as the stop time does.
+  // Records are kept for the whole run. s grows by about dt/sqrt(pi) per step of dt tau0 (each
+  // hard sphere collides once per mean free time sqrt(pi)/2 tau0 at T0, and a collision counts for
+  // two particles; an elastic gas to s = 20 at dt = 0.02 tau0 takes 1769 steps, this gives 1773).
+  // A gas that cools at a fixed step takes more: study.cpp checks what the first run kept.
   double stop = std::numeric_limits<double>::infinity();
   if (p.stop_time_tau0) stop = *p.stop_time_tau0;
-  if (p.stop_collisions_per_particle) stop = std::min(stop, *p.stop_collisions_per_particle);
+  if (p.stop_collisions_per_particle) stop = std::min(stop, *p.stop_collisions_per_particle * 2 * kMeanFreeTimeTau0);
   m.steps = std::isfinite(stop) && p.time_step_tau0 > 0 ? std::ceil(stop / p.time_step_tau0) : 0;
   for (std::size_t d = 0; d < layout.values_per_record.size() && d < p.diagnostics.size(); ++d) {
     const double records = std::floor(m.steps / static_cast<double>(p.diagnostics[d].record_every)) + 2;
     m.records_bytes += records * static_cast<double>(layout.values_per_record[d]) * 8;
   }
-  // While a case runs: the running engine's particles and records, the earlier realizations'
-  // records, the case's first output; then the average (mean and standard error) is built beside them.
+  // While a case runs: the running engine's particles, plugins and records (grown by doubling: up
+  // to twice their size), the earlier realizations' records, the case's first output; then the
+  // average (mean and standard error) is built beside them.
   const double k = p.realizations;
-  m.peak = std::max(static_cast<double>(m.particles) * m.bytes_per_particle + (k + 2) * m.records_bytes,
+  // Below 1 MiB the measurement is the noise of the host's own first allocations: not counted.
+  m.setup_bytes = layout.setup_bytes >= 1024.0 * 1024 ? layout.setup_bytes : 0;
+  m.peak = std::max(static_cast<double>(m.particles) * m.bytes_per_particle + m.setup_bytes + (k + 3) * m.records_bytes,
                     (k + 3) * m.records_bytes);
   m.kept = (k > 1 ? 2 : 1) * m.records_bytes + (p.output_realizations ? k * m.records_bytes : 0);
   return m;
@@ -117,11 +143,24 @@ std::string MemoryEstimate::drivers() const {
   std::string s = concurrent > 1 ? std::to_string(concurrent) + " runs at once (run.threads; --threads 1 runs one at a time), each " : "";
   s += std::to_string(c.particles) + " particles x " + fmt("%.0f", c.bytes_per_particle) + " bytes = " +
        bytes_text(static_cast<double>(c.particles) * c.bytes_per_particle);
+  if (c.setup_bytes >= 1024 * 1024) s += "; what the plugins allocate at setup " + bytes_text(c.setup_bytes);
   s += "; diagnostics' records about " + bytes_text(c.records_bytes) + fmt(" (about %.0f steps)", c.steps);
   if (kept_before > 0)
     s += "; " + bytes_text(kept_before) + (concurrent > 1 ? " kept from the cases until the file is written"
                                                            : " kept from earlier cases until the file is written");
   return s;
+}
+
+double diagnostics_bytes(const std::vector<DiagnosticOutput>& diagnostics) {
+  double values = 0;
+  for (const auto& d : diagnostics) {
+    values += static_cast<double>(d.time.size() + d.collisions_per_particle.size());
+    for (const auto& c : d.columns) values += static_cast<double>(c.values.size());
+    for (const auto& p : d.profiles) values += static_cast<double>(p.values.size());
+    for (const auto& a : d.arrays) values += static_cast<double>(a.data.size());
+    for (const auto& h : d.histograms) values += static_cast<double>(h.edges.size() + h.values.size());
+  }
+  return 8 * values;
 }
 
 MemoryAvailable available_memory() {

@@ -19,6 +19,15 @@ namespace gdsmc::host {
 struct RunLayout {
   std::size_t attribute_values = 0;              // doubles per particle, over every declared attribute
   std::vector<std::size_t> values_per_record;    // per diagnostic: time, s, each series, each profile's bins
+  std::vector<std::size_t> profiles;             // per diagnostic: its profiles (each a value per bin)
+  std::size_t bins = 0;                          // the sampling bins the profiles were set up with
+  // The heap the plugins (and the host's setup) held once the diagnostics had begun, measured
+  // (malloc's bytes in use) while they were alive: what plugins allocate themselves at setup.
+  double setup_bytes = 0;
+
+  // The layout the same plugins declare with `bins` sampling bins instead (a profile holds a value
+  // per bin): what check_cases() estimates from before it sets a case up with many bins.
+  RunLayout with_bins(std::size_t bins) const;
 };
 
 // The engine reports what its plugins declared once its diagnostics have begun; setup_layout()
@@ -33,8 +42,9 @@ RunLayout setup_layout(const Pipeline& p);
 struct CaseMemory {
   std::size_t particles = 0;
   double bytes_per_particle = 0;  // positions, velocities, identity, cell, attributes; slab: layer lists, reorder scratch
-  double steps = 0;               // estimated: the stop time, or s at about one collision per particle per tau0
+  double steps = 0;               // estimated: the stop time, or s at dt/sqrt(pi) per step (hard spheres at T0)
   double records_bytes = 0;       // one realization's records, every diagnostic
+  double setup_bytes = 0;         // what its plugins allocated at setup (measured), per run
   double peak = 0;                // while the case runs (besides what earlier cases keep)
   double kept = 0;                // what the case keeps until the file is written (its averaged records)
 };
@@ -55,6 +65,10 @@ struct MemoryEstimate {
 // `concurrent` runs at once (run.threads), that many of the largest run's peak on top of
 // everything the cases keep.
 MemoryEstimate study_memory(const std::vector<CaseMemory>& cases, std::uint32_t concurrent = 1);
+
+// The bytes the values of `diagnostics` hold (series, profiles, arrays, histograms): what a finished
+// run keeps until its case is averaged.
+double diagnostics_bytes(const std::vector<DiagnosticOutput>& diagnostics);
 
 // What this process can still allocate: the smaller of MemAvailable (/proc/meminfo) and what the
 // address-space and data limits (RLIMIT_AS, RLIMIT_DATA) leave of what is in use.

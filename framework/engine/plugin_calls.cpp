@@ -13,15 +13,32 @@ namespace gdsmc::host {
 
 constinit thread_local PluginCallRecord t_plugin_call;
 constinit thread_local bool t_signal_stack_ready = false;
+constinit thread_local std::uint64_t t_plugin_calls = 0;
 
 namespace {
 
 thread_local std::string t_run_name;
 
-// This thread's alternate signal stack, given back when the thread ends.
+// Every thread that has made a plugin call, for the interrupt watchdog: its record, its call
+// count, and the count when the interrupt came (the slot is freed when the thread ends).
+struct ThreadSlot {
+  std::atomic<PluginCallRecord*> record{nullptr};
+  std::atomic<const std::uint64_t*> calls{nullptr};
+  std::uint64_t calls_at_interrupt = 0;
+  const PluginCallSite* site_at_interrupt = nullptr;
+};
+constexpr int kThreadSlots = 1024;
+ThreadSlot g_thread_slots[kThreadSlots];
+
+// This thread's alternate signal stack and watchdog slot, given back when the thread ends.
 struct SignalStack {
   std::unique_ptr<char[]> memory;
+  int slot = -1;
   ~SignalStack() {
+    if (slot >= 0) {
+      g_thread_slots[slot].calls.store(nullptr);
+      g_thread_slots[slot].record.store(nullptr);
+    }
     if (!memory) return;
     stack_t off{};
     off.ss_flags = SS_DISABLE;
@@ -116,10 +133,61 @@ extern "C" void on_fatal_signal(int sig, siginfo_t*, void*) {
   die_of(sig);
 }
 
+// The calls under way at the interrupt that are still under way; if any, say which and end.
+extern "C" void on_watchdog_alarm(int) {
+  if (::getpid() != g_installer) return;
+  Message m;
+  int stuck = 0;
+  for (auto& slot : g_thread_slots) {
+    const PluginCallRecord* record = slot.record.load();
+    const std::uint64_t* calls = slot.calls.load();
+    if (!record || !calls || !slot.site_at_interrupt) continue;
+    const PluginCallRecord call = *record;
+    if (call.site != slot.site_at_interrupt || *calls != slot.calls_at_interrupt) continue;  // returned since
+    const PluginCallSite& s = *call.site;
+    m << (stuck++ ? "\ngdsmc: " : "\ngdsmc: interrupted, but ") << "the " << s.role << " '" << s.plugin << "' (" << s.where;
+    if (call.call) m << "; in " << call.call;
+    m << ")";
+    if (s.step) m << " at step " << static_cast<std::uint64_t>(*s.step);
+    if (s.run && *s.run) m << " of " << s.run;
+    m << " had not returned " << static_cast<std::uint64_t>(kStuckCallSeconds) << " s after the interrupt";
+  }
+  if (!stuck) {  // every call under way at the interrupt has returned: the run ends by itself
+    ::alarm(kStuckCallSeconds);
+    return;
+  }
+  m << "\ngdsmc: stopped without waiting for it; no output written (the temporary file is removed)\n";
+  m.write();
+  remove_live_temporaries_from_signal_handler();
+  ::_exit(130);
+}
+
 }  // namespace
+
+void watch_interrupt_from_signal_handler() noexcept {
+  for (auto& slot : g_thread_slots) {
+    const PluginCallRecord* record = slot.record.load();
+    const std::uint64_t* calls = slot.calls.load();
+    slot.site_at_interrupt = record && calls ? record->site : nullptr;
+    slot.calls_at_interrupt = calls ? *calls : 0;
+  }
+  struct sigaction action {};
+  action.sa_handler = on_watchdog_alarm;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  ::sigaction(SIGALRM, &action, nullptr);
+  ::alarm(kStuckCallSeconds);
+}
 
 void prepare_signal_stack() {
   t_signal_stack_ready = true;
+  for (int k = 0; k < kThreadSlots && t_signal_stack.slot < 0; ++k) {
+    PluginCallRecord* none = nullptr;
+    if (g_thread_slots[k].record.compare_exchange_strong(none, &t_plugin_call)) {
+      g_thread_slots[k].calls.store(&t_plugin_calls);
+      t_signal_stack.slot = k;
+    }
+  }
   stack_t current{};
   if (::sigaltstack(nullptr, &current) == 0 && !(current.ss_flags & SS_DISABLE)) return;  // one already
   t_signal_stack.memory.reset(new (std::nothrow) char[kSignalStackBytes]);

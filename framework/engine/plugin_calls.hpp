@@ -27,6 +27,9 @@ struct PluginCallRecord {
 
 // The call under way on this thread (site null: none). Read by the signal handler.
 extern thread_local constinit PluginCallRecord t_plugin_call;
+// Plugin calls begun on this thread: a call under way whose count has not changed since an
+// interrupt has not returned since (read by the interrupt watchdog).
+extern thread_local constinit std::uint64_t t_plugin_calls;
 extern thread_local constinit bool t_signal_stack_ready;
 void prepare_signal_stack();  // this thread's alternate signal stack (once per thread)
 
@@ -36,6 +39,7 @@ class PluginCall {
   PluginCall(const PluginCallSite& site, const char* call) noexcept : saved_(t_plugin_call) {
     if (!t_signal_stack_ready) prepare_signal_stack();
     t_plugin_call = PluginCallRecord{&site, call};
+    ++t_plugin_calls;
   }
   ~PluginCall() { t_plugin_call = saved_; }
   PluginCall(const PluginCall&) = delete;
@@ -50,6 +54,15 @@ class PluginCall {
 // engine, which copies it.
 void set_thread_run_name(std::string name);
 const std::string& thread_run_name();
+
+// The interrupt watchdog. Called by the handler of the first SIGINT/SIGTERM (async-signal-safe):
+// notes the plugin calls under way on every thread and arms a timer of kStuckCallSeconds. When
+// it expires and one of those calls has still not returned (the run cannot reach the places where
+// it polls the interrupt), it prints the plugin, its role, the call, the step and the run, removes
+// the temporary output file and the output lock, and ends the process with status 130. Calls begun
+// after the interrupt (a checkpoint's, a diagnostic's last record) are never cut short.
+inline constexpr unsigned kStuckCallSeconds = 3;
+void watch_interrupt_from_signal_handler() noexcept;
 
 // Installs the handler of SIGSEGV, SIGBUS, SIGFPE and SIGABRT (on an alternate stack, so that a
 // stack overflow is reported too). Idempotent.

@@ -103,11 +103,29 @@ std::size_t round_down(double n) {
 
 }  // namespace
 
+double sweep_case_count(const Pipeline& p) {
+  double n = 1;
+  for (const auto& axis : p.sweep) n *= static_cast<double>(axis.values.size());
+  return n;
+}
+
 std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress) {
   std::vector<StudyCase> cases;
   if (base.sweep.empty()) {
     cases.push_back(StudyCase{"", {}, base});
     return cases;
+  }
+  // Counted before anything is expanded: every case is a whole pipeline, loaded, set up and kept.
+  if (const double n = sweep_case_count(base); n > kMaxSweepCases) {
+    std::string sizes;
+    for (const auto& axis : base.sweep)
+      sizes += (sizes.empty() ? "" : " x ") + std::to_string(axis.values.size()) + " (" + axis.name + ")";
+    const auto& first = base.sweep.front().values.front();
+    const std::string where = first.where.empty() ? base.file.string() : first.where.front().str();
+    throw PipelineError({where + ": sweep: " + sizes + " make " + fmt("%.4g", n) + " cases; at most " +
+                         std::to_string(static_cast<std::size_t>(kMaxSweepCases)) +
+                         " are allowed (each case is a whole run, loaded and checked before anything runs): "
+                         "sweep fewer values or fewer keys, or split the study into several pipelines"});
   }
   // The points of the Cartesian product of the axes, the last axis varying fastest.
   std::vector<std::vector<const SweepAxis::Value*>> points;
@@ -172,11 +190,30 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
   for (const auto& c : cases) values.push_back(c.axis_values);
   CaseProblems problems(std::move(values));
   std::vector<CaseMemory> memory;
+  std::vector<std::size_t> deferred;  // cases set up with kProbeBins first, and for real once the estimate fits
   Ticker tick(progress, "set up");
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const Pipeline& p = cases[c].pipeline;
     try {
-      memory.push_back(case_memory(p, setup_layout(p)));
+      // Plugins may keep arrays per sampling bin: a case of many bins is set up with a few first,
+      // and its profiles' records are estimated for its own number before it is set up for real.
+      const std::size_t bins = p.geometry == Geometry::slab ? (p.bins ? p.bins : p.layers) : 0;
+      if (bins > kProbeBins) {
+        // Set up with kProbeBins and twice as many: what the plugins allocate per bin, measured,
+        // extrapolated to the case's own bins.
+        Pipeline probe = p;
+        probe.bins = kProbeBins;
+        RunLayout layout = setup_layout(probe);
+        probe.bins = 2 * kProbeBins;
+        const double per_bin = std::max(setup_layout(probe).setup_bytes - layout.setup_bytes, 0.0) / kProbeBins;
+        const double setup_bytes = layout.setup_bytes + per_bin * static_cast<double>(bins - kProbeBins);
+        layout = layout.with_bins(bins);
+        layout.setup_bytes = setup_bytes;
+        memory.push_back(case_memory(p, layout));
+        deferred.push_back(c);
+      } else {
+        memory.push_back(case_memory(p, setup_layout(p)));
+      }
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const PipelineError& e) {
@@ -190,7 +227,21 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
 
   const MemoryEstimate estimate = study_memory(memory, study_threads(cases));
   const MemoryAvailable available = available_memory();
-  if (estimate.bytes <= available.bytes) return estimate;
+  if (estimate.bytes <= available.bytes) {
+    for (const std::size_t c : deferred) {
+      try {
+        setup_layout(cases[c].pipeline);
+      } catch (const std::bad_alloc&) {
+        throw;
+      } catch (const PipelineError& e) {
+        for (const auto& m : e.messages()) problems.add(c, m);
+      } catch (const std::exception& e) {
+        problems.add(c, cases[c].pipeline.file.string() + ": " + failure_text(e, &estimate));
+      }
+    }
+    if (!problems.empty()) throw problems.error();
+    return estimate;
+  }
   const StudyCase& peak = cases[estimate.peak_case];
   const CaseMemory& m = estimate.at_peak;
   const double particles = estimate.concurrent * static_cast<double>(m.particles) * m.bytes_per_particle,
@@ -204,7 +255,13 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
     message += " (at its peak, in sweep case " + std::to_string(estimate.peak_case) + " (" + peak.label + "))";
   message += " but " + bytes_text(available.bytes) + " is available (" + available.source + "); the estimate: " +
              estimate.drivers();
-  if (others < available.bytes)
+  if (estimate.concurrent * m.setup_bytes > 0.5 * others)
+    message += "; the plugins allocate about " + bytes_text(m.setup_bytes) + " at setup" +
+               (peak.pipeline.geometry == Geometry::slab && (peak.pipeline.bins ? peak.pipeline.bins : peak.pipeline.layers) > kProbeBins
+                    ? fmt(" (measured with %zu and %zu sampling bins, for %zu): use fewer system.bins", kProbeBins,
+                          2 * kProbeBins, peak.pipeline.bins ? peak.pipeline.bins : peak.pipeline.layers)
+                    : std::string());
+  else if (others < available.bytes)
     message += "; at most about " +
                std::to_string(round_down((available.bytes - others) / (estimate.concurrent * m.bytes_per_particle))) +
                " particles fit" + (estimate.concurrent > 1 ? " per run" : "");

@@ -27,6 +27,10 @@ using CheckProgress = std::function<void(const char* stage, std::size_t done, st
 // text and --set overrides (the study's provenance); the others' texts are empty. Throws
 // PipelineError before anything runs, each problem once, located where its value was given (a
 // sweep value at its entry in the sweep) and naming the cases it occurs in.
+// A sweep of more than kMaxSweepCases cases (the product of its axes' sizes, counted before
+// anything is expanded) is refused naming the axes and the count.
+inline constexpr double kMaxSweepCases = 100000;
+double sweep_case_count(const Pipeline& p);
 std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress = {});
 
 // How many runs (case x realization) the study runs at once: run.threads of the first case (0:
@@ -42,6 +46,9 @@ std::uint32_t threads_per_run(const std::vector<StudyCase>& cases, std::size_t r
 // Set up every case's plugins as validate does (Engine::check_setup) and estimate the study's
 // memory from what they declared (study_threads() runs at once). Throws PipelineError naming the case(s) on a setup problem, and
 // when the estimate exceeds the memory available (both figures, and what drives the estimate).
+// A slab case with more sampling bins than kProbeBins is set up with kProbeBins first (plugins
+// may allocate per bin), its estimate scaled to its bins, and set up for real only if it fits.
+inline constexpr std::size_t kProbeBins = 4096;
 MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgress& progress = {});
 
 }  // namespace gdsmc::host

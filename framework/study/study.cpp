@@ -15,6 +15,7 @@
 #include "study/ranks.hpp"
 #include "study/run_results.hpp"
 #include "study/summary.hpp"
+#include "util/text.hpp"
 
 namespace gdsmc::host {
 
@@ -130,6 +131,34 @@ void execute(const StudyCase& sc, Run& run, const std::function<void(const Progr
   r.diagnostics = engine.diagnostics();
 }
 
+// The estimate took the steps of a stop at s from about one collision per particle per tau0 at T0;
+// a gas that cools at a fixed run.time_step takes many more (an HCS to s = 40: 16205 steps, not
+// 2000), and every step's records are kept. Once the first run of a case has finished, what it
+// keeps is known: if the case's other runs and its average would not fit in the memory left, the
+// study stops now, with the figures, instead of running out of memory after computing.
+void check_case_memory(const StudyCase& sc, const Run& run, std::uint32_t runs_left) {
+  const Pipeline& p = sc.pipeline;
+  const double kept = diagnostics_bytes(run.results.diagnostics);
+  // The runs still to finish keep as much each, the average its mean and standard errors, and
+  // output.realizations a copy of every run's records.
+  const double copies = runs_left + (p.realizations > 1 ? 2.0 : 0.0) + (p.output_realizations ? p.realizations : 0);
+  const double need = copies * kept;
+  const MemoryAvailable available = available_memory();
+  if (need <= available.bytes) return;
+  const double estimated_steps = case_memory(p, RunLayout{}).steps;
+  std::string message = "memory: " + (run.label.empty() ? std::string("the first run") : "run '" + run.label + "'");
+  message += fmt(" took %llu steps", static_cast<unsigned long long>(run.results.steps));
+  if (estimated_steps > 0) message += fmt(" (the estimate assumed about %.0f)", estimated_steps);
+  message += " and keeps " + bytes_text(kept) + " of diagnostics' records; the case's " + std::to_string(runs_left) +
+             " runs left and its average would keep about " + bytes_text(need) + " more, but " +
+             bytes_text(available.bytes) + " is available (" + available.source +
+             "); stopped now rather than run out of memory after computing: record less often (record_every), stop "
+             "sooner (run.stop), run fewer realizations, or let the step follow the temperature "
+             "(run.time_step.follow_temperature: true; a cooling gas at a fixed step takes ever more steps per "
+             "collision)";
+  throw std::runtime_error(message);
+}
+
 // What each run is expected to cost (particles x steps), to balance the runs over MPI ranks.
 std::vector<double> run_costs(const std::vector<StudyCase>& cases, const std::vector<Run>& runs) {
   std::vector<double> costs;
@@ -220,12 +249,19 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
   const std::uint32_t workers = study_threads(cases, mine.size());
   const std::uint32_t per_run = threads_per_run(cases, mine.size());
   std::mutex mutex;
+  std::vector<char> measured(cases.size(), 0);  // whether a finished run of the case was measured
   auto finish = [&](std::size_t index) {
     const std::size_t ci = runs[index].case_index;
+    std::uint32_t runs_left;
+    bool first;
     {
       std::lock_guard<std::mutex> lock(mutex);
-      if (--left[ci] > 0) return;
+      runs_left = --left[ci];
+      first = !measured[ci];
+      measured[ci] = 1;
     }
+    if (first) check_case_memory(cases[ci], runs[index], runs_left);
+    if (runs_left > 0) return;
     std::vector<Run*> case_runs;
     for (std::uint32_t r = 0; r < cases[ci].pipeline.realizations; ++r) case_runs.push_back(&runs[first_run[ci] + r]);
     gathered[ci] = gather_case(cases[ci], case_runs, case_summaries[ci]);
