@@ -316,3 +316,10 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(EnskogShearViscosity)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A dense, uniformly sheared Enskog gas (the forcing publishes the shear rate).
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
+    "collision: {plugin: enskog_hard_spheres, alpha: 0.8}\n"
+    "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]")

@@ -414,3 +414,8 @@ class HeatFlux final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(HeatFlux)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// The heat-flux forcing it reads, with the thermostat that keeps the state steady.
+GDSMC_CONFORMANCE_CONTEXT(
+    "forcings: [{plugin: heat_flux_force, epsilon_star: 0.025}, energy_momentum_thermostat]")

@@ -658,3 +658,10 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(PoiseuilleChannel)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A channel: a slab of 12 layers (its wall-gradient fits) between diffuse walls, driven along x.
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 12}\n"
+    "forcings: [{plugin: body_acceleration, acceleration: 0.5}]\n"
+    "boundaries: {y: diffuse_wall}")

@@ -107,3 +107,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(ShearRheology)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A uniformly sheared gas (the forcing publishes the shear rate).
+GDSMC_CONFORMANCE_CONTEXT(
+    "forcings: [{plugin: uniform_shear, shear_rate: 0.1}]")
