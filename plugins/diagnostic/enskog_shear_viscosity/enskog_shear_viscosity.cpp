@@ -129,6 +129,8 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
   };
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
+    // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
+    out.attribute("stationary", "all");
     const double* a = board.find("shear_rate");
     if (!a || *a == 0)
       throw gdsmc::ParameterError("plugin", "enskog_shear_viscosity needs a non-zero 'shear_rate' (the uniform_shear forcing)");

@@ -198,6 +198,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
         wall_bins_(static_cast<std::size_t>(p.integer("wall_fit_bins"))) {}
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& quantities, gdsmc::OutputSink& out) override {
+    // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
+    out.attribute("stationary", "all");
     if (sys.geometry != gdsmc::Geometry::slab)
       throw std::runtime_error("poiseuille_channel: needs a slab system (system.domain: slab) between two walls");
     sys_ = sys;
