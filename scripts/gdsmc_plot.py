@@ -7,15 +7,20 @@ Reads the layout of docs/output-format.md and draws, for each diagnostic group
 (/diagnostics/<name>, or /cases/<k>/diagnostics/<name> in a sweep):
   - time series against t/tau0 and against s (collisions per particle), with the band of one
     standard error over realizations where <series>_stderr exists, each realization's own series
-    as thin lines (output.realizations), and the steady mean with its error over its window;
-  - profiles [records, bins] against y (bin_centre): a few records and the steady profile;
+    as thin lines (output.realizations), and the steady mean with its error over its window for
+    the series the diagnostic declares stationary (its group's attribute `stationary`: names
+    separated by commas, or "all"); a logarithmic y axis where the positive values of a figure
+    span two decades or more (Haff's law);
+  - profiles [records, bins] against y (bin_centre): a few records and, where declared
+    stationary, the steady profile;
   - histograms {edges, values} as steps, with their _stderr companion as error bars;
   - other arrays (1-D against the index, 2-D as an image); the scalars of a group as a table;
   - a sweep's /summary: every quantity against the swept parameter(s), with its error.
 Theory written by a diagnostic (names with a token theory, sonine, haff, bgk, local_equilibrium
 or maxwellian, e.g. temperature_haff, a2_sonine, theory_kappa_over_kappa0, bgk_eta_star) is drawn
 as lines on the figure of the measured quantity of the same name without that token.
-Axis labels carry each dataset's `unit` attribute. Prints the path of each file written.
+Axis labels carry each dataset's `unit` attribute. Prints the path of each file written; each
+PNG's Description text says "y axis: log|linear; steady means: NAMES|none".
 Needs the Debian packages python3-h5py, python3-numpy and python3-matplotlib (Agg backend).
 """
 import argparse
@@ -113,10 +118,12 @@ class Writer:
         self.out_dir = out_dir
         self.count = 0
 
-    def save(self, fig, name):
+    def save(self, fig, name, description=""):
+        """Writes the figure; `description` (its axes' scales, the steady means drawn) goes into the
+        PNG's Description text, so that what a figure shows can be read without looking at it."""
         os.makedirs(self.out_dir, exist_ok=True)
         path = os.path.join(self.out_dir, file_part(name) + ".png")
-        fig.savefig(path, dpi=100)
+        fig.savefig(path, dpi=100, metadata={"Description": description} if description else None)
         plt.close(fig)
         print(path, flush=True)
         self.count += 1
@@ -133,6 +140,12 @@ class Group:
         self.time = g["time"][()] if "time" in g else None
         self.s = g["collisions_per_particle"][()] if "collisions_per_particle" in g else None
         records = None if self.time is None else len(self.time)
+        # The series and profiles the diagnostic declares stationary (its group's attribute
+        # `stationary`: names separated by commas, or "all"): only theirs get a steady-mean line.
+        declared = attr(g, "stationary")
+        declared = declared.decode() if isinstance(declared, bytes) else str(declared)
+        self.all_stationary = declared.strip() == "all"
+        self.stationary = {n.strip() for n in declared.split(",") if n.strip()}
         self.series, self.profiles, self.arrays, self.scalars, self.histograms = [], [], [], [], []
         for name, obj in g.items():
             if name in ("time", "collisions_per_particle", "bin_centre", "realizations"):
@@ -157,6 +170,9 @@ class Group:
         return e[()] if isinstance(e, h5py.Dataset) else None
 
     def steady(self, name):
+        """(mean, stderr, description) of a series the diagnostic declares stationary, else None."""
+        if not (self.all_stationary or name in self.stationary):
+            return None
         m, e = self.g.get(name + ".steady_mean"), self.g.get(name + ".steady_stderr")
         if m is None:
             return None
@@ -187,6 +203,19 @@ def by_base(names, scalars=()):
     return groups
 
 
+LOG_DECADES = 2.0  # a series spanning at least this many decades gets a logarithmic axis
+
+
+def spans_decades(arrays):
+    """Whether the finite values of `arrays` are all positive and span LOG_DECADES decades or more."""
+    values = [np.asarray(a, dtype=float).ravel() for a in arrays]
+    values = np.concatenate(values) if values else np.array([])
+    values = values[np.isfinite(values)]
+    if values.size < 2 or np.any(values <= 0):
+        return False
+    return np.log10(values.max() / values.min()) >= LOG_DECADES
+
+
 def plot_series(grp, title, prefix, w):
     groups = by_base(grp.series, grp.scalars)
     panels = [("t", grp.time, attr(grp.g["time"], "unit"))]
@@ -197,6 +226,8 @@ def plot_series(grp, title, prefix, w):
         fig, axes = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4.2), sharey=True, squeeze=False)
         axes = axes[0]
         unit_of = grp.g[(measured or theory)[0]]
+        log_y = spans_decades([grp.g[n][()] for n in measured + theory])
+        drawn = []
         for ax, (xname, x, xunit) in zip(axes, panels):
             for n in measured:
                 y = grp.g[n][()]
@@ -220,6 +251,8 @@ def plot_series(grp, title, prefix, w):
                         inside = np.nonzero(other >= w0[1])[0]
                         lo = x[inside[0]] if len(inside) else x[-1]
                     ax.hlines(mean, lo, x[-1], colors="k", lw=1.0, label="%s steady mean" % n)
+                    if n not in drawn:
+                        drawn.append(n)
                     if np.isfinite(err):
                         ax.fill_between([lo, x[-1]], mean - err, mean + err, color="k", alpha=0.15, lw=0)
             for n in theory:
@@ -228,12 +261,15 @@ def plot_series(grp, title, prefix, w):
                 ax.axhline(float(grp.g[n][()]), ls=":", lw=1.4, color="C3", label=n)
                 used_scalars.add(n)
             ax.set_xlabel("t [%s]" % pretty_unit(xunit) if xname == "t" else "s (collisions per particle)")
-            ax.grid(alpha=0.3)
+            if log_y:
+                ax.set_yscale("log")
+            ax.grid(alpha=0.3, which="both" if log_y else "major")
         axes[0].set_ylabel(label(base, unit_of))
         axes[0].legend(fontsize=7, loc="best")
         fig.suptitle("%s: %s" % (title, base), fontsize=10)
         fig.tight_layout()
-        w.save(fig, "%s%s" % (prefix, base))
+        w.save(fig, "%s%s" % (prefix, base), "y axis: %s; steady means: %s" %
+               ("log" if log_y else "linear", ", ".join(drawn) if drawn else "none"))
     return used_scalars
 
 
@@ -263,7 +299,7 @@ def plot_profiles(grp, title, prefix, w):
         ax.legend(fontsize=7)
         ax.set_title("%s: %s (%s)" % (title, name, "band: 1 s.e. over realizations" if err is not None else "profile"), fontsize=10)
         fig.tight_layout()
-        w.save(fig, "%s%s" % (prefix, name))
+        w.save(fig, "%s%s" % (prefix, name), "y axis: linear; steady means: %s" % (name if st is not None else "none"))
 
 
 def plot_histograms(grp, title, prefix, w):

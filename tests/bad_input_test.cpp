@@ -2,6 +2,7 @@
 // that says where and what (file:line:column, the key, what would be valid), and no output file.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -232,7 +233,8 @@ TEST(BadInput, EveryErrorInASweepVariantCarriesFileLineColumn) {
       {"{colision.alpha: 0.5}", "colision: unknown key 'colision'; did you mean collision?"},
       {"{collision.alpha.x: 0.5}", "collision.alpha: parameter 'alpha' of plugin 'inelastic_hard_spheres'"},
       {"{boundaries.y: diffuse}", "boundaries: boundaries need a slab"},
-      {"{collision.alpah: 0.5}", "collision.alpah: plugin 'inelastic_hard_spheres' has no parameter 'alpah'"},
+      {"{collision.alpah: 0.5}", "collision.alpah: plugin 'inelastic_hard_spheres' ("},
+      {"{collision.alpah: 0.5}", ") has no parameter 'alpah'"},
   };
   for (const auto& [variant, message] : variants) {
     SCOPED_TRACE(variant);
@@ -246,6 +248,59 @@ TEST(BadInput, EveryErrorInASweepVariantCarriesFileLineColumn) {
     EXPECT_TRUE(contains(r.result.err, message)) << r.result.err;
     EXPECT_FALSE(contains(r.result.err, "error: " + r.file + ": ")) << "an error without line and column\n" << r.result.err;
   }
+}
+
+// Keys a sweep case cannot vary (output.*, sweep.*, plugins) were silently ignored inside a sweep
+// variant or as a value axis: every case wrote the study's one output file with the study's plugins.
+// They are refused at their file:line:column, saying why and what a sweep may vary.
+TEST(BadInput, KeysASweepCaseCannotVaryAreRefusedWhereTheyAre) {
+  const std::vector<std::pair<std::string, std::string>> sweeps = {
+      {"  model:\n    fine: {collision.alpha: 0.8}\n    typo: {output.file: other.h5}\n", "    typo: {output.file"},
+      {"  model:\n    fine: {collision.alpha: 0.8}\n    typo: {sweep.x: [1, 2]}\n", "    typo: {sweep.x"},
+      {"  model:\n    fine: {collision.alpha: 0.8}\n    typo: {plugins: [elsewhere]}\n", "    typo: {plugins"},
+      {"  output.file: [a.h5, b.h5]\n", "  output.file:"},
+  };
+  for (const auto& [sweep, at] : sweeps) {
+    SCOPED_TRACE(sweep);
+    const std::string yaml = replace_once(kGood, "output: {file: out.h5}\n", "sweep:\n" + sweep + "output: {file: out.h5}\n");
+    for (const char* command : {"run", "validate"}) {
+      const Refusal r = refuse(yaml, {}, command);
+      const std::string located = r.file + ":" + std::to_string(line_of(yaml, at)) + ":";
+      EXPECT_TRUE(contains(r.result.err, "error: " + located)) << r.result.err;
+      EXPECT_TRUE(contains(r.result.err, "cannot vary between sweep cases")) << r.result.err;
+    }
+  }
+}
+
+// Every unknown-plugin and parameter error names the library file it is about (a plugin shadowed
+// by another file of the same name shows at once), and an unknown plugin names the search path.
+TEST(BadInput, UnknownPluginAndParameterErrorsNameTheLibraryFile) {
+  const std::string ihs = "gdsmc_inelastic_hard_spheres.so)";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {replace_once(kGood, "alpha: 0.9}", "alpah: 0.9}"), ihs + " has no parameter 'alpah'"},
+      {replace_once(kGood, "alpha: 0.9}", "alpha: 1.2}"), ihs + "; valid: [0, 1]"},
+      {replace_once(kGood, "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}", "collision: temperature"),
+       "gdsmc_temperature.so) is a diagnostic plugin, but a collision plugin is needed here"},
+      {replace_once(kGood, "  - {plugin: temperature}", "  - {plugin: shear_rheology}"),
+       "plugin 'shear_rheology' (diagnostics[0], "},
+      {replace_once(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: no_such_rule}"),
+       "; searched: "},
+  };
+  for (const auto& [yaml, expected] : cases) {
+    SCOPED_TRACE(expected);
+    const Refusal r = refuse(yaml, {}, "validate");
+    EXPECT_TRUE(contains(r.result.err, expected)) << r.result.err;
+  }
+  // The begin() refusal of shear_rheology (no shear rate) names its library too.
+  const Refusal r = refuse(replace_once(kGood, "  - {plugin: temperature}", "  - {plugin: shear_rheology}"), {}, "validate");
+  EXPECT_TRUE(contains(r.result.err, ", library ")) << r.result.err;
+  EXPECT_TRUE(contains(r.result.err, "gdsmc_shear_rheology.so): ")) << r.result.err;
+  // The unknown plugin's message names the plugin directory it searched.
+  const Refusal u = refuse(replace_once(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: no_such_rule}"),
+                           {}, "validate");
+  const std::string dir = std::filesystem::path(GDSMC_TEST_PLUGIN_DIR).filename().string();
+  EXPECT_TRUE(contains(u.result.err, "; searched: ")) << u.result.err;
+  EXPECT_TRUE(contains(u.result.err.substr(u.result.err.find("; searched: ")), dir)) << u.result.err;
 }
 
 // Several mistakes at once are all reported (the user fixes them in one go).

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -51,59 +52,37 @@ fs::path temp_dir() {
   return d;
 }
 
-// Plugins that need more around them than the default filler plugins: the --context pipelines.
-// Slab-only plugins get a slab (system and boundaries); delta_shell needs a published shear rate.
-std::map<std::string, std::string> contexts() {
-  const std::string slab = "system: {density: 0.001, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 4}\n";
-  const std::string walls = slab + "boundaries: {y: diffuse_wall}\n";
-  return {{"shear_rheology", "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
-                             "forcings: [{plugin: uniform_shear, shear_rate: 0.5}]\n"},
-          // Enskog: a dense, sheared system (the rule needs the published shear rate; the
-          // diagnostic needs it too).
-          {"enskog_hard_spheres", "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
-                                  "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]\n"},
-          {"enskog_shear_viscosity", "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
-                                     "collision: {plugin: enskog_hard_spheres, alpha: 0.8}\n"
-                                     "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]\n"},
-          {"delta_shell", slab + "boundaries: {y: {plugin: lees_edwards, shear_rate: 1}}\n"},
-          {"profiles", walls},
-          {"slab_averages", walls},
-          {"wall_fluxes", walls},
-          // The Poiseuille channel: walls, 12 bins (its wall-gradient fits) and the acceleration.
-          {"poiseuille_channel", "system: {density: 0.001, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 12}\n"
-                                 "boundaries: {y: diffuse_wall}\nforcings: [{plugin: body_acceleration, acceleration: 0.5}]\n"},
-          // heat_flux reads the field heat_flux_force publishes.
-          {"heat_flux", "collision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
-                        "forcings: [{plugin: heat_flux_force, epsilon_star: 0.05}, energy_momentum_thermostat]\n"}};
-}
-
 }  // namespace
 
-TEST(Conformance, EveryPluginOfTheBuildConforms) {
+// Run bare, as a plugin author first would: every shipped plugin conforms, those that need more
+// than a homogeneous gas (a slab, a shear rate, a heat-flux forcing) in the context they ship
+// (GDSMC_CONFORMANCE_CONTEXT), and the runner says which context it used. The old runner had no
+// shipped contexts: 9 of them were NOT CONFORMING without --context.
+TEST(Conformance, EveryPluginOfTheBuildConformsBareInTheContextItShips) {
   const fs::path dir = GDSMC_TEST_PLUGIN_DIR;
-  const fs::path tmp = temp_dir();
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir))
     if (e.path().extension() == ".so") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   for (const char* needed : {"inelastic_hard_spheres", "maxwellian", "temperature"})
     EXPECT_TRUE(fs::exists(dir / ("gdsmc_" + std::string(needed) + ".so"))) << needed;
-  const auto ctx = contexts();
+  const std::set<std::string> shipping = {"delta_shell",       "enskog_hard_spheres", "enskog_shear_viscosity",
+                                          "heat_flux",         "poiseuille_channel",  "profiles",
+                                          "shear_rheology",    "slab_averages",       "wall_fluxes"};
+  std::size_t shipped = 0;
   for (const auto& f : files) {
     std::string name = f.stem().string();
     if (name.rfind("gdsmc_", 0) == 0) name = name.substr(6);
-    std::string args = "conformance '" + f.string() + "'";
-    if (auto it = ctx.find(name); it != ctx.end()) {
-      const fs::path c = tmp / (name + "-context.yaml");
-      std::ofstream(c) << it->second;
-      args += " --context '" + c.string() + "'";
-    }
-    const Outcome r = run(args);
+    const Outcome r = run("conformance '" + f.string() + "'");
     EXPECT_EQ(r.status, 0) << "plugin " << name << " does not conform:\n" << r.out;
     EXPECT_NE(r.out.find(": conforming"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("CRASH"), std::string::npos) << r.out;
+    const bool ships = r.out.find("context: shipped by the plugin (GDSMC_CONFORMANCE_CONTEXT): {") != std::string::npos;
+    EXPECT_EQ(ships, shipping.count(name) == 1) << name << ":\n" << r.out;
+    if (!ships) EXPECT_NE(r.out.find("context: the default: a homogeneous system"), std::string::npos) << r.out;
+    shipped += ships;
   }
-  fs::remove_all(tmp);
+  EXPECT_EQ(shipped, shipping.size());
 }
 
 struct BadPlugin {
@@ -248,6 +227,17 @@ TEST(Conformance, CommandLineOptions) {
   EXPECT_EQ(run("conformance '" + ihs + "' --only no_such_check").status, 2);
   EXPECT_EQ(run("conformance --help").status, 0);
   fs::remove_all(tmp);
+}
+
+// A rule that computes what collide() uses in begin() (its factor is NaN before): the parameter
+// sweeps must begin every rule they build, as a run does. The old sweeps called collide() on rules
+// whose begin() never ran and failed this sound rule with NaN velocities.
+TEST(Conformance, ParameterSweepsBeginEveryRuleTheyCollide) {
+  const Outcome r = run("conformance '" + test_plugin("conformance_begin_rule") +
+                        "' --only parameter_bounds,parameter_interior,collision.finite");
+  EXPECT_EQ(r.status, 0) << r.out;
+  for (const char* check : {"parameter_bounds", "parameter_interior", "collision.finite"})
+    EXPECT_EQ(line_of(r.out, check).rfind("PASS", 0), 0u) << check << ":\n" << r.out;
 }
 
 // The two wrong-loss rules are exactly the bugs a defaults-and-bounds check cannot see: every

@@ -121,6 +121,66 @@ TEST(Plot, SlabProfilesAndHistograms) {
   EXPECT_FALSE(has(files, "velocity_marginals-F_local_equilibrium.png")) << join(files);
 }
 
+// What a figure shows, from the Description text the plotter writes into its PNG.
+std::string description(const fs::path& png) {
+  const std::string bytes = read_text(png);
+  const std::string key = std::string("tEXtDescription") + '\0';
+  const std::size_t at = bytes.find(key);
+  if (at == std::string::npos || at < 4) return "";
+  std::size_t length = 0;  // the chunk's data length, big-endian, before its type
+  for (std::size_t k = at - 4; k < at; ++k) length = length * 256 + static_cast<unsigned char>(bytes[k]);
+  const std::size_t text = key.size() - 4;  // "Description" and its NUL
+  return length >= text ? bytes.substr(at + 4 + text, length - text) : "";
+}
+
+// A freely cooling gas: Haff's law takes T down more than two decades, so its figure has a
+// logarithmic y axis, and no steady-mean line is drawn for it although the run has an averaging
+// window (the temperature diagnostic does not declare it stationary); a sheared gas's rheology,
+// declared stationary by shear_rheology, keeps its steady means. The old plotter drew every
+// series on a linear axis and a steady mean for every series with a window.
+TEST(Plot, LogAxesForSeriesSpanningDecadesAndSteadyMeansOnlyWhereDeclared) {
+  TempDir dir;
+  const std::string hcs = R"(run:
+  seed: 3
+  particles: 400
+  time_step: {value: 0.05, unit: tau0, follow_temperature: true}
+  stop: {collisions_per_particle: 40}
+  average_after: {collisions_per_particle: 20}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.3}
+diagnostics: [temperature]
+output: {file: hcs.h5}
+)";
+  run_pipeline(dir, hcs, "hcs.h5");
+  plot(dir, {"hcs.h5", "--out", "hcs"});
+  EXPECT_EQ(description(dir / "hcs" / "temperature-temperature.png"), "y axis: log; steady means: none");
+
+  const std::string usf = R"(run:
+  seed: 3
+  particles: 400
+  time_step: {value: 0.01, unit: tau0, follow_temperature: true}
+  stop: {collisions_per_particle: 6}
+  average_after: {collisions_per_particle: 3}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+forcings: [{plugin: uniform_shear, shear_rate: 0.1}]
+diagnostics: [temperature, shear_rheology]
+output: {file: usf.h5}
+)";
+  run_pipeline(dir, usf, "usf.h5");
+  const std::vector<std::string> files = plot(dir, {"usf.h5", "--out", "usf"});
+  std::size_t with_means = 0;
+  for (const auto& f : files)
+    if (f.rfind("shear_rheology-", 0) == 0 && f != "shear_rheology-scalars.png") {
+      const std::string d = description(dir / "usf" / f);
+      with_means += d.find("steady means: ") != std::string::npos && d.find("steady means: none") == std::string::npos;
+    }
+  EXPECT_GT(with_means, 0u) << join(files);
+  EXPECT_NE(description(dir / "usf" / "temperature-temperature.png").find("steady means: none"), std::string::npos);
+}
+
 TEST(Plot, SweepSummaryAgainstTheSweptParameter) {
   TempDir dir;
   run_pipeline(dir, kSweep, "sweep.h5");

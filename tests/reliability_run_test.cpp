@@ -519,4 +519,32 @@ TEST(ReliabilityRun, ANonFiniteDeclaredEnergyIsNamed) {
   EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{});
 }
 
+// A forcing that writes a non-finite velocity while declaring a finite energy was caught only
+// through the temperature of the next moment update (every run.moments_every steps, and named only
+// as "one of the forcings"). The host now checks the velocities after every apply(): the run stops
+// at that very step naming the forcing, with or without diagnostics.
+TEST(ReliabilityRun, AForcingWritingANonFiniteVelocityIsNamedAtThatStep) {
+  for (const char* diagnostics : {"diagnostics: []\n", "diagnostics: [temperature]\n"})
+    for (const char* value : {"nan", "inf"}) {
+      SCOPED_TRACE(std::string(diagnostics) + value);
+      TempDir dir;
+      const auto file = dir.write(
+          "pipeline.yaml",
+          "run:\n  seed: 3\n  particles: 2000\n  time_step: {value: 0.02, unit: tau0}\n"
+          "  stop: {collisions_per_particle: 2}\n  moments_every: 1000\n"
+          "system: {density: 1.0e-3}\ninitial_state: maxwellian\n"
+          "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+          "forcings: [drag, {plugin: nan_forcing, step: 5, value: " + std::string(value) + "}]\n" +
+              diagnostics + "output: {file: out.h5}\n");
+      const ProcessResult r = run_gdsmc(
+          {"run", file.string(), "--quiet", "--plugin-path", gdsmc::test::test_plugin("nan_forcing").string()}, dir.path(), 60);
+      EXPECT_EQ(r.exit_code, 1) << r.describe();
+      EXPECT_TRUE(contains(r.err, "plugin 'nan_forcing' (forcings[1], " + file.string() + ":")) << r.describe();
+      EXPECT_TRUE(contains(r.err, std::string(" wrote a non-finite velocity (") + value + ", ")) << r.describe();
+      EXPECT_TRUE(contains(r.err, " in apply() at step 5 (t = ")) << r.describe();
+      EXPECT_FALSE(contains(r.err, "plugin 'drag'")) << r.describe();
+      EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{});
+    }
+}
+
 }  // namespace

@@ -20,6 +20,19 @@ const std::vector<std::string>& all_reserved_keys() { return reserved_keys(Plugi
 
 namespace {
 
+// "plugin 'NAME' (FILE)": the library a message is about, so that a plugin shadowed by another
+// file of the same name is seen at once.
+std::string plugin_ref(const std::string& name, const LoadedPlugin& lp) {
+  return "plugin '" + name + "' (" + lp.file.string() + ")";
+}
+
+// The plugin search path a lookup went through, as given.
+std::string searched_text(const PluginRegistry& r) {
+  std::vector<std::string> dirs;
+  for (const auto& d : r.searched()) dirs.push_back(d.string());
+  return dirs.empty() ? "nothing" : join(dirs, ", ");
+}
+
 // The plugin an entry names (a bare name or {plugin: NAME, ...}), of the right kind; `map` is set
 // to the entry when it is a mapping.
 const LoadedPlugin* resolve_plugin(Checker& c, const Pipeline& p, const YAML::Node& node, const std::string& path,
@@ -42,11 +55,11 @@ const LoadedPlugin* resolve_plugin(Checker& c, const Pipeline& p, const YAML::No
     c.error(path, node, "unknown " + std::string(to_string(kind)) + " plugin '" + name + "'" +
                             (close.empty() ? "" : "; did you mean " + join(close, ", ") + "?") +
                             " (installed " + to_string(kind) + " plugins: " + (all.empty() ? "none" : join(all, ", ")) +
-                            "; `gdsmc plugins` lists them)");
+                            "; searched: " + searched_text(*p.registry) + "; `gdsmc plugins` lists them)");
     return nullptr;
   }
   if (lp->descriptor->kind != kind) {
-    c.error(path, node, "plugin '" + name + "' is a " + to_string(lp->descriptor->kind) + " plugin, but a " +
+    c.error(path, node, plugin_ref(name, *lp) + " is a " + to_string(lp->descriptor->kind) + " plugin, but a " +
                             to_string(kind) + " plugin is needed here");
     return nullptr;
   }
@@ -79,7 +92,7 @@ bool check_entry_keys(Checker& c, const Pipeline& p, const YAML::Node& map, cons
       std::vector<std::string> names;
       for (const auto& s : schema) names.push_back(s.name);
       auto close = closest_names(key, names);
-      c.error(sub, it->first, "plugin '" + name + "' has no parameter '" + key + "'" +
+      c.error(sub, it->first, plugin_ref(name, *use.plugin) + " has no parameter '" + key + "'" +
                                   (close.empty() ? "" : "; did you mean " + join(close, ", ") + "?") +
                                   " (parameters: " + (names.empty() ? "none" : join(names, ", ")) + ")");
       ok = false;
@@ -149,7 +162,7 @@ bool convert_real(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::No
 bool convert_param(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
                    const std::string& name, PluginUse& use) {
   const SourceLocation at = c.where(sub, v);
-  const std::string who = "parameter '" + spec.name + "' of plugin '" + name + "'";
+  const std::string who = "parameter '" + spec.name + "' of " + plugin_ref(name, *use.plugin);
   switch (spec.type) {
     case ParamType::real:
       return convert_real(c, p, spec, v, sub, who, use);
@@ -195,7 +208,7 @@ bool convert_param(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::N
 bool default_param(Checker& c, const Pipeline& p, const ParamSpec& spec, const std::string& path,
                    const std::string& name, PluginUse& use) {
   if (!spec.default_) {
-    c.error(use.where, path, "plugin '" + name + "' needs parameter '" + spec.name + "' (" + spec.doc + ")");
+    c.error(use.where, path, plugin_ref(name, *use.plugin) + " needs parameter '" + spec.name + "' (" + spec.doc + ")");
     return false;
   }
   ParamValue dv = *spec.default_;
@@ -212,10 +225,10 @@ bool test_construct(Checker& c, const LoadedPlugin& lp, const std::string& path,
     (void)create_object(lp, use.params);
   } catch (const ParameterError& e) {
     const SourceLocation at = use.params.has(e.parameter()) ? use.params.entry(e.parameter()).where : use.where;
-    c.error(at, path + "." + e.parameter(), "plugin '" + name + "' refused parameter '" + e.parameter() + "': " + e.what());
+    c.error(at, path + "." + e.parameter(), plugin_ref(name, lp) + " refused parameter '" + e.parameter() + "': " + e.what());
     return false;
   } catch (const std::exception& e) {
-    c.error(use.where, path, "plugin '" + name + "' failed to construct: " + e.what());
+    c.error(use.where, path, plugin_ref(name, lp) + " failed to construct: " + e.what());
     return false;
   }
   return true;

@@ -17,7 +17,8 @@ namespace gdsmc::host {
 namespace fs = std::filesystem;
 
 std::string where_text(const PluginUse& use) {
-  return "plugin '" + use.plugin->descriptor->name + "' (" + use.path + ", " + use.where.str() + ")";
+  return "plugin '" + use.plugin->descriptor->name + "' (" + use.path + ", " + use.where.str() + ", library " +
+         use.plugin->file.string() + ")";
 }
 
 SystemInfo Pipeline::system_info(std::size_t n, std::uint32_t realization) const {

@@ -30,7 +30,8 @@ struct PluginUse {
   std::uint64_t record_every = 1;  // diagnostics only (steps)
 };
 
-// "plugin 'NAME' (PATH, FILE:LINE)": how an error names the pipeline entry it is about.
+// "plugin 'NAME' (PATH, FILE:LINE:COLUMN, library LIBRARY.so)": how an error names the pipeline entry
+// it is about and the library file that made it (a plugin shadowed by another file shows at once).
 std::string where_text(const PluginUse& use);
 
 // One axis of a parameter sweep: a list of values, each a set of overrides (key.path=value).

@@ -245,22 +245,19 @@ std::string pair_failure(const PairReport& r) {
 
 constexpr std::size_t kRandomPairs = 20000;
 
-// A fresh rule built from its defaults, begun as in a run: after the context's plugins published
-// (e.g. a shear rate), on the system of a 16-particle test pipeline.
-struct BegunRule {
-  std::shared_ptr<PluginObject> object;
-  SystemInfo system;
-  CollisionRule& rule() const { return *static_cast<CollisionRule*>(object.get()); }
-};
-BegunRule begun_rule(const Subject& s) {
-  const auto p = load_test_pipeline(s, base_assignment(s), 16);
-  BegunRule r{create_object(*p->collision.plugin, p->collision.params), p->system_info(16, 0)};
+BegunRule begun_rule(const Pipeline& p) {
+  BegunRule r{create_object(*p.collision.plugin, p.collision.params), p.system_info(16, 0)};
   QuantityBoard board;
   r.object->publish(board);
-  for (const auto& f : p->forcings) create_object(*f.plugin, f.params)->publish(board);
+  for (const auto& f : p.forcings) create_object(*f.plugin, f.params)->publish(board);
+  for (std::size_t b = 0; b < p.boundaries.size(); ++b)  // a slab context's (Lees-Edwards publishes 'shear_rate')
+    if (b == 0 || p.boundaries[b].plugin != p.boundaries[0].plugin)
+      create_object(*p.boundaries[b].plugin, p.boundaries[b].params)->publish(board);
   r.rule().begin(r.system, board);
   return r;
 }
+
+BegunRule begun_rule(const Subject& s) { return begun_rule(*load_test_pipeline(s, base_assignment(s), 16)); }
 
 // The pair suite on a fresh rule (each collision.* check reads one property); pair_suite binds it
 // to its own particles.

@@ -206,11 +206,19 @@ std::optional<Result> sweep(const Subject& s, const std::vector<Variant>& varian
       return fail("with " + v.label + ", inside the declared range, the plugin failed instead of constructing or "
                   "refusing the value with a ParameterError: " + m);
     }
-    ++built;
     if (s.kind() == PluginKind::collision_rule) {
-      auto obj = create_object(*p->collision.plugin, p->collision.params);
-      const std::string f = pair_failure(pair_suite(*static_cast<CollisionRule*>(obj.get()), obj->attributes(), s.cfg.seed, 2000));
+      std::optional<BegunRule> r;
+      try {
+        r = begun_rule(*p);  // begun as in a run: a rule may compute what collide() uses there
+      } catch (const ParameterError&) {
+        ++refused;  // a refusal in begin() (a value that does not fit the context) is allowed
+        continue;
+      }
+      ++built;
+      const std::string f = pair_failure(pair_suite(r->rule(), r->object->attributes(), s.cfg.seed, 2000));
       if (!f.empty()) return fail("with " + v.label + ": " + f);
+    } else {
+      ++built;
     }
   }
   return std::nullopt;

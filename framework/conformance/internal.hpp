@@ -145,6 +145,16 @@ Vec3 gaussian(Rng& rng, double scale);
 // energy change. An empty `tally`: none.
 double collide_with_direction(const CollisionRule& rule, const ParticleSpan& p, std::uint32_t i, std::uint32_t j,
                               const Vec3& s, double sigma, Rng& rng, std::vector<double>& tally);
+// A fresh collision rule, begun as in a run: after the pipeline's other plugins published (e.g. a
+// shear rate), on the system of a 16-particle pipeline. Every check that calls a rule begins it.
+struct BegunRule {
+  std::shared_ptr<PluginObject> object;
+  SystemInfo system;
+  CollisionRule& rule() const { return *static_cast<CollisionRule*>(object.get()); }
+};
+BegunRule begun_rule(const Pipeline& p);  // the rule of p's collision slot
+BegunRule begun_rule(const Subject& s);   // the subject with its base assignment
+
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
                       std::size_t random_pairs);
 std::string pair_failure(const PairReport& r);

@@ -181,6 +181,57 @@ int parse_config(int argc, char** argv, Config& cfg) {
   return -1;
 }
 
+// The entries of a context pipeline (--context, or the one the plugin ships) that surround the
+// plugin; a relative plugins: directory is taken from `base`.
+void take_context(const YAML::Node& n, const fs::path& base, Subject& s) {
+  if (n["initial_state"]) s.context_initial = yaml_text(n["initial_state"]);
+  if (n["collision"]) s.context_collision = yaml_text(n["collision"]);
+  if (n["system"]) s.context_system = yaml_text(n["system"]);
+  if (n["boundaries"]) s.context_boundaries = yaml_text(n["boundaries"]);
+  if (const YAML::Node f = n["forcings"]; f && f.IsSequence())
+    for (const auto& e : f) s.context_forcings.push_back(yaml_text(e));
+  if (const YAML::Node pl = n["plugins"]; pl && pl.IsSequence())
+    for (const auto& e : pl) {
+      fs::path d = e.Scalar();
+      if (d.is_relative()) d = base / d;
+      s.context_paths.push_back(d);
+    }
+}
+
+// Without --context, the context the plugin ships (GDSMC_CONFORMANCE_CONTEXT), if any. Prints the
+// context the checks use; returns a failure when the shipped one cannot be read.
+Result choose_context(Subject& s) {
+  std::string chosen;
+  Result r = pass("");
+  if (s.cfg.context_file) {
+    chosen = "--context " + s.cfg.context_file->string();
+  } else if (s.loaded && s.loaded->library->has(conformance_context_symbol)) {
+    const char* text = nullptr;
+    try {
+      text = s.loaded->library->template get_alias<const char*()>(conformance_context_symbol)();
+      const YAML::Node n = YAML::Load(text ? text : "");
+      if (!n.IsMap()) throw std::runtime_error("expected a mapping of pipeline entries (system, forcings, ...)");
+      for (auto it = n.begin(); it != n.end(); ++it) {
+        static const std::set<std::string> keys = {"system", "initial_state", "collision", "forcings", "boundaries", "plugins"};
+        if (!keys.count(it->first.Scalar()))
+          throw std::runtime_error("'" + it->first.Scalar() + "' is not a context entry (valid: system, initial_state, "
+                                   "collision, forcings, boundaries, plugins)");
+      }
+      take_context(n, s.file.parent_path(), s);
+      chosen = "shipped by the plugin (GDSMC_CONFORMANCE_CONTEXT): " + yaml_text(n);
+    } catch (const std::exception& e) {
+      r = fail(std::string("plugin '") + s.desc().name + "': its GDSMC_CONFORMANCE_CONTEXT cannot be used: " + e.what() +
+               "; the checks run in the default context");
+      chosen = "the default (the shipped one is refused)";
+    }
+  } else {
+    chosen = "the default: a homogeneous system (a boundary: a slab between two of its planes), the other slots "
+             "filled from the plugin search path (maxwellian, inelastic_hard_spheres)";
+  }
+  std::printf("gdsmc conformance: context: %s\n", chosen.c_str());
+  return r;
+}
+
 // --params and --context. Returns -1 to go on, else the exit status of a usage error.
 int read_inputs(const Config& cfg, Subject& s, std::vector<Assignment>& param_sets) {
   // Parameters and context are read up front: a mistake there is the user's, not the plugin's.
@@ -201,18 +252,7 @@ int read_inputs(const Config& cfg, Subject& s, std::vector<Assignment>& param_se
     if (cfg.context_file) {
       const YAML::Node n = YAML::LoadFile(cfg.context_file->string());
       if (!n.IsMap()) return usage(cfg.context_file->string() + ": expected a pipeline");
-      if (n["initial_state"]) s.context_initial = yaml_text(n["initial_state"]);
-      if (n["collision"]) s.context_collision = yaml_text(n["collision"]);
-      if (n["system"]) s.context_system = yaml_text(n["system"]);
-      if (n["boundaries"]) s.context_boundaries = yaml_text(n["boundaries"]);
-      if (const YAML::Node f = n["forcings"]; f && f.IsSequence())
-        for (const auto& e : f) s.context_forcings.push_back(yaml_text(e));
-      if (const YAML::Node pl = n["plugins"]; pl && pl.IsSequence())
-        for (const auto& e : pl) {
-          fs::path d = e.Scalar();
-          if (d.is_relative()) d = fs::absolute(*cfg.context_file).parent_path() / d;
-          s.context_paths.push_back(d);
-        }
+      take_context(n, fs::absolute(*cfg.context_file).parent_path(), s);
     }
   } catch (const YAML::Exception& e) {
     return usage(std::string("cannot read a YAML file: ") + e.what());
@@ -336,6 +376,10 @@ int run_conformance(int argc, char** argv) {
     if (!any) return usage("--only " + o + ": no such check for a " + to_string(s.kind()) + " plugin (--list lists them)");
   }
 
+  if (const Result r = choose_context(s); r.status != Status::pass) {
+    tally.print("context", r, label);
+    tally.count(r);
+  }
   char tmpl[] = "/tmp/gdsmc-conformance-XXXXXX";
   if (const char* t = ::mkdtemp(tmpl)) s.workdir = t;
   else return usage(std::string("cannot create a temporary directory: ") + std::strerror(errno));

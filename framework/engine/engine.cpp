@@ -578,6 +578,12 @@ void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>
                                fmt("%g", added) + ") from apply() at step " + std::to_string(ctx_.step) +
                                fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
                                ": the forcing produced invalid velocities");
+    if (const std::size_t i = first_non_finite_velocity(span); i < span.count)
+      throw std::runtime_error(where_text(pipeline_.forcings[index]) + " wrote a non-finite velocity" +
+                               fmt(" (%g, %g, %g) for particle %u", span.vx[i], span.vy[i], span.vz[i], span.id[i]) +
+                               " in apply() at step " + std::to_string(ctx_.step) +
+                               fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
+                               "; the run is stopped (a forcing must leave finite velocities)");
     // A forcing that multiplies the gas's thermal energy within one step (a shear rate of 1e6 /
     // tau0 at dt = 0.01 tau0: 3e7 times) makes every later step and diagnostic absurd (a theory
     // diagnostic then integrates its model for ever): refused with the number, one compare a step.
@@ -694,9 +700,9 @@ void Engine::collide(double dt) {
 
 // A non-finite velocity or energy found after a stage: named after the plugin that produced it.
 // The collision rule's velocities and declared energy are checked every step (collide), a
-// forcing's declared energy after every apply, a boundary's velocities at every hit (the mover);
-// the rest (a forcing that writes a non-finite velocity but declares a finite energy) shows in
-// the temperature of the moment update, every run.moments_every steps (run()).
+// forcing's declared energy and velocities after every apply, a boundary's velocities at every
+// hit (the mover); what is left (a plugin's save/load, the host itself) shows in the temperature
+// of the moment update, every run.moments_every steps (run()).
 void Engine::non_finite(const std::string& energy) const {
   const std::string at = fmt(" at step %llu (t = %.6g tau0", static_cast<unsigned long long>(ctx_.step),
                              ctx_.time_in_tau0()) +

@@ -11,6 +11,7 @@ namespace gdsmc::host {
 namespace fs = std::filesystem;
 
 void PluginRegistry::add(const fs::path& path) {
+  searched_.push_back(path);
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     // Every *.so entry, whatever it is (a directory, a broken link): each one that cannot be a

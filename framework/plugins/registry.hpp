@@ -34,6 +34,8 @@ class PluginRegistry {
   // Every plugin found, all of them loaded.
   const std::vector<LoadedPlugin>& plugins() const;
   const std::vector<std::string>& warnings() const { return warnings_; }
+  // The directories and files given to add(), in order (what a lookup searched).
+  const std::vector<std::filesystem::path>& searched() const { return searched_; }
 
  private:
   // Examine the files not seen before (one probe process for all of them) and keep the plugins.
@@ -44,6 +46,7 @@ class PluginRegistry {
   std::map<std::string, std::size_t> by_name_;
   std::vector<std::string> warnings_;
   std::vector<std::filesystem::path> seen_;
+  std::vector<std::filesystem::path> searched_;
 };
 
 }  // namespace gdsmc::host

@@ -138,3 +138,9 @@ struct EnskogHardSpheres {
 }  // namespace
 
 GDSMC_PLUGIN(EnskogHardSpheres)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A dense, uniformly sheared gas (sheared: true, the default, reads the shear rate).
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
+    "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]")

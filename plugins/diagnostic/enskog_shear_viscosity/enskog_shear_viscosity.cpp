@@ -129,6 +129,8 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
   };
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
+    // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
+    out.attribute("stationary", "all");
     const double* a = board.find("shear_rate");
     if (!a || *a == 0)
       throw gdsmc::ParameterError("plugin", "enskog_shear_viscosity needs a non-zero 'shear_rate' (the uniform_shear forcing)");
@@ -316,3 +318,10 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(EnskogShearViscosity)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A dense, uniformly sheared Enskog gas (the forcing publishes the shear rate).
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 0.4, sigma: 1, temperature: 1.0, domain: homogeneous}\n"
+    "collision: {plugin: enskog_hard_spheres, alpha: 0.8}\n"
+    "forcings: [{plugin: uniform_shear, shear_rate: 0.2}]")

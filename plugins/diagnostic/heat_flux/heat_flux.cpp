@@ -134,6 +134,8 @@ class HeatFlux final : public gdsmc::Diagnostic {
   enum Column { kQx, kConductivity, kB1F, kB2F, kB3F, kB1M, kB2M, kB3M, kColumns };
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
+    // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
+    out.attribute("stationary", "all");
     const double* eps = board.find("heat_flux_epsilon_star");
     if (!eps) throw gdsmc::ParameterError("plugin", "heat_flux needs a heat-flux forcing: add heat_flux_force to forcings");
     if (!(*eps > 0) || !std::isfinite(*eps))
@@ -414,3 +416,8 @@ class HeatFlux final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(HeatFlux)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// The heat-flux forcing it reads, with the thermostat that keeps the state steady.
+GDSMC_CONFORMANCE_CONTEXT(
+    "forcings: [{plugin: heat_flux_force, epsilon_star: 0.025}, energy_momentum_thermostat]")

@@ -198,6 +198,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
         wall_bins_(static_cast<std::size_t>(p.integer("wall_fit_bins"))) {}
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& quantities, gdsmc::OutputSink& out) override {
+    // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
+    out.attribute("stationary", "all");
     if (sys.geometry != gdsmc::Geometry::slab)
       throw std::runtime_error("poiseuille_channel: needs a slab system (system.domain: slab) between two walls");
     sys_ = sys;
@@ -658,3 +660,10 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(PoiseuilleChannel)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A channel: a slab of 12 layers (its wall-gradient fits) between diffuse walls, driven along x.
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 12}\n"
+    "forcings: [{plugin: body_acceleration, acceleration: 0.5}]\n"
+    "boundaries: {y: diffuse_wall}")

@@ -131,3 +131,9 @@ class Profiles final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(Profiles)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A slab between diffuse walls.
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 4}\n"
+    "boundaries: {y: diffuse_wall}")

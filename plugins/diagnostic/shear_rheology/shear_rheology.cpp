@@ -36,6 +36,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
 
   static constexpr int kColumns = 10;
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& board, gdsmc::OutputSink& out) override {
+    // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
+    out.attribute("stationary", "all");
     const double* a = board.find("shear_rate");
     if (!a)
       throw gdsmc::ParameterError("plugin", "shear_rheology needs a plugin that publishes 'shear_rate' (uniform_shear or lees_edwards)");
@@ -107,3 +109,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(ShearRheology)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A uniformly sheared gas (the forcing publishes the shear rate).
+GDSMC_CONFORMANCE_CONTEXT(
+    "forcings: [{plugin: uniform_shear, shear_rate: 0.1}]")

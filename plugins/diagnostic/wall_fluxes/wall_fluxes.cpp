@@ -136,3 +136,9 @@ class WallFluxes final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(WallFluxes)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A slab between diffuse walls.
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 4}\n"
+    "boundaries: {y: diffuse_wall}")

@@ -81,3 +81,9 @@ class DeltaShell final : public gdsmc::InitialState {
 }  // namespace
 
 GDSMC_PLUGIN(DeltaShell)
+
+// What `gdsmc conformance` runs it in when no --context is given.
+// A slab sheared by Lees-Edwards planes (which publish the shear rate).
+GDSMC_CONFORMANCE_CONTEXT(
+    "system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 4}\n"
+    "boundaries: {y: {plugin: lees_edwards, shear_rate: 0.1}}")

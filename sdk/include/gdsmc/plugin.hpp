@@ -324,6 +324,8 @@ struct PluginEntry {
 };
 inline constexpr std::uint32_t plugin_magic = 0x6764736du;  // "gdsm"
 inline constexpr const char* plugin_entry_symbol = "gdsmc_plugin_entry";
+// The optional symbol of GDSMC_CONFORMANCE_CONTEXT: a function returning the context's YAML text.
+inline constexpr const char* conformance_context_symbol = "gdsmc_conformance_context";
 
 template <class Rule>
 class CollisionRuleAdapter;  // collision.hpp
@@ -398,3 +400,17 @@ PluginDescriptor describe() {
   }                                                                                                \
   }                                                                                                \
   BOOST_DLL_ALIAS(gdsmc_plugin_entry_impl, gdsmc_plugin_entry)
+
+// Optional, beside GDSMC_PLUGIN: the pipeline entries `gdsmc conformance` places around this
+// plugin when it is checked without --context. TEXT is YAML with any of system, initial_state,
+// collision, forcings, boundaries and plugins (as in a pipeline; the plugins it names are looked
+// up on the plugin search path, a relative plugins: entry from the library's directory). For a
+// plugin that cannot be set up in the default homogeneous gas, e.g. one that needs a slab or a
+// plugin publishing 'shear_rate':
+//   GDSMC_CONFORMANCE_CONTEXT("forcings: [{plugin: uniform_shear, shear_rate: 0.1}]")
+// An optional exported symbol (SDK 6.0): hosts that do not read it load the plugin as before.
+#define GDSMC_CONFORMANCE_CONTEXT(TEXT)                                                            \
+  namespace {                                                                                      \
+  const char* gdsmc_conformance_context_impl() { return TEXT; }                                    \
+  }                                                                                                \
+  BOOST_DLL_ALIAS(gdsmc_conformance_context_impl, gdsmc_conformance_context)
