@@ -34,11 +34,6 @@ class WeightedLayer {
 
   double envelope() const { return envelope_; }  // E
   double bulk_bound() const { return low_; }      // B_0
-  std::uint32_t listed_count() const {
-    std::uint32_t n = 0;
-    for (const auto& l : list_) n += static_cast<std::uint32_t>(l.size());
-    return n;
-  }
   double peculiar_speed(double vx, double vy, double vz) const {
     const double dx = vx - u_[0], dy = vy - u_[1], dz = vz - u_[2];
     return std::sqrt(dx * dx + dy * dy + dz * dz);
