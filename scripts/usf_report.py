@@ -597,6 +597,7 @@ TRANSIENT_BANDS = (0.1, 0.05)
 ETA_SUMMARY = {}
 R_BANDS = {0: 0.05, 1: 0.05, 2: 0.1, 3: None}             # R_l within these of steady (R3: too noisy, see the text)
 ETA_S_MIN = 5.0                                         # start of the eta*_NS fits (the BGK check, below)
+ETA_S_SCAN = (3.0, 8.0, 12.0)                           # other starts of the window, to show the fits do not move
 ETA_LOW = 0.15                                          # the no-fit estimate: mean eta* over a* <= this                          # |T/T_s - 1| bands for the transient length
 ETA_FITS = (("a* ≤ 0.5, η*_NS + c₂a*²", 0.5, 1), ("a* ≤ a_s*, η*_NS + c₂a*² + c₄a*⁴", None, 2))
 MU_RANGES = ((1.5, 3.5), (2.0, 4.0), (2.5, 4.5))
@@ -988,7 +989,17 @@ def transient_section(C, paths, docdir, spliced=False):
             diffs.append(f"{m} {mu:.3f} against {p:g} ({100 * (mu / p - 1):+.1f} %"
                          + (f", {(mu - p) / e:+.1f} standard errors" if m != "BGK" and np.isfinite(e) and e > 0 else "")
                          + ")")
-    w(f"\nThe third row (all records from s = {ETA_S_MIN:g}, the whole branch): " + "; ".join(diffs) + ".\n")
+    scan = [(x, eta_ns(CX, both, x, ETA_FITS[1])[0]) for x in ETA_S_SCAN]
+    w(f"\nThe third row (all records from s = {ETA_S_MIN:g}, the whole branch): " + "; ".join(diffs) + ". The same "
+      "fit with the window starting elsewhere: " + "; ".join(
+          f"s ≥ {x:g}: IHS {fmt_me(*mean_sem(v.get('IHS', [])))}, EHS {fmt_me(*mean_sem(v.get('EHS', [])))}, "
+          f"BGK {fmt_me(*mean_sem(v.get('BGK', [])))}" for x, v in scan)
+      + ".")
+    ihs = [mean_sem(v.get("IHS", [])) for v, _ in res if v.get("IHS")] + [mean_sem(v.get("IHS", [])) for _, v in scan]
+    reach = max(m_ + 2 * e_ for m_, e_ in ihs if np.isfinite(m_) and np.isfinite(e_))
+    w(f"No window, fit or range of a* here brings IHS within two errors of 1.3 (the highest reaches {reach:.3f}): the "
+      "DSMC IHS gas's Navier-Stokes viscosity at α = 0.5 sits below the paper's theoretical value, an open finding.\n"
+      if reach < 1.3 else f"Within two errors some IHS estimate reaches {reach:.3f}, so 1.3 is not excluded.\n")
     ETA_SUMMARY.update({m: mean_sem(fits.get(m, [])) for m in ("IHS", "EHS", "BGK")})
     w(figure_eta_ns(CX, fits, ETA_S_MIN, docdir))
 
