@@ -1030,8 +1030,8 @@ def transient_section(C, paths, docdir, spliced=False):
         zmax = max(abs(r[2] - r[4]) / np.hypot(r[3], r[5]) for r in rates)
         d05 = [1 - 0.5 * (r[2] + r[4]) for r in rates if r[0] == 0.5]
         d09 = [1 - 0.5 * (r[2] + r[4]) for r in rates if r[0] == 0.9]
-        w(f"\nThe paper's three statements hold: every steady ratio is {'below 1 by more than two errors' if below else 'NOT below 1 in every case'}; "
-          f"the two shear rates give the same steady rate ratio within {zmax:.1f} combined errors; the deficit "
+        w(f"\nAgainst the paper's three statements: every steady ratio is {'below 1 by more than two errors' if below else 'NOT below 1 in every case'}; "
+          f"the two shear rates' steady rate ratios differ by at most {zmax:.1f} combined errors; the deficit "
           f"1 − ds/ds0 is {span(d05)} % at α = 0.5 against {span(d09)} % at α = 0.9. (s/s0 at s = 120 still carries the transient's "
           "share of the clock, hence its small shear-rate dependence.)\n")
     w(figure_6(C, docdir))
@@ -1139,7 +1139,7 @@ def transient_section(C, paths, docdir, spliced=False):
       "the reduced stresses peak sharply in it); R0..R3 relax in s ≈ 10 (α = 0.5, aτ⁰ = 4). It does not say how the "
       "end of a transient is read; here it is the first s after which the temperature (a 5-record running mean, "
       "records every 160 steps) stays within a band of the realization's own steady T_s, for two bands, and the "
-      "time t/τ⁰ at that s. The temperature relaxes last (the stresses reach their steady values earlier, Figs. 7-8).\n")
+      "time t/τ⁰ at that s.\n")
     b1, b2 = TRANSIENT_BANDS
     w(f"| α | model | aτ⁰ | s, T within {100 * b1:g} % | s, within {100 * b2:g} % | t/τ⁰, within {100 * b1:g} % | "
       f"t/τ⁰, within {100 * b2:g} % | paper s | paper t/τ⁰ |")
@@ -1166,8 +1166,8 @@ def transient_section(C, paths, docdir, spliced=False):
     rms, mx = max(n[0] for n in noise), max(n[1] for n in noise)
     w(f"\nIn the steady state T/T_s − 1 of single records scatters by up to {100 * rms:.1f} % rms and reaches "
       f"{100 * mx:.1f} % (N = 10^4; slow fluctuations, which the running mean hardly reduces), so a band much "
-      f"narrower than {100 * TRANSIENT_BANDS[1]:g} % would time the noise, not the relaxation; an error above 2 in the "
-      f"{100 * TRANSIENT_BANDS[1]:g} % column is one realization crossing its band late by such a fluctuation. "
+      f"narrower than {100 * TRANSIENT_BANDS[1]:g} % would time the noise, not the relaxation; the larger errors of the "
+      f"{100 * TRANSIENT_BANDS[1]:g} % columns come from single realizations leaving the band late on such a fluctuation. "
       + trend + "\n")
     peaks = [(m, al, mean_sem(tl[(m, al, 4.0)]["peak"]), np.mean(tl[(m, al, 4.0)]["dpeak"]))
              for al in (0.9, 0.5) for m in MODELS if (m, al, 4.0) in tl]
@@ -1189,7 +1189,8 @@ def transient_section(C, paths, docdir, spliced=False):
           "same reading with bands above the records' steady scatter: " + "; ".join(parts)
           + f". R2's records scatter by {100 * min(r2):.1f}-{100 * max(r2):.1f} % rms in the steady state, hence its "
           f"wider band; R3 cannot be timed this way: its records (the few particles above 3 v0) scatter by "
-          f"{100 * min(r3):.0f}-{100 * max(r3):.0f} % rms at N = 10^4, as much as its approach to steady after s ≈ 3.\n")
+          f"{100 * min(r3):.0f}-{100 * max(r3):.0f} % rms at N = 10^4, so a band above that scatter cannot resolve a "
+          "relaxation on the scale of s ≈ 10 (more particles or realizations would).\n")
     return out
 
 
