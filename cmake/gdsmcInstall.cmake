@@ -13,7 +13,8 @@
 #   <prefix>/share/doc/gdsmc/*.md                   the documentation, side by side so that their
 #                                                   relative links resolve: user-guide.md,
 #                                                   output-format.md, references.md,
-#                                                   plugin-author-guide.md, bgk-usf.md, validation/
+#                                                   plugin-author-guide.md, bgk-usf.md, cluster.md,
+#                                                   scaling.md, validation/
 #   <prefix>/share/doc/gdsmc/examples/              the SDK examples (one project per plugin kind)
 # so that an out-of-tree project needs only
 #   find_package(gdsmc CONFIG REQUIRED)
@@ -80,6 +81,10 @@ install(FILES ${PROJECT_BINARY_DIR}/gdsmcConfig.cmake ${PROJECT_BINARY_DIR}/gdsm
 # between them (plugin-author-guide.md -> user-guide.md, output-format.md, references.md; and
 # references.md -> bgk-usf.md, validation/) resolve in the installed tree as in docs/. Every one is
 # required: a missing document is a build-system error, not a silently incomplete installation.
+# An installed document names only what is installed: a repository path (scripts/, configs/,
+# tests/, docs/ not installed here, ...) says "in the source tree" in its paragraph, or the
+# document says "every path named in this document is in the source tree" in its first paragraph
+# (tests/cli_help_test.cpp, InstalledDocumentation.NamesOnlyWhatIsInstalledOrSaysItIsInTheSourceTree).
 set(GDSMC_INSTALLED_DOCS user-guide.md output-format.md references.md plugin-author-guide.md bgk-usf.md
                          cluster.md scaling.md)
 foreach(doc IN LISTS GDSMC_INSTALLED_DOCS)

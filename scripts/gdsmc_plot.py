@@ -3,7 +3,7 @@
 
     gdsmc plot OUTPUT.h5 [--out DIR]        (or: /usr/bin/python3 gdsmc_plot.py OUTPUT.h5 [--out DIR])
 
-Reads the layout of docs/output-format.md and draws, for each diagnostic group
+Reads the layout of output-format.md (installed in share/doc/gdsmc; docs/ in the source tree) and draws, for each diagnostic group
 (/diagnostics/<name>, or /cases/<k>/diagnostics/<name> in a sweep):
   - time series against t/tau0 and against s (collisions per particle), with the band of one
     standard error over realizations where <series>_stderr exists, each realization's own series

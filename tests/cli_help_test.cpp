@@ -7,7 +7,9 @@
 //
 // The help points to the documentation installed in <prefix>/share/doc/gdsmc: the last test
 // installs this build and checks that the documents are there together, that every relative link
-// between them resolves in the installed tree, and that there is an example project per plugin kind.
+// between them resolves in the installed tree, and that there is an example project per plugin kind;
+// and that every repository path an installed document names is installed or said to be in the
+// source tree (unmarked_references()).
 #include <unistd.h>
 
 #include <cctype>
@@ -89,6 +91,103 @@ std::vector<std::string> with_option(const std::string& command, const OptionSpe
   std::vector<std::string> args{command, name};
   if (!spec.needs.empty()) args.push_back("1");
   return args;
+}
+
+// The installed documents name only what is installed (issue 30). A document installed in
+// <prefix>/share/doc/gdsmc that names a repository path (scripts/, configs/, tests/, framework/,
+// plugins/, bench/, docs/, sdk/, cmake/; not after a '/', so build/plugins/..., lib/gdsmc/plugins/...
+// and the HDF5 group /plugins/<role> are not such paths) must either name something the
+// installation holds (at any depth: docs/X is share/doc/gdsmc/X, sdk/X is include/X or
+// share/doc/gdsmc/X) or say that it is in the source tree, with one of two fixed phrases:
+constexpr const char* kInSourceTree = "in the source tree";  // anywhere in the same paragraph
+// or, for a document about work done in the repository (a validation report), once for every
+// reference in the document, in its first paragraph after the title:
+constexpr const char* kWholeDocumentInSourceTree = "every path named in this document is in the source tree";
+// A paragraph ends at a blank line outside a code fence; each table row and each heading is a
+// paragraph of its own; a list or a fenced block directly under a line of text is in its paragraph.
+// The phrases are matched ignoring case and line breaks.
+
+std::string folded(const std::string& text) {  // lower case, every run of white space one space
+  std::string out;
+  for (const char c : text) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+    } else {
+      out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+  }
+  return out;
+}
+
+// Whether `reference` names a path of the installation (`installed`: every file and directory,
+// relative to the prefix): it, or what it becomes once installed, ends some installed path. A *
+// stands for any name, <...> for one name; the text from a { on is left out (a brace list).
+bool installed_path(std::string reference, const std::vector<std::string>& installed) {
+  while (reference.rfind("../", 0) == 0) reference.erase(0, 3);
+  for (const char* moved : {"docs/", "sdk/"})
+    if (reference.rfind(moved, 0) == 0) reference.erase(0, std::string(moved).size());
+  reference = reference.substr(0, reference.find('{'));
+  while (!reference.empty() && reference.back() == '/') reference.pop_back();
+  if (reference.empty()) return true;  // docs/ or sdk/ as a whole: installed
+  std::string pattern;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const char c = reference[i];
+    if (c == '*') {
+      pattern += "[^/]*";
+    } else if (c == '<' && reference.find('>', i) != std::string::npos) {
+      pattern += "[^/]+";
+      i = reference.find('>', i);
+    } else {
+      if (std::string("\\^$.|?+()[]{}").find(c) != std::string::npos) pattern += '\\';
+      pattern += c;
+    }
+  }
+  const std::regex path("(.*/)?" + pattern + "(/.*)?");
+  return std::any_of(installed.begin(), installed.end(), [&](const std::string& p) { return std::regex_match(p, path); });
+}
+
+// "LINE: REFERENCE" for every repository path of `text` that is neither installed nor marked.
+std::vector<std::string> unmarked_references(const std::string& text, const std::vector<std::string>& installed) {
+  struct Paragraph {
+    std::vector<std::pair<int, std::string>> lines;
+    std::string text;
+  };
+  std::vector<Paragraph> paragraphs;
+  {
+    std::istringstream in(text);
+    std::string line;
+    bool fenced = false, open = false;
+    for (int n = 1; std::getline(in, line); ++n) {
+      const bool blank = line.find_first_not_of(" \t\r") == std::string::npos;
+      const bool heading = !fenced && line.rfind("#", 0) == 0, row = !fenced && line.rfind("|", 0) == 0;
+      if (!fenced && (blank || heading || row)) open = false;
+      if (line.rfind("```", 0) == 0) fenced = !fenced;
+      if (blank && !fenced) continue;
+      if (!open) paragraphs.emplace_back();
+      open = !heading && !row;
+      paragraphs.back().lines.emplace_back(n, line);
+      paragraphs.back().text += line + "\n";
+    }
+  }
+  bool whole = false;  // the document-wide phrase in the first paragraph after the title
+  for (const Paragraph& p : paragraphs)
+    if (p.text.rfind("#", 0) != 0) {
+      whole = folded(p.text).find(kWholeDocumentInSourceTree) != std::string::npos;
+      break;
+    }
+  static const std::regex kReference(
+      R"re((?:^|[^A-Za-z0-9_./<>-])((?:\.\./)*(?:scripts|configs|tests|framework|plugins|bench|docs|sdk|cmake)/[A-Za-z0-9_./*<>{}+-]*))re");
+  std::vector<std::string> out;
+  for (const Paragraph& p : paragraphs) {
+    if (whole || folded(p.text).find(kInSourceTree) != std::string::npos) continue;
+    for (const auto& [n, line] : p.lines)
+      for (std::sregex_iterator it(line.begin(), line.end(), kReference), none; it != none; ++it) {
+        std::string reference = (*it)[1];
+        while (!reference.empty() && reference.back() == '.') reference.pop_back();
+        if (!installed_path(reference, installed)) out.push_back(std::to_string(n) + ": " + reference);
+      }
+  }
+  return out;
 }
 
 }  // namespace
@@ -206,4 +305,42 @@ TEST(InstalledDocumentation, IsWholeAndLinked) {
     for (const auto& f : fs::directory_iterator(project)) yaml = yaml || f.path().extension() == ".yaml";
     EXPECT_TRUE(yaml) << kind << ": " << name << " has no pipeline";
   }
+}
+
+// The installed documents name only what is installed, or say that a path is in the source tree
+// (the phrases and the rule: unmarked_references()). The checker is tried first on made-up text, so
+// that a rule that finds nothing cannot pass.
+TEST(InstalledDocumentation, NamesOnlyWhatIsInstalledOrSaysItIsInTheSourceTree) {
+  const std::vector<std::string> some = {"share", "share/gdsmc", "share/gdsmc/gdsmc_plot.py", "share/doc/gdsmc/validation",
+                                         "share/doc/gdsmc/validation/usf.md", "include/gdsmc/version.hpp"};
+  EXPECT_EQ(unmarked_references("# T\n\nRun `scripts/validate-usf` and `configs/hcs.yaml`.\n", some),
+            (std::vector<std::string>{"3: scripts/validate-usf", "3: configs/hcs.yaml"}));
+  EXPECT_EQ(unmarked_references("Text.\n\nIn the source\ntree: `scripts/validate-usf`.\n\n| a | tests/x_test.cpp |\n", some),
+            std::vector<std::string>{"6: tests/x_test.cpp"});
+  EXPECT_EQ(unmarked_references("Text, then a block:\n```\ngdsmc run configs/hcs.yaml  # in the source tree\n\n- x\n```\n", some),
+            std::vector<std::string>{});
+  EXPECT_EQ(unmarked_references("# T\n\nEvery path named in this document is in the source tree.\n\n`scripts/a`\n", some),
+            std::vector<std::string>{});
+  EXPECT_EQ(unmarked_references("`docs/validation/usf.md`, `sdk/include/gdsmc/version.hpp`, build/plugins/x.so, "
+                                "/plugins/<role>, `scripts/gdsmc_plot.py`\n",
+                                some),
+            std::vector<std::string>{"1: scripts/gdsmc_plot.py"});
+
+  TempDir dir;
+  const fs::path prefix = dir.path() / "prefix";
+  const ShellResult r = shell("cmake --install '" + std::string(GDSMC_BINARY_DIR) + "' --prefix '" + prefix.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::vector<std::string> installed;
+  for (const auto& e : fs::recursive_directory_iterator(prefix)) installed.push_back(e.path().lexically_relative(prefix).string());
+  const fs::path doc = prefix / "share/doc/gdsmc";
+  std::size_t documents = 0;
+  for (const auto& e : fs::recursive_directory_iterator(doc)) {
+    if (!e.is_regular_file() || e.path().extension() == ".png") continue;
+    ++documents;
+    for (const std::string& bad : unmarked_references(read_text(e.path()), installed))
+      ADD_FAILURE() << "share/doc/gdsmc/" << e.path().lexically_relative(doc).string() << ":" << bad
+                    << ", which the installation does not hold: name the installed path, or say that it is \""
+                    << kInSourceTree << "\" in its paragraph";
+  }
+  EXPECT_GE(documents, 15u);  // the documents, the validation reports and the examples' files
 }

@@ -135,7 +135,7 @@ std::string description(const fs::path& png) {
 
 // A freely cooling gas: Haff's law takes T down more than two decades, so its figure has a
 // logarithmic y axis, and no steady-mean line is drawn for it although the run has an averaging
-// window (the temperature diagnostic does not declare it stationary); a sheared gas's rheology,
+// window (the temperature diagnostic declares none of its series stationary); a sheared gas's rheology,
 // declared stationary by shear_rheology, keeps its steady means. The old plotter drew every
 // series on a linear axis and a steady mean for every series with a window.
 TEST(Plot, LogAxesForSeriesSpanningDecadesAndSteadyMeansOnlyWhereDeclared) {
@@ -179,6 +179,16 @@ output: {file: usf.h5}
     }
   EXPECT_GT(with_means, 0u) << join(files);
   EXPECT_NE(description(dir / "usf" / "temperature-temperature.png").find("steady means: none"), std::string::npos);
+  // The temperature diagnostic declares it, with an empty list, rather than leaving it out: T is
+  // steady in this USF but grows in the modified shear flow with the same shear_rate published, so
+  // nothing it reads tells it; shear_rheology, which measures a steady state, declares "all".
+  for (const char* file : {"hcs.h5", "usf.h5"}) {
+    const h5::File f(dir / file);
+    ASSERT_TRUE(h5::has_attribute(f.id(), "/diagnostics/temperature", "stationary")) << file;
+    EXPECT_EQ(h5::read_string_attribute(f.id(), "/diagnostics/temperature", "stationary"), "") << file;
+  }
+  const h5::File usf_file(dir / "usf.h5");
+  EXPECT_EQ(h5::read_string_attribute(usf_file.id(), "/diagnostics/shear_rheology", "stationary"), "all");
 }
 
 TEST(Plot, SweepSummaryAgainstTheSweptParameter) {

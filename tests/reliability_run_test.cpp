@@ -547,4 +547,33 @@ TEST(ReliabilityRun, AForcingWritingANonFiniteVelocityIsNamedAtThatStep) {
     }
 }
 
+// What the moment check says when every velocity was finite where the host checks it: a forcing
+// that sets every velocity to 0 (finite, declared energy 0) makes the temperature 0. The message
+// used to blame "one of the forcings" as if only the collision rule and the boundaries were
+// checked; it now says what the host checks (the collision rule's batches, every forcing's apply(),
+// every wall hit) and names the plugins that write velocities in this run.
+TEST(ReliabilityRun, ATemperatureOfZeroFromFiniteVelocitiesSaysWhatTheHostChecked) {
+  TempDir dir;
+  const auto file = dir.write(
+      "pipeline.yaml",
+      "run:\n  seed: 3\n  particles: 2000\n  time_step: {value: 0.02, unit: tau0}\n"
+      "  stop: {collisions_per_particle: 2}\n"
+      "system: {density: 1.0e-3}\ninitial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "forcings: [drag, {plugin: nan_forcing, step: 5, value: zero}]\n"
+      "diagnostics: []\noutput: {file: out.h5}\n");
+  const ProcessResult r = run_gdsmc(
+      {"run", file.string(), "--quiet", "--plugin-path", gdsmc::test::test_plugin("nan_forcing").string()}, dir.path(), 60);
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  EXPECT_TRUE(contains(r.err, "pipeline.yaml: the temperature became ")) << r.describe();  // 0 up to rounding
+  EXPECT_TRUE(contains(r.err, "so either finite velocities give this temperature (all equal: 0 up to rounding")) << r.describe();
+  EXPECT_TRUE(contains(r.err, "every velocity was finite where the host checks it (the collision rule's as they leave "
+                              "each batch, each forcing's after every apply(), each boundary's at every wall hit)"))
+      << r.describe();
+  for (const std::string who : {"plugin 'inelastic_hard_spheres' (collision, ", "plugin 'drag' (forcings[0], ",
+                                "plugin 'nan_forcing' (forcings[1], "})
+    EXPECT_TRUE(contains(r.err, who + file.string() + ":")) << who << "\n" << r.describe();
+  EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{});
+}
+
 }  // namespace

@@ -688,7 +688,7 @@ void Engine::collide(double dt) {
     non_finite(fmt("%g", t.energy_change));
   if (checked_collision_.handed_non_finite())
     throw std::runtime_error(now_text() + ": the collision stage found a non-finite velocity in storage: " +
-                             velocity_culprits());
+                             velocity_culprits(false));
   ctx_.collisions += t.accepted;
   ctx_.candidates += t.candidates;
   ctx_.majorant_exceeded += t.majorant_exceeded;
@@ -719,15 +719,25 @@ void Engine::non_finite(const std::string& energy) const {
                            ")" + at + "; the run is stopped (`gdsmc conformance` checks a rule's declared energy)");
 }
 
-// Who wrote a non-finite velocity the per-call checks did not see: the collision rule and the
-// boundaries are checked as they act, so a forcing (one that declared a finite energy) is left.
-std::string Engine::velocity_culprits() const {
-  const std::string checked = " (the collision rule and the boundaries, checked at every step, did not)";
-  if (pipeline_.forcings.size() == 1) return where_text(pipeline_.forcings[0]) + " produced invalid velocities" + checked;
-  if (pipeline_.forcings.empty()) return "a plugin produced invalid velocities";
-  std::string who = "one of the forcings produced invalid velocities" + checked + ": ";
-  for (std::size_t k = 0; k < pipeline_.forcings.size(); ++k) who += (k ? ", " : "") + where_text(pipeline_.forcings[k]);
-  return who;
+// What the checks as plugins act leave to the collision stage (a non-finite velocity handed to the
+// rule) and to the moment update (a temperature that is not positive and finite): the collision
+// rule's velocities are checked as they leave each batch, each forcing's energy and velocities after
+// every apply(), each boundary's velocities at every wall hit, the initial state's temperature once.
+std::string Engine::velocity_culprits(bool temperature) const {
+  std::string text =
+      "every velocity was finite where the host checks it (the collision rule's as they leave each batch, each "
+      "forcing's after every apply(), each boundary's at every wall hit), so ";
+  if (temperature) {
+    text += "either finite velocities give this temperature (all equal: 0 up to rounding; beyond about 1e154: an overflow), written by ";
+    std::vector<const PluginUse*> writers{&pipeline_.collision};
+    for (const auto& f : pipeline_.forcings) writers.push_back(&f);
+    for (std::size_t s = 0; s < pipeline_.boundaries.size() && s < 2; ++s) writers.push_back(&pipeline_.boundaries[s]);
+    for (std::size_t k = 0; k < writers.size(); ++k)
+      text += (k == 0 ? "" : k + 1 == writers.size() ? " or " : ", ") + where_text(*writers[k]);
+    text += ", or ";
+  }
+  return text + "a velocity was written outside those calls (by a plugin through its read-only span or a stray "
+                "pointer, or by the host itself)";
 }
 
 void Engine::sample_and_record(bool force_record) {
@@ -822,7 +832,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
       throw std::runtime_error("the temperature became " + fmt("%.6g", global_.temperature) + " at step " +
                                std::to_string(ctx_.step) + " (t = " + fmt("%.6g", ctx_.time_in_tau0()) +
                                " tau0; checked every run.moments_every = " + std::to_string(pipeline_.moments_every) +
-                               " steps): " + velocity_culprits());
+                               " steps): " + velocity_culprits(true));
     if (report) {
       const auto now = clock::now();
       if (std::chrono::duration<double>(now - last_report).count() >= interval) {

@@ -195,7 +195,9 @@ class Engine {
   std::array<GuardedBoundary, 2> guarded_boundaries_;
   // A non-finite velocity or energy: which plugin, or which could have, produced it.
   [[noreturn]] void non_finite(const std::string& what) const;
-  std::string velocity_culprits() const;
+  // What the host checked and what is left, for a bad velocity found after the plugins' calls: in
+  // storage (temperature = false) or as the temperature of the moment update (true).
+  std::string velocity_culprits(bool temperature) const;
   WorkPool pool_;
   SystemInfo system_;
   ParticleStore store_;

@@ -7,18 +7,28 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
       "the mean of all particles in a homogeneous system; in a slab the mean of the particle's layer,\n"
       "so that T is T-bar of Eq. (4.8). Read from the moments the host computes once per sample\n"
       "(ctx.moments). Series: temperature [T0], mean_velocity_x, mean_velocity_y, mean_velocity_z\n"
-      "[sqrt(2 T0 / m)] (the mean velocity of all particles). Each record is the mean of the samples taken since the previous record.";
+      "[sqrt(2 T0 / m)] (the mean velocity of all particles). Each record is the mean of the samples taken since the previous record.\n"
+      "None of its series is declared stationary (group attribute `stationary` = \"\", so `gdsmc plot` draws\n"
+      "no steady mean): whether T settles depends on the whole pipeline, not on anything this diagnostic\n"
+      "reads: T decays in the homogeneous cooling state (Haff's law), grows by viscous heating in the\n"
+      "modified shear flow of paper 002 (shear_rate published, anti_drag), and is steady in the uniform\n"
+      "shear flow (the same shear_rate published) or under a thermostat. The diagnostics of steady states\n"
+      "declare their own temperature series stationary (shear_rheology's temperature, poiseuille_channel's T);\n"
+      "temperature.steady_mean is written over run.average_after in any case.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Temperature(const gdsmc::Params&) {}
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
+    // Declared, not left out: no series is stationary as far as this diagnostic can know (see the
+    // documentation: a published shear_rate is a steady USF or the ever-heating flow of paper 002).
+    out.attribute("stationary", "");
     t0_ = sys.initial_temperature;
     v0_ = std::sqrt(2.0 * sys.initial_temperature / sys.mass);
     window_.declare(out, {{"temperature", "T0", "granular temperature T / T0 (000 Eq. 4.15)"},
