@@ -97,6 +97,10 @@ struct Pipeline {
   // run.pair_selection (slab layers, hard-sphere form): 0 = uniform, 1 = weighted, 2 = auto (the
   // default: weighted in a layer only where its uniform candidates would be many; CollisionStage).
   std::uint32_t pair_selection = 2;
+  // run.sampling: true = bracketed (the default: a diagnostic that offers BracketedSampling is
+  // sampled before and after the collision stage, so its means carry no O(dt) splitting bias),
+  // false = after_step (every diagnostic once, after the step: the rule before SDK 6.1).
+  bool sampling_bracketed = true;
   // Steady-state averages of every series over the records with s >= this (or t/tau0 >= this).
   std::optional<double> average_after_collisions_per_particle;
   std::optional<double> average_after_time_tau0;

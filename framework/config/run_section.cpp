@@ -289,7 +289,17 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
   } else {
     c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
                               "realizations", "average_after", "candidate_pairs", "pair_selection", "threads",
-                              "subpopulation", "checkpoint"});
+                              "subpopulation", "checkpoint", "sampling"});
+    if (const YAML::Node sm = run["sampling"]) {
+      if (sm.IsScalar() && sm.Scalar() == "bracketed") p.sampling_bracketed = true;
+      else if (sm.IsScalar() && sm.Scalar() == "after_step") p.sampling_bracketed = false;
+      else
+        c.error("run.sampling", sm,
+                "valid: bracketed (the default: a diagnostic that supports it samples the state before and after "
+                "the collision stage of each sampled step, so that stresses and fluxes carry no O(dt) bias from "
+                "sampling at one end of the splitting) or after_step (every diagnostic once, after the step's "
+                "collisions and forcings: the rule before SDK 6.1)");
+    }
     if (const YAML::Node cp = run["checkpoint"]) parse_checkpoint(c, cp, p);
     if (const YAML::Node cp = run["candidate_pairs"]) {
       if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;

@@ -431,9 +431,18 @@ void Engine::begin_diagnostics() {
     try {
       PluginCall call(*slot.site, "begin");
       slot.object->begin(system_, board_, outputs_.back());
+      PluginCall query(*slot.site, "extension");
+      // With the collisions as the only process (moments_follow_collisions_: the HCS) the state after
+      // the step is exact at t + dt and the one before it is the state at t: the sample is taken alone.
+      slot.bracketed = p.sampling_bracketed && !moments_follow_collisions_ &&
+                       slot.object->extension(bracketed_sampling_id) != nullptr;
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(*slot.use) + ": " + e.what());
     }
+    outputs_.back().attribute("sampling", slot.bracketed ? "bracketed: the state just before and just after the collision stage "
+                                                           "of each sampled step, at t + dt (run.sampling)"
+                                                         : "after_step: the state after each sampled step");
+    any_bracketed_ = any_bracketed_ || slot.bracketed;
   }
 }
 
@@ -516,8 +525,16 @@ void Engine::step() {
     lap(Stage::forcings);
   }
   stream(dt);
+  if (any_bracketed_) {
+    sample_bracketed(SamplePhase::before_collisions);
+    lap(Stage::diagnostics);
+  }
   collide(dt);
   lap(Stage::collisions);
+  if (any_bracketed_) {
+    sample_bracketed(SamplePhase::after_collisions);
+    lap(Stage::diagnostics);
+  }
   if (!forcings_after_.empty()) {
     apply_forcings(forcings_after_);
     lap(Stage::forcings);
@@ -740,6 +757,46 @@ std::string Engine::velocity_culprits(bool temperature) const {
                 "pointer, or by the host itself)";
 }
 
+// One side of the bracketed diagnostics' pair of samples around the collision stage, for those that
+// sample after this step: the clock reads t + dt, as it will after the step, and the moments are
+// those of the state now (measured afresh for the next use after the collisions).
+void Engine::sample_bracketed(SamplePhase phase) {
+  const std::uint64_t next = ctx_.step + 1;
+  if (std::none_of(slots_.begin(), slots_.end(), [&](const DiagnosticSlot& slot) { return slot.bracketed && slot.samples_at(next); }))
+    return;
+  const std::uint64_t step = ctx_.step;
+  const double time = ctx_.time;
+  ctx_.step = next;
+  ctx_.time += ctx_.dt;
+  measure_sampled_moments();
+  const ParticleSpan span = store_.span();
+  const double t = ctx_.time_in_tau0(), s = ctx_.collisions_per_particle();
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    DiagnosticSlot& slot = slots_[k];
+    if (!slot.bracketed || !slot.samples_at(next)) continue;
+    // The streams of the sample before the collisions are apart from those after (instance k).
+    const std::uint32_t instance = static_cast<std::uint32_t>(k) | (phase == SamplePhase::before_collisions ? 0x80000000u : 0u);
+    const Streams streams = streams_.streams(StreamPurpose::diagnostic, instance);
+    ctx_.moments = &sampled_;
+    ctx_.streams = &streams;
+    ctx_.sample_phase = phase;
+    {
+      PluginCall call(*slot.site, "sample");
+      slot.object->sample(ctx_, span);
+    }
+    ctx_.sample_phase = SamplePhase::after_step;
+    ctx_.moments = nullptr;
+    ctx_.streams = nullptr;
+    slot.time_sum += t;
+    slot.s_sum += s;
+    ++slot.samples;
+    slot.bracketed_step = next;
+  }
+  ctx_.step = step;
+  ctx_.time = time;
+  sampled_step_ = static_cast<std::uint64_t>(-1);  // the collisions and forcings still to come change the state
+}
+
 void Engine::sample_and_record(bool force_record) {
   const ParticleSpan span = store_.span();
   const double t = ctx_.time_in_tau0();
@@ -749,7 +806,9 @@ void Engine::sample_and_record(bool force_record) {
     DiagnosticSlot& slot = slots_[k];
     if (slot.last_record_step == ctx_.step) continue;
     const bool record = force_record || ctx_.step % slot.use->record_every == 0;
-    if (force_record || slot.samples_at(ctx_.step)) {
+    // A bracketed slot has taken its pair in this step; a forced record without one (the initial
+    // state, the end of a run) takes a lone sample.
+    if ((force_record || slot.samples_at(ctx_.step)) && slot.bracketed_step != ctx_.step) {
       if (!have_moments) {  // once per sampled step, shared by every diagnostic
         if (sampled_step_ != ctx_.step) measure_sampled_moments();
         have_moments = true;

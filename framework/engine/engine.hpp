@@ -140,6 +140,8 @@ class Engine {
     double time_sum = 0, s_sum = 0;
     std::uint64_t samples = 0;
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
+    bool bracketed = false;  // sampled on both sides of the collision stage (BracketedSampling, run.sampling)
+    std::uint64_t bracketed_step = static_cast<std::uint64_t>(-1);  // the step of its last bracketed pair
     // Whether it samples (or records) after step `step`, unless forced to record.
     bool samples_at(std::uint64_t step) const {
       return last_record_step != step && (step % use->record_every == 0 || step % use->sample_every == 0);
@@ -176,6 +178,8 @@ class Engine {
   void stream(double dt);
   void collide(double dt);
   void sample_and_record(bool force_record);
+  // The bracketed diagnostics' samples just before or just after the collision stage (SamplePhase).
+  void sample_bracketed(SamplePhase phase);
   void finish_energy_balance();
   Progress progress(double elapsed_seconds) const;
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
@@ -212,6 +216,7 @@ class Engine {
   // A homogeneous system without forcings: only collisions change velocities, so between passes
   // the mean stays and T follows their declared energy (update_moments).
   bool moments_follow_collisions_ = false;
+  bool any_bracketed_ = false;  // some diagnostic is sampled before the collision stage too
   double energy_at_update_ = 0;  // ctx.collision_energy_change at the last moment update
   std::vector<std::shared_ptr<PluginObject>> objects_;  // keeps every plugin object (and library) alive
   std::vector<const PluginUse*> object_uses_;           // what made each of objects_

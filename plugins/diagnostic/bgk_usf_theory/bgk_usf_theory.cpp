@@ -43,7 +43,7 @@ struct BgkSteady {
 class BgkUsfTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "bgk_usf_theory";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary =
       "BGK-like kinetic model of USF (refs. [4, 7] of paper 000): steady a*, stresses, a2, a3 and the transient";
   static constexpr const char* documentation =
@@ -235,6 +235,8 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
     for (int k = 0; k < kMeasured; ++k) measured_[k].load(in, "measured" + std::to_string(k));
   }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   static constexpr int kSeries = 9;
   static constexpr int kMeasured = 9;

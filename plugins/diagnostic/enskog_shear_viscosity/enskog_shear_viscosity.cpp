@@ -81,7 +81,7 @@ class PlateauFit {
 class EnskogShearViscosity final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "enskog_shear_viscosity";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Modified USF (002): kinetic + collisional P_ij, eta(t) = -P_xy/a, Kn(t), c(t)/c0, first-Sonine eta and the NS plateau";
   static constexpr const char* documentation =
@@ -292,6 +292,8 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
     }
   }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   static constexpr int kFitted = 4;
   static constexpr int kFittedColumns[kFitted] = {kEtaKRatio, kEtaRatio, kEtaK, kEta};

@@ -65,7 +65,7 @@ double sonine_prefactor(int k, double a) {
 class HeatFlux final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "heat_flux";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Heat-flux state of paper 001: q_x, kappa'/kappa0 (or kappa/kappa0), b_k (Eqs. 3.10, 3.12), g1, phi, beta1 and first-Sonine theory";
   static constexpr const char* documentation =
@@ -212,6 +212,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
     const double v0 = std::sqrt(2.0 * T);  // m = 1 (Eq. 2.11)
     const double scale = 1.0 / v0;
     const bool window = ctx.in_average_window;
+    const double wt = gdsmc::bracket_weight(ctx);  // 1/2 for each side of a bracketed step: counts stay one per particle a step
     const double* cell_u = sm.cell_mean_velocity;
     double s_c2cx = 0, s_full[3] = {0, 0, 0}, s_marg[3] = {0, 0, 0};
     double outside = 0, beta_out = 0, beta_six = 0;
@@ -231,13 +232,13 @@ class HeatFlux final : public gdsmc::Diagnostic {
         const double j = std::floor(std::fabs(cx) / width_);
         if (j < static_cast<double>(half_)) {
           const std::size_t jj = static_cast<std::size_t>(j);
-          counts_[cx >= 0 ? half_ + jj : half_ - 1 - jj] += 1.0;  // mirrored bins exactly (Eq. 3.15)
-          beta_bins_[jj] += w;
+          counts_[cx >= 0 ? half_ + jj : half_ - 1 - jj] += wt;  // mirrored bins exactly (Eq. 3.15)
+          beta_bins_[jj] += wt * w;
         } else {
-          outside += 1.0;
-          beta_out += w;
+          outside += wt;
+          beta_out += wt * w;
         }
-        if (x2 < 6.0) beta_six += w;
+        if (x2 < 6.0) beta_six += wt * w;
       }
     }
     const double N = static_cast<double>(p.count);
@@ -261,7 +262,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
       outside_ += outside;
       beta_outside_ += beta_out;
       beta_six_ += beta_six;
-      total_ += N;
+      total_ += wt * N;
       ++window_samples_;
     }
   }
@@ -393,6 +394,8 @@ class HeatFlux final : public gdsmc::Diagnostic {
     window_samples_ = static_cast<std::size_t>(count);
   }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   double c_max_;
   std::size_t bins_, half_ = 0;

@@ -7,7 +7,7 @@ namespace {
 class PressureTensor final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "pressure_tensor";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n T0) of the whole system";
   static constexpr const char* documentation =
       "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
@@ -45,6 +45,8 @@ class PressureTensor final : public gdsmc::Diagnostic {
   void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
   void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   gdsmc::WindowAverage window_;
   double t0_ = 1;

@@ -11,7 +11,7 @@ namespace {
 class RelativeSpeedCube final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "relative_speed_cube";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary = "<V12^3>/<V12^3>_0 from N_p random pairs (Eq. 4.20), i.e. zeta/zeta0 of IHS";
   static constexpr const char* documentation =
       "At each sample, N_p = `pairs` pairs i != j are drawn at random (with replacement) from the\n"
@@ -77,6 +77,8 @@ class RelativeSpeedCube final : public gdsmc::Diagnostic {
     a2_avg_.load(in, "a2_avg");
   }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   // Eq. (4.20) in a slab: the same estimator on the peculiar velocities V_i = v_i - u_I relative to
   // each particle's layer (ctx.cells: u_I as of the last moment update).

@@ -11,7 +11,7 @@ namespace {
 class ShearRheology final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "shear_rheology";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary = "USF rheology: a* = a tau_eta, -P_xy/nT, normal stress differences, eta*, Psi_1, Psi_2";
   static constexpr const char* documentation =
       "Uses the shear rate a published as 'shear_rate' (uniform_shear forcing, or a lees_edwards\n"
@@ -30,7 +30,9 @@ class ShearRheology final : public gdsmc::Diagnostic {
       "N2_over_nT = (P_zz-P_yy)/nT, eta_star, Psi1, Psi2, heating_rate, heating_rate_tau. After the run:\n"
       "<column>_mean and <column>_standard_error over the samples in the run's steady averaging window\n"
       "(run.average_after; ctx.in_average_window, no parameter of its own) (batch means), and a\n"
-      "summary line.";
+      "summary line. For an elastic gas (published restitution 1) also eta_star_chapman_enskog (1.016034\n"
+      "eta0 in this unit) and eta_star_thermostatted_bgk (times 1/(1+g)^2, g(1+g)^2 = 2a*^2/3: a gas held at\n"
+      "fixed T).";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit ShearRheology(const gdsmc::Params&) {}
 
@@ -42,6 +44,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
     if (!a)
       throw gdsmc::ParameterError("plugin", "shear_rheology needs a plugin that publishes 'shear_rate' (uniform_shear or lees_edwards)");
     a_ = *a;
+    const double* alpha = board.find("restitution");
+    restitution_ = alpha ? *alpha : std::nan("");
     lambda0_ = sys.mean_free_path0;
     tau0_ = sys.time_unit0;
     t0_ = sys.initial_temperature;
@@ -81,6 +85,16 @@ class ShearRheology final : public gdsmc::Diagnostic {
       out.scalar(names_[k] + "_standard_error", avg_[k].standard_error(), k == 0 ? "T0" : k == 8 ? "1/tau0" : "1",
                  "batch-means standard error of " + names_[k] + "_mean");
     }
+    if (restitution_ == 1.0) {
+      // The elastic gas's theory beside eta*: Chapman-Enskog at a* -> 0 in this eta*'s unit (tau_eta
+      // with 1.016), and with the O(a*^2) shear thinning of a thermostatted gas at the measured a*.
+      const double ce = gdsmc::chapman_enskog_viscosity_factor / 1.016;
+      out.scalar("eta_star_chapman_enskog", ce, "1",
+                 "Chapman-Enskog eta of elastic hard spheres (1.016034 eta0) in the unit of eta_star: the a* -> 0 limit");
+      out.scalar("eta_star_thermostatted_bgk", ce * gdsmc::thermostatted_shear_viscosity_ratio(avg_[1].mean()), "1",
+                 "eta_star_chapman_enskog times eta(a*)/eta(0) of a thermostatted elastic gas (Grad/BGK, "
+                 "1 - 4a*^2/3 + ...) at a_star_mean: the value for elastic USF at fixed T");
+    }
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "shear_rheology: in the averaging window (a tau0 = %g, %zu samples): a* = %.4f +- %.4f, -P_xy/nT = %.4f +- %.4f, "
@@ -99,8 +113,10 @@ class ShearRheology final : public gdsmc::Diagnostic {
     for (int k = 0; k < kColumns; ++k) avg_[k].load(in, "avg." + names_[k]);
   }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
-  double a_ = 0, lambda0_ = 1, tau0_ = 1, t0_ = 1;
+  double a_ = 0, lambda0_ = 1, tau0_ = 1, t0_ = 1, restitution_ = 0;
   std::vector<std::string> names_;
   gdsmc::WindowAverage window_;
   gdsmc::BatchMeans avg_[kColumns];

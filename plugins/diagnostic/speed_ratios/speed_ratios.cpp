@@ -12,7 +12,7 @@ namespace {
 class SpeedRatios final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "speed_ratios";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary = "R_0..R_3: speed-shell populations over local equilibrium (Eqs. 3.15, 4.19)";
   static constexpr const char* documentation =
       "R_l = [fraction of particles with W_l < V < W_{l+1}] / [P(C_{l+1}) - P(C_l)] (paper 000, Eq. 4.19),\n"
@@ -91,6 +91,8 @@ class SpeedRatios final : public gdsmc::Diagnostic {
     for (int l = 0; l < 4; ++l) avg_[l].load(in, "avg.R" + std::to_string(l));
   }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   double reference_[4];
   gdsmc::WindowAverage window_;

@@ -7,7 +7,7 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.4.0";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
@@ -44,6 +44,8 @@ class Temperature final : public gdsmc::Diagnostic {
   void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
   void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
+  // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
+  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
  private:
   gdsmc::WindowAverage window_;
   double t0_ = 1, v0_ = 1;

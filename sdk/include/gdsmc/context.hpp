@@ -157,6 +157,13 @@ class QuantityBoard {
   std::map<std::string, double> values_;
 };
 
+// Where in its step a Diagnostic::sample call sees the state (SDK 6.1; StepContext::sample_phase).
+enum class SamplePhase : std::uint32_t {
+  after_step = 0,         // after the step's collisions and forcings: a lone sample
+  before_collisions = 1,  // a bracketed pair (BracketedSampling, plugin.hpp), both at t + dt: the state
+  after_collisions = 2,   //   just before and just after the collision stage
+};
+
 // Read-only view of the current step, handed to every plugin call.
 struct StepContext {
   const SystemInfo* system = nullptr;
@@ -195,6 +202,11 @@ struct StepContext {
   const Streams* streams = nullptr;
   // Published model quantities (read-only during the run).
   const QuantityBoard* quantities = nullptr;
+  // [SDK 6.1] Diagnostic::sample only: which sample this is (after_step unless the diagnostic offers
+  // BracketedSampling). Before the collisions the event totals above (collisions, tallies, the
+  // ledger) hold the previous step's; after them, this step's collisions and wall hits but not the
+  // forcings that act after the collisions.
+  SamplePhase sample_phase = SamplePhase::after_step;
 
   // s(t): accepted collisions divided by the number of particles (000, text after Fig. 4); each
   // collision involves two particles, so the mean number of collisions a particle took part in

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -67,6 +68,31 @@ class GDSMC_API PluginObject {
   // the object lives.
   virtual const void* extension(const char* id) const { (void)id; return nullptr; }
 };
+
+// Extension "gdsmc.diagnostic.bracketed_sampling" (SDK 6.1). A diagnostic that offers it is sampled
+// twice on each of its sampled steps, both at t + dt: just before the collision stage
+// (StepContext::sample_phase = before_collisions) and just after it (after_collisions), instead of
+// once after the step. A moment that the flow or a force builds and the collisions relax (a shear
+// stress, a heat flux) is a sawtooth over the step; one sample sits at an end of a tooth, off by
+// O(dt) (-nu_eta dt / 2 in eta after the step), and the mean of the two sides of the collision jump
+// is the middle of the step, off by O(dt^2). A diagnostic adds both samples of what it computes from
+// the state (velocities, positions, ctx.moments) and takes what it derives from event totals per
+// unit time in one of them; sums whose statistics count one sample a step weigh each sample by
+// bracket_weight(ctx). It offers the extension with
+//   const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+// and the host uses it unless the pipeline says run.sampling: after_step, or nothing but the
+// collisions changes the velocities (a homogeneous system without forcings).
+inline constexpr const char bracketed_sampling_id[] = "gdsmc.diagnostic.bracketed_sampling";
+struct BracketedSampling {
+  std::uint32_t version = 1;
+};
+inline constexpr BracketedSampling bracketed_sampling{};
+inline const void* offer_bracketed_sampling(const char* id) {
+  return std::string_view(id) == bracketed_sampling_id ? &bracketed_sampling : nullptr;
+}
+// The weight of one sample in its step, for sums whose statistics count one sample a step
+// (histogram counts, particle samples): 1/2 for each sample of a bracketed pair, 1 for a lone one.
+inline double bracket_weight(const StepContext& ctx) { return ctx.sample_phase == SamplePhase::after_step ? 1.0 : 0.5; }
 
 // The form of a collision rule's kernel B(g, s) (rate per unit solid angle, in units of
 // sigma^2 x speed), which tells the host how to draw candidates for it (000 Eqs. 4.13, 4.23):
