@@ -161,16 +161,16 @@ def main():
                 T, Te = np.array(g["T.steady_mean"][:]), np.array(g["T.steady_stderr"][:])
                 q, qe = np.array(g["q_y.steady_mean"][:]), np.array(g["q_y.steady_stderr"][:])
                 mid = np.abs(y) < 1.5
-                (slope, icpt), cov = np.polyfit(y[mid], T[mid], 1, w=1 / Te[mid], cov="unscaled")
-                qm, qme = q[mid].mean(), np.sqrt((qe[mid] ** 2).sum()) / mid.sum()
+                (slope, icpt), cov = np.polyfit(y[mid], T[mid], 1, cov=True)  # errors from the residuals
+                qm, qme = q[mid].mean(), q[mid].std(ddof=1) / np.sqrt(mid.sum())
                 # kappa in sqrt(T0/m)/(pi sigma^2) (q in n0 T0 sqrt(2T0/m), y in lambda0 = 1/(sqrt2 pi n0 sigma^2))
                 kappa = -qm / slope
                 kerr = abs(kappa) * np.sqrt((qme / qm) ** 2 + cov[0, 0] / slope ** 2)
                 k0 = 75.0 / 64.0 * np.sqrt(np.pi) * np.sqrt(icpt) * ELASTIC_KAPPA
                 w(f"| {label} | {kappa / k0:.4f} ± {kerr / k0:.4f} | {icpt:.4f} |")
         w("")
-        w("(The errors treat the bins as independent, which they are not quite: the same runs sampled both ways differ")
-        w("by much less than these errors.)")
+        w("(The errors are the scatter of the bins about the line and about the mean of q_y, as if the bins were")
+        w("independent; the steady errors of single bins are not used, as one of them is NaN (issue 29 item 2).)")
         w("")
     print("\n".join(out))
 

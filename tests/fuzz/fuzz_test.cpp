@@ -67,7 +67,10 @@ double env_number(const char* name, double fallback) {
 constexpr std::uint64_t kDefaultSeed = 20260409;
 constexpr int kDefaultCases = 300;
 constexpr double kHangSeconds = 20;       // validate, or a run's setup, taking longer is a hang
-constexpr double kInterruptSeconds = 2;   // from our SIGINT to the exit
+// From our SIGINT to the exit: a run stops at the end of its step, or, inside a plugin call that
+// does not return, when the host's watchdog fires 3 s later (kStuckCallSeconds, plugin_calls.hpp);
+// 2 s more for a loaded machine to schedule the exit.
+constexpr double kInterruptSeconds = 5;
 const std::vector<std::string> kShortRun = {"--set", "run.particles=200", "--set", "run.stop={collisions_per_particle: 0.2}"};
 
 // ---------------------------------------------------------------------------------------------
