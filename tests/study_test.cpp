@@ -347,6 +347,15 @@ TEST(Study, SingleRealizationBatchesAreLongerThanTheCorrelationTimeOrTheErrorIsN
   EXPECT_TRUE(std::isnan(nan.value));
   EXPECT_NE(nan.doc.find("NaN: the window holds only"), std::string::npos) << nan.doc;
   EXPECT_TRUE(std::isfinite(scalar_named(shorter[0], "x.steady_mean")));
+
+  // A NaN error is printed with its reason and the remedy; a finite one is not.
+  EXPECT_TRUE(host::nan_error_warnings(longer).empty());
+  const std::vector<std::string> lines = host::nan_error_warnings(shorter);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_NE(lines[0].find("1 steady error is NaN"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("x.steady_stderr"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("fewer than 4 batches"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("run.realizations"), std::string::npos) << lines[0];
 }
 
 // Several realizations: the error is the scatter of the realizations' own time averages / sqrt(K),

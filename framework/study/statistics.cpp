@@ -355,6 +355,47 @@ std::string steady_window_missed(const std::vector<DiagnosticOutput>& diagnostic
   return "";
 }
 
+std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>& diagnostics) {
+  const auto ends_with = [](const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  // Per kind (the host's steady errors, the plugins' own): the count and "group (n)" per diagnostic.
+  std::size_t counts[2] = {0, 0};
+  std::string where[2], first[2];
+  for (const auto& d : diagnostics) {
+    std::size_t here[2] = {0, 0};
+    const auto note = [&](int kind, const std::string& name) {
+      if (counts[kind] + here[kind] == 0) first[kind] = d.group() + "/" + name;
+      ++here[kind];
+    };
+    for (const auto& sc : d.scalars) {
+      if (std::isfinite(sc.value)) continue;
+      if (ends_with(sc.name, ".steady_stderr")) note(0, sc.name);
+      else if (ends_with(sc.name, "_standard_error") || ends_with(sc.name, "_error")) note(1, sc.name);
+    }
+    for (const auto& a : d.arrays)
+      if (ends_with(a.name, ".steady_stderr") && std::any_of(a.data.begin(), a.data.end(), [](double x) { return !std::isfinite(x); }))
+        note(0, a.name + " (some bins)");
+    for (int kind = 0; kind < 2; ++kind)
+      if (here[kind]) {
+        where[kind] += (where[kind].empty() ? "" : ", ") + d.group() + fmt(" (%zu)", here[kind]);
+        counts[kind] += here[kind];
+      }
+  }
+  const char* remedy = ": run longer, start run.average_after earlier, or use run.realizations >= 2 (errors from the "
+                       "scatter of the realizations)";
+  std::vector<std::string> lines;
+  if (counts[0])
+    lines.push_back(fmt("warning: %zu steady error%s NaN, in ", counts[0], counts[0] == 1 ? " is" : "s are") + where[0] + " (e.g. " + first[0] +
+                    fmt("): the averaging window holds fewer than %zu batches of %.0f integrated autocorrelation times "
+                        "(each description gives tau_int and the batch length)",
+                        kMinBatches, kBatchTaus) + remedy);
+  if (counts[1])
+    lines.push_back(fmt("warning: %zu error%s estimated by plugins %s NaN, in ", counts[1], counts[1] == 1 ? "" : "s", counts[1] == 1 ? "is" : "are") + where[1] + " (e.g. " +
+                    first[1] + "; each description says why)" + remedy);
+  return lines;
+}
+
 double integrated_autocorrelation_time(const std::vector<double>& v) {
   const std::size_t n = v.size();
   if (n < 2) return 1.0;

@@ -197,6 +197,8 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   const std::string missed =
       steady_window_missed(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0);
   if (!missed.empty()) case_summary.push_back("warning: " + missed);
+  else if (p.average_after_collisions_per_particle || p.average_after_time_tau0)
+    for (auto& line : nan_error_warnings(case_out.diagnostics)) case_summary.push_back(std::move(line));
   if (p.output_realizations) {
     for (auto& run : diagnostics)
       add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
