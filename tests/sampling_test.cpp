@@ -91,3 +91,29 @@ TEST(Sampling, AnUnknownSamplingRuleIsRefusedWithTheValidOnes) {
     EXPECT_TRUE(t::contains(what, "bracketed") && t::contains(what, "after_step")) << what;
   }
 }
+
+// A new capability is a minor version (SDK 6.1 added this one): a diagnostic built against SDK 6.0
+// (its entry claims ABI 6.0, it offers no extension) loads in this host and is sampled as 6.0 did,
+// once per sampled step, after the step, beside a 6.1 diagnostic that is bracketed.
+TEST(Sampling, ADiagnosticBuiltAgainstSdk60LoadsAndIsSampledOnceAStepAfterIt) {
+  t::TempDir dir;
+  std::string yaml = t::replace_once(thermostatted_usf("bracketed"), "  - collision_count\n",
+                                     "  - collision_count\n  - sdk60_diagnostic\n");
+  yaml = t::replace_once(yaml, "stop: {time: 60}", "stop: {time: 8}");
+  const auto file = dir.write("pipeline.yaml", yaml);
+  const t::ProcessResult r = t::run_gdsmc(
+      {"run", file.string(), "--quiet", "--plugin-path", t::test_plugin("sdk60_diagnostic").string(), "-o", "out.h5"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  t::h5::File out(dir / "out.h5");
+  EXPECT_EQ(t::h5::read_string_attribute(out.id(), "/diagnostics/sdk60_diagnostic", "sampling").rfind("after_step", 0), 0u);
+  EXPECT_EQ(t::h5::read_string_attribute(out.id(), "/diagnostics/shear_rheology", "sampling").rfind("bracketed", 0), 0u);
+  const std::vector<double> samples = t::h5::read_doubles(out.id(), "/diagnostics/sdk60_diagnostic/samples");
+  const std::vector<double> steps = t::h5::read_doubles(out.id(), "/diagnostics/sdk60_diagnostic/steps");
+  const std::vector<double> phase = t::h5::read_doubles(out.id(), "/diagnostics/sdk60_diagnostic/max_phase");
+  ASSERT_GE(samples.size(), 4u);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    EXPECT_EQ(samples[k], steps[k]) << "record " << k << ": sampled more than once in a step";
+    EXPECT_EQ(phase[k], 0.0) << "record " << k << ": sampled in a phase other than after_step";
+  }
+  EXPECT_EQ(samples[1], 25.0);  // record_every 25 steps, a sample every step
+}
