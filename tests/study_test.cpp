@@ -348,7 +348,11 @@ TEST(Study, SingleRealizationBatchesAreLongerThanTheCorrelationTimeOrTheErrorIsN
   EXPECT_NE(nan.doc.find("NaN: the window holds only"), std::string::npos) << nan.doc;
   EXPECT_TRUE(std::isfinite(scalar_named(shorter[0], "x.steady_mean")));
 
-  // A NaN error is printed with its reason and the remedy; a finite one is not.
+  // A NaN error of a series the diagnostic declares stationary is printed with its reason and the
+  // remedy; a finite one is not, nor one of a series not declared stationary.
+  EXPECT_TRUE(host::nan_error_warnings(shorter).empty()) << "x is not declared stationary";
+  longer[0].attributes["stationary"] = "y,x";
+  shorter[0].attributes["stationary"] = "y,x";
   EXPECT_TRUE(host::nan_error_warnings(longer).empty());
   const std::vector<std::string> lines = host::nan_error_warnings(shorter);
   ASSERT_EQ(lines.size(), 1u);

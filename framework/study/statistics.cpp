@@ -363,6 +363,16 @@ std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>&
   std::size_t counts[2] = {0, 0};
   std::string where[2], first[2];
   for (const auto& d : diagnostics) {
+    // The host's steady errors count for the series the diagnostic declares stationary (its
+    // attribute `stationary`: "all" or names separated by commas); a steady average of a cooling T
+    // or of a running count has no error to promise.
+    const auto declared = d.attributes.find("stationary");
+    const auto stationary = [&](const std::string& error_name) {
+      if (declared == d.attributes.end()) return false;
+      if (declared->second == "all") return true;
+      const std::string series = error_name.substr(0, error_name.find('.'));
+      return ("," + declared->second + ",").find("," + series + ",") != std::string::npos;
+    };
     std::size_t here[2] = {0, 0};
     const auto note = [&](int kind, const std::string& name) {
       if (counts[kind] + here[kind] == 0) first[kind] = d.group() + "/" + name;
@@ -370,11 +380,13 @@ std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>&
     };
     for (const auto& sc : d.scalars) {
       if (std::isfinite(sc.value)) continue;
-      if (ends_with(sc.name, ".steady_stderr")) note(0, sc.name);
+      if (ends_with(sc.name, ".steady_stderr")) {
+        if (stationary(sc.name)) note(0, sc.name);
+      }
       else if (ends_with(sc.name, "_standard_error") || ends_with(sc.name, "_error")) note(1, sc.name);
     }
     for (const auto& a : d.arrays)
-      if (ends_with(a.name, ".steady_stderr") && std::any_of(a.data.begin(), a.data.end(), [](double x) { return !std::isfinite(x); }))
+      if (ends_with(a.name, ".steady_stderr") && stationary(a.name) && std::any_of(a.data.begin(), a.data.end(), [](double x) { return !std::isfinite(x); }))
         note(0, a.name + " (some bins)");
     for (int kind = 0; kind < 2; ++kind)
       if (here[kind]) {

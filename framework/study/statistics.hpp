@@ -31,7 +31,8 @@ std::string steady_window_missed(const std::vector<DiagnosticOutput>& diagnostic
                                  std::optional<double> after_t);
 
 // Warnings for errors that came out NaN although the window holds records, at most one line for the
-// host's <series>.steady_stderr (and profiles with a NaN bin) and one for the plugins' own
+// host's <series>.steady_stderr of series the diagnostic declares stationary (attribute
+// `stationary`; profiles with a NaN bin included) and one for the plugins' own
 // *_standard_error / *_error scalars: how many, in which diagnostics, why, and what to do (issue 29:
 // no NaN error without a printed reason and the remedy).
 std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>& diagnostics);
