@@ -11,7 +11,7 @@ import sys
 import h5py
 import numpy as np
 
-from heat_flux_report import ELASTIC_KAPPA
+from heat_flux_report import ELASTIC_KAPPA, weighted_fit
 from report_figures import runs_line
 
 
@@ -30,16 +30,6 @@ def cases(path, group, value):
                       if n in g}
             out[(dt, sampling)] = (float(g[value + "_mean"][()]), float(g[value + "_standard_error"][()]), theory)
     return out
-
-
-def line_fit(x, y, e, powers):
-    """Weighted least squares y = sum c_j x^j (j in powers): coefficients, their errors, chi2, dof."""
-    A = np.vstack([x ** p for p in powers]).T / e[:, None]
-    b = y / e
-    cov = np.linalg.inv(A.T @ A)
-    c = cov @ A.T @ b
-    chi2 = float(((A @ c - b) ** 2).sum())
-    return c, np.sqrt(np.diag(cov)), chi2, len(x) - len(powers)
 
 
 def dt_table(w, data, unit_name, reference=None, reference_name=""):
@@ -70,7 +60,8 @@ def dt_table(w, data, unit_name, reference=None, reference_name=""):
         if len(pts) < 3:
             continue
         x, y, e = (np.array(v) for v in zip(*pts))
-        c, ce, chi2, dof = line_fit(x, y, e, (0, 1))
+        c, cov, chi2 = weighted_fit(np.vstack([np.ones_like(x), x]).T, y, e)
+        ce, dof = np.sqrt(np.diag(cov)), len(x) - 2
         w(f"- {s}: straight line in δt: {c[0]:.4f} ± {ce[0]:.4f} at δt → 0, slope {c[1]:+.3f} ± {ce[1]:.3f} per τ⁰ "
           f"(χ² = {chi2:.2f} for {dof} degrees of freedom).")
     w("")
