@@ -775,26 +775,34 @@ void Engine::sample_bracketed(SamplePhase phase) {
     DiagnosticSlot& slot = slots_[k];
     if (!slot.bracketed || !slot.samples_at(next)) continue;
     // The streams of the sample before the collisions are apart from those after (instance k).
-    const std::uint32_t instance = static_cast<std::uint32_t>(k) | (phase == SamplePhase::before_collisions ? 0x80000000u : 0u);
-    const Streams streams = streams_.streams(StreamPurpose::diagnostic, instance);
-    ctx_.moments = &sampled_;
-    ctx_.streams = &streams;
-    ctx_.sample_phase = phase;
-    {
-      PluginCall call(*slot.site, "sample");
-      slot.object->sample(ctx_, span);
-    }
-    ctx_.sample_phase = SamplePhase::after_step;
-    ctx_.moments = nullptr;
-    ctx_.streams = nullptr;
-    slot.time_sum += t;
-    slot.s_sum += s;
-    ++slot.samples;
+    sample_slot(k, span, static_cast<std::uint32_t>(k) | (phase == SamplePhase::before_collisions ? 0x80000000u : 0u),
+                phase, t, s);
     slot.bracketed_step = next;
   }
   ctx_.step = step;
   ctx_.time = time;
   sampled_step_ = static_cast<std::uint64_t>(-1);  // the collisions and forcings still to come change the state
+}
+
+// One sample() of diagnostic k on the moments in sampled_, with its streams of `instance`, counted
+// in its record's means of t/tau0 and s.
+void Engine::sample_slot(std::size_t k, const ParticleSpan& span, std::uint32_t instance, SamplePhase phase, double t,
+                         double s) {
+  DiagnosticSlot& slot = slots_[k];
+  const Streams streams = streams_.streams(StreamPurpose::diagnostic, instance);
+  ctx_.moments = &sampled_;
+  ctx_.streams = &streams;
+  ctx_.sample_phase = phase;
+  {
+    PluginCall call(*slot.site, "sample");
+    slot.object->sample(ctx_, span);
+  }
+  ctx_.sample_phase = SamplePhase::after_step;
+  ctx_.moments = nullptr;
+  ctx_.streams = nullptr;
+  slot.time_sum += t;
+  slot.s_sum += s;
+  ++slot.samples;
 }
 
 void Engine::sample_and_record(bool force_record) {
@@ -813,18 +821,7 @@ void Engine::sample_and_record(bool force_record) {
         if (sampled_step_ != ctx_.step) measure_sampled_moments();
         have_moments = true;
       }
-      const Streams streams = streams_.streams(StreamPurpose::diagnostic, static_cast<std::uint32_t>(k));
-      ctx_.moments = &sampled_;
-      ctx_.streams = &streams;
-      {
-        PluginCall call(*slot.site, "sample");
-        slot.object->sample(ctx_, span);
-      }
-      ctx_.moments = nullptr;
-      ctx_.streams = nullptr;
-      slot.time_sum += t;
-      slot.s_sum += s;
-      ++slot.samples;
+      sample_slot(k, span, static_cast<std::uint32_t>(k), SamplePhase::after_step, t, s);
     }
     if (!record) continue;
     const double n = static_cast<double>(slot.samples);

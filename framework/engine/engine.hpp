@@ -180,6 +180,7 @@ class Engine {
   void sample_and_record(bool force_record);
   // The bracketed diagnostics' samples just before or just after the collision stage (SamplePhase).
   void sample_bracketed(SamplePhase phase);
+  void sample_slot(std::size_t k, const ParticleSpan& span, std::uint32_t instance, SamplePhase phase, double t, double s);
   void finish_energy_balance();
   Progress progress(double elapsed_seconds) const;
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
