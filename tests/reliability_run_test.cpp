@@ -29,7 +29,7 @@ using gdsmc::test::TempDir;
 using gdsmc::test::run_gdsmc;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using gdsmc::test::seconds_since;
 
 // A small valid pipeline; the tests change it with --set.
 std::string pipeline(const std::string& run_extra = "", const std::string& stop = "{collisions_per_particle: 5}",

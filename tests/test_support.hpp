@@ -37,6 +37,11 @@ namespace gdsmc::test {
 namespace fs = std::filesystem;
 
 // The in-tree plugins (<build>/plugins) and the test-only ones (<build>/test-plugins).
+// Seconds of the steady clock since `t`.
+inline double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 inline fs::path plugin_dir() { return GDSMC_TEST_PLUGIN_DIR; }
 inline fs::path test_plugin_dir() { return fs::path(GDSMC_BINARY_DIR) / "test-plugins"; }
 inline fs::path test_plugin(const std::string& name) { return test_plugin_dir() / ("gdsmc_" + name + ".so"); }
@@ -231,7 +236,7 @@ class Process {
   // Wait until the process catches `sig` (true), or until it exits or `timeout_s` passes (false).
   bool wait_until_catches(int sig, double timeout_s = 30) {
     const auto start = std::chrono::steady_clock::now();
-    while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < timeout_s) {
+    while (seconds_since(start) < timeout_s) {
       if (catches(sig)) return true;
       siginfo_t info{};
       if (::waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid_)
@@ -250,7 +255,7 @@ class Process {
     ProcessResult r;
     const auto start = std::chrono::steady_clock::now();
     while (!ended()) {
-      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s) {
+      if (seconds_since(start) > timeout_s) {
         ::kill(pid_, SIGKILL);
         ::waitpid(pid_, &status_, 0);
         reaped_ = true;

@@ -31,7 +31,7 @@ using gdsmc::test::contains;
 using gdsmc::test::run_gdsmc;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using gdsmc::test::seconds_since;
 
 std::filesystem::path config(const std::string& name) { return gdsmc::test::source_dir() / "configs" / name; }
 
