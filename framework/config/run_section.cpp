@@ -314,13 +314,11 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
       else if (ps.IsScalar() && ps.Scalar() == "auto") p.pair_selection = 2;
       else
         c.error("run.pair_selection", ps,
-                "valid: auto (the default: weighted in a layer whose uniform candidates would exceed 0.7 per "
-                "particle in the step or whose majorant has missed more than 1e-5 of its collisions, uniform "
-                "elsewhere), weighted (a slab layer draws its pairs in proportion to "
-                "their particles' peculiar speeds, kept current through the step, so a hot particle raises only its "
-                "own pairs' bounds; a pass over the layer every step) or uniform (every pair of a layer alike, "
-                "against one layer majorant); homogeneous systems and general kernels always draw uniform pairs; "
-                "see the user guide");
+                "valid: weighted (a slab layer draws its pairs in proportion to their particles' peculiar "
+                "speeds, kept current through the step, so a hot particle raises only its own pairs' bounds: "
+                "70-73 % of the candidates accepted; a pass over the layer every step), auto (the default, the same "
+                "as weighted) or uniform (every pair of a layer alike, against one layer majorant: 11-32 % "
+                "accepted); homogeneous systems and general kernels always draw uniform pairs; see the user guide");
     }
     if (run["realizations"]) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {

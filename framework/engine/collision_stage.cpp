@@ -316,7 +316,7 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
       const Vec3 after[2] = {s.v1[q], s.v2[q]};
       for (int e = 0; e < 2; ++e) {
         const std::uint32_t a = e == 0 ? s.la[q] : s.lb[q];
-        const double lift = layer.rise(a, layer.peculiar_speed(after[e].x, after[e].y, after[e].z));
+        const double lift = layer.rise(a, layer.peculiar_square(after[e].x, after[e].y, after[e].z));
         if (lift > 0) {
           rose = true;
           const double t = s.t[q] - std::log1p(-select.uniform()) / (per_bound * lift);
@@ -395,12 +395,6 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   return f0 + rate * (dt - t0) - static_cast<double>(events);
 }
 
-double CollisionStage::saved_by_weighting(std::size_t c) const {
-  // Uniform acceptance <|g|>/w with a Maxwellian's <|g|> = (4/sqrt(pi)) sqrt(T/m), w = ratio sqrt(T/m).
-  const double uniform = 4.0 / std::sqrt(M_PI) / ratio_[c];
-  return estimate_[c] * std::max(0.0, 1.0 - uniform / kWeightedAcceptance);
-}
-
 void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma,
                                    double dt, const StreamFactory& streams) {
   poll_interrupt(interrupt_);
@@ -427,12 +421,10 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   batch.particles = &particles;
   batch.rng = &kernel;
   batch.tally = tally;  // summed over the slices
-  if (weighted_ && group.members &&
-      (selection_ == PairSelection::weighted || saved_by_weighting(c) > kWeightedFromCandidates * group.count ||
-       missed_so_far_[c] > kMissedCollisionsTolerance * collided_so_far_[c])) {
+  if (weighted_ && group.members) {
     thread_local WeightedLayer layer;
     // About the layer's mean velocity at the last moment update (any u bounds |g|; one near the
-    // mean keeps the speeds small), with the bulk bound kBulkSpeedBound times the mean speed.
+    // mean keeps the speeds small), with the bulk bound kBulkSpeedBound times the rms speed.
     double u[3] = {0, 0, 0};
     if (cells_ && cells_[c].count >= 2) {
       std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
@@ -448,7 +440,8 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
       return;
     }
     // The remainder is a fraction of an envelope event here and of a uniform candidate otherwise:
-    // in [0, 1) either way, so a layer that changes its draw (automatic) carries less than one.
+    // in [0, 1) either way, so a layer that changes its draw (run.pair_selection at a resume)
+    // carries less than one.
     remainder_[c] = collide_weighted(rule, particles, c, layer, remainder_[c], dt, select, batch);
     counts[1] = batch.collided;
     counts[2] = batch.exceeded;

@@ -43,20 +43,15 @@ enum class PairSelection : std::uint32_t {
   uniform = 0,   // every pair alike, against the layer majorant w_I (the class's default)
   weighted = 1,  // hard-sphere form: pairs weighted by the peculiar speeds, kept current through the
                  // step (WeightedLayer, collide_weighted); a pass over the layer every step
-  // weighted in a layer where weighting would save more than kWeightedFromCandidates uniform
-  // candidates per particle this step (saved_by_weighting), or whose uniform majorant has missed
-  // more than kMissedCollisionsTolerance of its collisions since the start; uniform elsewhere
+  // the pipeline's default, the same as weighted: 70-73 % of the candidates accepted in every
+  // channel of paper 004 against 11-32 % uniform, for about 6 % of a clustered channel's run time
   automatic = 2,
 };
-// The pass that builds a weighted layer costs about what 0.07 uniform candidates per particle do
-// (3 ns a member against 44 ns a candidate, clustered channels of paper 004, one thread).
-constexpr double kWeightedFromCandidates = 0.07;
-// The fraction of weighted candidates accepted (72-73 % in every channel of paper 004).
-constexpr double kWeightedAcceptance = 0.72;
-// The bulk bound B_0 of a weighted layer (WeightedLayer) over its members' mean speed: with 2, a
-// Maxwellian's speeds exceed it with probability P(chi_3^2 > 32/pi) = 1.7 % (listed in classes) and
-// half of the bulk's envelope events are candidates.
-constexpr double kBulkSpeedBound = 2.0;
+// The bulk bound B_0 of a weighted layer (WeightedLayer) over its members' root-mean-square peculiar
+// speed: 2 sqrt(8 / (3 pi)), twice the mean speed of a Maxwellian, whose speeds exceed it with
+// probability P(chi_3^2 > 32/pi) = 1.7 % (listed in classes); half of the bulk's envelope events are
+// then candidates.
+constexpr double kBulkSpeedBound = 1.8426354638471225;  // 2 sqrt(8 / (3 pi))
 
 class CollisionStage {
  public:
@@ -164,10 +159,6 @@ class CollisionStage {
   PairSelection selection_ = PairSelection::uniform;
   const CellMoments* cells_ = nullptr;  // this step's layer moments (run()'s `cells`)
   bool weighted_ = false;  // this step: weighted pairs in the layers
-  // The uniform candidates of group c this step that weighted pairs would not draw: the estimate
-  // times 1 - (uniform acceptance) / kWeightedAcceptance, the uniform acceptance taken as a
-  // Maxwellian's <|g|> over the majorant.
-  double saved_by_weighting(std::size_t c) const;
   // T_ref of group c: its own temperature if it had >= 2 particles and T > 0, else `temperature`.
   static double reference_temperature(const CellMoments* cells, std::size_t c, double temperature);
   std::vector<std::uint64_t> counts_;     // per group: candidates, accepted, exceeded

@@ -2,13 +2,15 @@
 // the peculiar speed |v - u| about a reference velocity u, so that |g| <= c_a + c_b by the triangle
 // inequality whatever u is). CollisionStage::collide_weighted draws its envelope events.
 //
-// Every member is covered by the bulk bound B_0 (a multiple of the members' mean speed); the few
-// whose speed is at or above B_0 are listed in classes k of [2^k, 2^(k+1)) B_0 with the bound
-// B_k = 2^(k+1) B_0. An envelope event picks the bulk with probability N B_0 / E and then a member
-// uniformly (one that is listed is rejected: its class covers it), or class k with probability
-// n_k B_k / E and one of its members; E = N B_0 + sum_k n_k B_k. The event is a candidate with
-// probability c_a / B(a), B(a) the bound of a's class now. Building the envelope is one vectorized
-// pass over the members (their speeds and its sum) and a list of the fast ones; nothing is sorted.
+// Every member is covered by the bulk bound B_0 (a multiple of the members' root-mean-square
+// peculiar speed); the few whose speed is at or above B_0 are listed in classes k of
+// [2^k, 2^(k+1)) B_0 with the bound B_k = 2^(k+1) B_0. An envelope event picks the bulk with
+// probability N B_0 / E and then a member uniformly (one that is listed is rejected: its class
+// covers it), or class k with probability n_k B_k / E and one of its members;
+// E = N B_0 + sum_k n_k B_k. The event is a candidate with probability c_a / B(a), B(a) the bound
+// of a's class now. The speeds are kept squared (no square root per member): building the
+// envelope is a vectorized pass over the members' squared speeds (their sum, and a flag for those
+// at or above B_0^2), then the flags read eight at a time to list the fast ones; nothing is sorted.
 // A member's speed is kept current after its collisions, and one whose speed reaches its bound is
 // listed in a higher class (rise()).
 #pragma once
@@ -27,16 +29,16 @@ class WeightedLayer {
   static constexpr int kClasses = 24;
 
   // The `count` members (storage indices `members`) about the velocity u, with the bulk bound
-  // B_0 = bulk_over_mean times their mean speed. False if no member moves relative to the others
-  // (no pair can collide) or a speed is not finite.
+  // B_0 = bulk_over_rms times their root-mean-square peculiar speed. False if no member moves
+  // relative to the others (no pair can collide) or a speed is not finite.
   bool build(const ParticleSpan& p, const std::uint32_t* members, std::uint32_t count, const double (&u)[3],
-             double bulk_over_mean);
+             double bulk_over_rms);
 
   double envelope() const { return envelope_; }  // E
   double bulk_bound() const { return low_; }      // B_0
-  double peculiar_speed(double vx, double vy, double vz) const {
+  double peculiar_square(double vx, double vy, double vz) const {
     const double dx = vx - u_[0], dy = vy - u_[1], dz = vz - u_[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return dx * dx + dy * dy + dz * dz;
   }
 
   // An envelope event from x uniform in [0, 1): the member a (local index), whether it was drawn
@@ -62,25 +64,26 @@ class WeightedLayer {
     from_bulk = false;
     return list_[k][m];
   }
-  double speed(std::uint32_t a) const { return speed_[a]; }  // c_a, kept current
-  // The thinning of an event that picked a: thin B(a) < c_a. A listed member drawn from the bulk is
-  // not a candidate (its class covers it).
+  double speed(std::uint32_t a) const { return std::sqrt(square_[a]); }  // c_a, kept current
+  // The thinning of an event that picked a: thin B(a) < c_a, compared squared (thin >= 0). A listed
+  // member drawn from the bulk is not a candidate (its class covers it).
   bool candidate(std::uint32_t a, double thin, bool from_bulk) const {
     const std::uint8_t listed = listed_[a];
     if (listed && from_bulk) return false;
-    return thin * (listed ? bound_[listed - 1] : low_) < speed_[a];
+    const double b = thin * (listed ? bound_[listed - 1] : low_);
+    return b * b < square_[a];
   }
-  // a's speed c after a collision: if c reached its bound B(a), a is listed in the class of c.
-  // Returns the rise of a's coverage (0 if none), which the caller covers with a's extra events until
-  // the envelope takes it over: B_new - B_old for a listed member, B_new for one that left the bulk
-  // (bulk events that pick it are now rejected). The open last class raises its bound to c (above
-  // 2^23 B_0: not seen).
-  double rise(std::uint32_t a, double c) {
-    speed_[a] = c;
+  // a's squared speed s = c^2 after a collision: if c reached its bound B(a), a is listed in the
+  // class of c. Returns the rise of a's coverage (0 if none), which the caller covers with a's
+  // extra events until the envelope takes it over: B_new - B_old for a listed member, B_new for one
+  // that left the bulk (bulk events that pick it are now rejected). The open last class raises its
+  // bound above c (above 2^23 B_0: not seen).
+  double rise(std::uint32_t a, double s) {
+    square_[a] = s;
     const int from = static_cast<int>(listed_[a]) - 1;  // -1: the bulk
     const double before = from < 0 ? low_ : bound_[from];
-    if (c < before) return 0;
-    int to = class_of(c);
+    if (s < before * before) return 0;
+    int to = class_of(s);
     if (to <= from) to = from;  // the last class, beyond its bound
     if (from >= 0) {
       auto& l = list_[from];
@@ -92,19 +95,24 @@ class WeightedLayer {
     pos_[a] = static_cast<std::uint32_t>(list_[to].size());
     list_[to].push_back(a);
     listed_[a] = static_cast<std::uint8_t>(to + 1);
-    if (c >= bound_[to]) bound_[to] = std::nextafter(c, INFINITY), inverse_[to] = 1.0 / bound_[to];
+    if (s >= bound_[to] * bound_[to]) {
+      // Two ulps above sqrt(s), so that the bound's square is above s despite the roundings.
+      bound_[to] = std::nextafter(std::nextafter(std::sqrt(s), INFINITY), INFINITY);
+      inverse_[to] = 1.0 / bound_[to];
+    }
     sum_envelope();
     return from < 0 ? bound_[to] : bound_[to] - before;
   }
 
  private:
-  // c >= B_0 (to round-off): the k with c / B_0 in [2^k, 2^(k+1)), from the exponent's bits (no
-  // call per particle); 0 for c / B_0 just below 1, kClasses - 1 for any larger c (and infinity).
-  int class_of(double c) const {
-    const double x = c * inverse_low_;
+  // s >= B_0^2 (to round-off): the k with c / B_0 in [2^k, 2^(k+1)), i.e. s / B_0^2 in
+  // [4^k, 4^(k+1)), from the exponent's bits (no call per particle); 0 for s / B_0^2 just below 1,
+  // kClasses - 1 for any larger s (and infinity).
+  int class_of(double s) const {
+    const double x = s * inverse_low_square_;
     std::uint64_t bits;
     std::memcpy(&bits, &x, sizeof bits);
-    const int k = static_cast<int>((bits >> 52) & 0x7ff) - 1023;
+    const int k = (static_cast<int>((bits >> 52) & 0x7ff) - 1023) >> 1;  // floor(exponent / 2)
     return k < 0 ? 0 : k < kClasses ? k : kClasses - 1;
   }
   void sum_envelope() {
@@ -119,13 +127,13 @@ class WeightedLayer {
     envelope_ = bulk_ + total;
   }
 
-  std::vector<double> speed_;                  // c_a per member, kept current
+  std::vector<double> square_;                 // c_a^2 per member, kept current
   std::vector<std::uint8_t> listed_;          // per member: 0 in the bulk, k + 1 listed in class k
   std::vector<std::uint32_t> pos_;            // a listed member's place in its class's list
   std::vector<std::uint32_t> list_[kClasses];  // the listed members of each class (capacity kept)
   double bound_[kClasses] = {}, inverse_[kClasses] = {}, cumulative_[kClasses] = {};
   double u_[3] = {0, 0, 0};
-  double low_ = 0, inverse_low_ = 0, bulk_ = 0, envelope_ = 0;
+  double low_ = 0, low_square_ = 0, inverse_low_square_ = 0, inverse_low_ = 0, bulk_ = 0, envelope_ = 0;
   std::uint32_t count_ = 0;
   int top_ = 0;  // classes 0 .. top_ - 1 hold listed members
 };
