@@ -316,7 +316,7 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
         c.error("run.pair_selection", ps,
                 "valid: weighted (a slab layer draws its pairs in proportion to their particles' peculiar "
                 "speeds, kept current through the step, so a hot particle raises only its own pairs' bounds: "
-                "70-73 % of the candidates accepted; a pass over the layer every step), auto (the default, the same "
+                "68-72 % of the candidates accepted in paper 004's channels; a pass over the layer every step), auto (the default, the same "
                 "as weighted) or uniform (every pair of a layer alike, against one layer majorant: 11-32 % "
                 "accepted); homogeneous systems and general kernels always draw uniform pairs; see the user guide");
     }

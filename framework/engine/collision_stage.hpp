@@ -43,7 +43,7 @@ enum class PairSelection : std::uint32_t {
   uniform = 0,   // every pair alike, against the layer majorant w_I (the class's default)
   weighted = 1,  // hard-sphere form: pairs weighted by the peculiar speeds, kept current through the
                  // step (WeightedLayer, collide_weighted); a pass over the layer every step
-  // the pipeline's default, the same as weighted: 70-73 % of the candidates accepted in every
+  // the pipeline's default, the same as weighted: 68-72 % of the candidates accepted in every
   // channel of paper 004 against 11-32 % uniform, for about 6 % of a clustered channel's run time
   automatic = 2,
 };
