@@ -8,6 +8,7 @@ Usage: enskog_report.py SWEEP.h5 HCS.h5 SECONDS_SWEEP SECONDS_HCS [DOCDIR] > DOC
 The figures (the paper's Figs. 1-4 drawn from the same data as the tables) go to
 DOCDIR/enskog-viscosity/*.png, DOCDIR being docs/validation unless given.
 Needs Debian's python3-h5py, python3-numpy and python3-matplotlib."""
+import math
 import os
 import re
 import sys
@@ -484,11 +485,11 @@ def main():
                                                  f"({fmt(v, e)} against {st:.4f})"))
         dev.sort(reverse=True)
         w(f"- With {realizations} realizations per case the standard errors are the scatter of {realizations} "
-          "values: rough, uncertain by a factor of about 2 themselves" +
+          f"values, themselves uncertain by about {100 / math.sqrt(2 * (realizations - 1)):.0f} % (1/√(2(K − 1)))" +
           (" (± 0.000 where the two happen to agree)" if realizations == 2 else "") +
           ". The largest differences from the first Sonine theory are " + "; ".join(t for _, t in dev[:3]) +
-          ". With such errors they cannot yet be called significant or not: more realizations "
-          "(`run.realizations`) are needed before a disagreement with the first Sonine theory can be claimed.")
+          ". A difference of a few such errors is not yet a disagreement with the first Sonine theory; more "
+          "realizations (`run.realizations`) would tell.")
         parts, off = [], []
         for a, ((xk, ek), (x0, e0), (tk, t0)) in crossings.items():
             parts.append(f"α = {a:g}: φ0^k = {fmt(xk, ek, 3)} (Sonine {tk:.3f}), φ0 = {fmt(x0, e0, 3)} (Sonine {t0:.3f})")
