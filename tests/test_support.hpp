@@ -36,12 +36,12 @@ namespace gdsmc::test {
 
 namespace fs = std::filesystem;
 
-// The in-tree plugins (<build>/plugins) and the test-only ones (<build>/test-plugins).
 // Seconds of the steady clock since `t`.
 inline double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// The in-tree plugins (<build>/plugins) and the test-only ones (<build>/test-plugins).
 inline fs::path plugin_dir() { return GDSMC_TEST_PLUGIN_DIR; }
 inline fs::path test_plugin_dir() { return fs::path(GDSMC_BINARY_DIR) / "test-plugins"; }
 inline fs::path test_plugin(const std::string& name) { return test_plugin_dir() / ("gdsmc_" + name + ".so"); }
