@@ -31,7 +31,7 @@ enum Extra : std::size_t {
 // Scalars derived from a set of sums, in this order.
 enum Scalar : std::size_t {
   rho_centre, rho_fw, Kn_centre, Kn_fw, T_centre, T_max, y_T_max, delta_T, u_centre, u_s, du_dy_fw, zeta,
-  T_s, dT_dy_fw, zeta_T, p_centre, N1_centre, N2_centre, T2_centre, rho2_centre, chi, Q,
+  T_s, dT_dy_fw, zeta_T, drho_dy_fw, p_centre, N1_centre, N2_centre, T2_centre, rho2_centre, chi, Q,
   momentum_balance_max, wall_momentum_ratio, power_acceleration, power_collisions, power_walls,
   energy_balance_closure, power_from_flow_ratio, kScalar
 };
@@ -58,6 +58,7 @@ constexpr Column kScalars[kScalar] = {
     {"T_s", "T_w", "temperature slip T_s = T_fw - T_w (004 Eq. 27)"},
     {"dT_dy_fw", "T_w/W", "near-wall temperature gradient T'_w = (dT/dy)_fw into the gas (004 Fig. 12c)"},
     {"zeta_T", "W", "temperature slip length zeta_T = T_s / T'_w (004 Eq. 29)"},
+    {"drho_dy_fw", "rho_av/W", "near-wall density gradient rho'_w = (drho/dy)_fw into the gas (the Dufour term of 004 Eq. 30)"},
     {"p_centre", "rho_av u_R^2/2", "centre-line pressure p(0) = tr P / 3 (004 Eq. 31; P_R = n_av T_w)"},
     {"N1_centre", "1", "first normal stress difference at the centre N1(0) = (P_xx - P_yy)/p (004 Eq. 34)"},
     {"N2_centre", "1", "second normal stress difference at the centre N2(0) = (P_yy - P_zz)/p (004 Eq. 35)"},
@@ -103,7 +104,7 @@ constexpr std::size_t kMaxBatches = 16;
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.4.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -145,7 +146,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "  004 Sec. III.D.1): rho_fw [rho_av] (Eq. 20), Kn_fw [1] (Eq. 24), u_s [sqrt(2T_w/m)] (slip,\n"
       "  Eq. 23), T_s [T_w] (T_fw - T_w, Eq. 27); gradients into the gas by a straight-line fit over the\n"
       "  wall_fit_bins bins next to each wall (at most bins/2 - 1; NaN with fewer than 6 bins), the two\n"
-      "  walls averaged: du_dy_fw [sqrt(2T_w/m)/W] (u'_w), dT_dy_fw [T_w/W] (T'_w); slip lengths\n"
+      "  walls averaged: du_dy_fw [sqrt(2T_w/m)/W] (u'_w), dT_dy_fw [T_w/W] (T'_w), drho_dy_fw [rho_av/W]\n"
+      "  (rho'_w, the Dufour term of Eq. 30); slip lengths\n"
       "  zeta [W] = u_s/u'_w (Eq. 25) and zeta_T [W] = T_s/T'_w (Eq. 29);\n"
       "  T_max [T_w]: the vertex of the least-squares parabola through the bins within max(2,\n"
       "  bins/15) of the largest bin of T (the largest bin if the vertex falls outside), y_T_max [W]\n"
@@ -612,6 +614,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     v[T_s] = T[0] - 1.0;
     v[dT_dy_fw] = wall_gradient(T);
     v[zeta_T] = v[T_s] / v[dT_dy_fw];
+    v[drho_dy_fw] = wall_gradient(P(pRho));
     const double nsum = samples * static_cast<double>(sys_.particles);
     v[Q] = x[eSumVx] / nsum / (ur * a_hat());
     double worst = 0;
