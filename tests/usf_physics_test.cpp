@@ -356,6 +356,41 @@ TEST(usf_physics, IhsSteadyEnergyBalanceAndIndependenceOfTheShearRate) {
   EXPECT_LT(lo.T.mean, 0.05);
 }
 
+// A homogeneous system of one collision group draws weighted pairs by default once its uniform
+// majorant would accept fewer than 30 % of a Maxwellian's candidates (run.pair_selection auto):
+// IHS at alpha = 0.5 sheared at a tau0 = 4, whose distribution exceeds 7 sqrt(T/m) often, raises its
+// uniform ratio to ~11 (20 % accepted) and then draws weighted pairs (~70 %). Both draws are the
+// hard-sphere rate, so the steady stresses and the energy balance must agree between them: within
+// 4 combined batch errors + 0.01 (the N = 2000 runs share the seed, not the trajectory). Each rate
+// is a fraction of ~10^5 candidates, far from its margin.
+TEST(usf_physics, ShearedIhsOfOneGroupDrawsWeightedPairsByDefaultWithTheSameStresses) {
+  SteadyRun r[2];
+  double accepted[2];
+  for (int k = 0; k < 2; ++k) {
+    t::TempDir dir;
+    std::string yaml = usf_yaml("IHS", 0.5, 4.0, 2000, 50, 25, 0.002);
+    yaml.replace(yaml.find("  subpopulation: 256\n"), 20, k == 0 ? "" : "  pair_selection: uniform\n");
+    host::Pipeline p = t::load_yaml(dir, yaml);
+    host::Engine e(p, 0);
+    e.run();
+    accepted[k] = static_cast<double>(e.context().collisions) / static_cast<double>(e.context().candidates);
+    r[k].minus_pxy = steady(e, "shear_rheology", "minus_Pxy_over_nT", 25);
+    r[k].n1 = steady(e, "shear_rheology", "N1_over_nT", 25);
+    r[k].heating = steady(e, "shear_rheology", "heating_rate_tau", 25);
+    r[k].zeta = t::scalar(e, "cooling_rate", "zeta_tau_mean");
+    r[k].zeta_err = t::scalar(e, "cooling_rate", "zeta_tau_standard_error");
+    std::printf("%s: %.3f accepted; -P_xy/nT = %.4f +- %.4f, N1/nT = %.4f +- %.4f, heating %.4f +- %.4f, zeta %.4f +- %.4f\n",
+                k == 0 ? "default" : "uniform", accepted[k], r[k].minus_pxy.mean, r[k].minus_pxy.err, r[k].n1.mean,
+                r[k].n1.err, r[k].heating.mean, r[k].heating.err, r[k].zeta, r[k].zeta_err);
+  }
+  EXPECT_GT(accepted[0], 0.6) << "the default: weighted pairs once the uniform majorant has risen";
+  EXPECT_LT(accepted[1], 0.3) << "uniform: the sheared IHS is not a case one majorant serves";
+  EXPECT_NEAR(r[0].minus_pxy.mean, r[1].minus_pxy.mean, 4 * std::hypot(r[0].minus_pxy.err, r[1].minus_pxy.err) + 0.01);
+  EXPECT_NEAR(r[0].n1.mean, r[1].n1.mean, 4 * std::hypot(r[0].n1.err, r[1].n1.err) + 0.01);
+  for (const SteadyRun& x : r)
+    EXPECT_NEAR(x.heating.mean / x.zeta, 1.0, 4 * std::hypot(x.heating.err, x.zeta_err) / x.zeta + 0.02);
+}
+
 // Steady state of EHS at alpha = 0.5: the energy balance holds with the imposed zeta0,
 // -(2a/3n) P_xy tau / T = zeta0 tau = 2(1-alpha^2)/(3 sqrt(pi)); the collisions are elastic, so
 // the measured collisional zeta is 0. Tolerance: 4 standard errors + 2 % (see the IHS test).

@@ -314,11 +314,13 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
       else if (ps.IsScalar() && ps.Scalar() == "auto") p.pair_selection = 2;
       else
         c.error("run.pair_selection", ps,
-                "valid: weighted (a slab layer draws its pairs in proportion to their particles' peculiar "
-                "speeds, kept current through the step, so a hot particle raises only its own pairs' bounds: "
-                "68-72 % of the candidates accepted in paper 004's channels; a pass over the layer every step), auto (the default, the same "
-                "as weighted) or uniform (every pair of a layer alike, against one layer majorant: 11-32 % "
-                "accepted); homogeneous systems and general kernels always draw uniform pairs; see the user guide");
+                "valid: weighted (a slab layer, or a homogeneous system of one group, draws its pairs in "
+                "proportion to their particles' peculiar speeds, kept current through the step, so a hot particle "
+                "raises only its own pairs' bounds: 68-72 % of the candidates accepted in paper 004's channels; a "
+                "pass over the layer every step), auto (the default: weighted in slab layers, and in a homogeneous "
+                "system of one group once one majorant would accept below 30 %) or uniform (every pair of a group "
+                "alike, against one majorant: 11-32 % accepted); homogeneous sub-populations and general kernels "
+                "always draw uniform pairs; see the user guide");
     }
     if (run["realizations"]) {
       if (auto v = c.integer(run["realizations"], "run.realizations")) {

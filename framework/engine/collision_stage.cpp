@@ -75,6 +75,15 @@ void CollisionStage::make_groups(const CellGrid& grid, std::size_t particles, co
   if (grid.is_slab() || n == 1) {
     for (std::size_t c = 0; c < n; ++c)
       groups_[c] = Group{grid.members(c), 0, 1, grid.members_count(c), grid.cell_volume(c)};
+    // A homogeneous system of one group draws weighted pairs like a layer: its members are storage
+    // order (the list is written once per particle count, not per step).
+    if (!grid.is_slab() && weighted_) {
+      if (identity_.size() != particles) {
+        identity_.resize(particles);
+        for (std::size_t i = 0; i < particles; ++i) identity_[i] = static_cast<std::uint32_t>(i);
+      }
+      groups_[0].members = identity_.data();
+    }
     return;
   }
   // Sub-populations: scramble the storage order by m = (s i + r) mod N with a random unit s and a
@@ -421,7 +430,14 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   batch.particles = &particles;
   batch.rng = &kernel;
   batch.tally = tally;  // summed over the slices
-  if (weighted_ && group.members) {
+  // Weighted pairs in every slab layer; in a homogeneous system of one group (members in storage
+  // order) when asked for, or by default once its uniform majorant would accept fewer than
+  // kUniformAcceptanceFloor of a Maxwellian's candidates (a pass over the particles per step then
+  // buys back the candidates: USF IHS alpha = 0.5, a* = 4 accepted 20 % uniform, 71 % weighted).
+  const bool in_storage_order = group.members && group.members == identity_.data();
+  if (weighted_ && group.members &&
+      (!in_storage_order || selection_ == PairSelection::weighted ||
+       ratio_[c] * kUniformAcceptanceFloor > kMaxwellMeanRelativeSpeed)) {
     thread_local WeightedLayer layer;
     // About the layer's mean velocity at the last moment update (any u bounds |g|; one near the
     // mean keeps the speeds small), with the bulk bound kBulkSpeedBound times the rms speed.
@@ -435,7 +451,10 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
       }
       for (double& x : u) x /= group.count;
     }
-    if (!layer.build(particles, group.members, group.count, u, kBulkSpeedBound)) {
+    // A homogeneous system of one group: storage order, and B_0 from the reference temperature
+    // (kBulkSpeedBound times the rms speed sqrt(3 T_ref/m)), so one pass builds the envelope.
+    if (in_storage_order ? !layer.build_contiguous(particles, group.count, u, kBulkSpeedBound * std::sqrt(3.0) * speed_[c])
+                   : !layer.build(particles, group.members, group.count, u, kBulkSpeedBound)) {
       remainder_[c] = 0;
       return;
     }

@@ -36,15 +36,18 @@ inline double pair_count(PairCount scheme, std::uint32_t n) {
 // the thread count.
 std::size_t subpopulation_count(std::size_t particles, std::size_t size);
 
-// How a layer of a slab draws its candidate pairs (homogeneous sub-populations always draw uniform
-// pairs against the group majorant: their particles are scattered over storage, and a pass over
-// them would cost more than the candidates it saves).
+// How a layer of a slab, or a homogeneous system of one group, draws its candidate pairs
+// (homogeneous sub-populations always draw uniform pairs against the group majorant: their
+// particles are scattered over storage, and a pass over them would cost more than the candidates
+// it saves).
 enum class PairSelection : std::uint32_t {
   uniform = 0,   // every pair alike, against the layer majorant w_I (the class's default)
   weighted = 1,  // hard-sphere form: pairs weighted by the peculiar speeds, kept current through the
                  // step (WeightedLayer, collide_weighted); a pass over the layer every step
-  // the pipeline's default, the same as weighted: 68-72 % of the candidates accepted in every
-  // channel of paper 004 against 11-32 % uniform, for about 6 % of a clustered channel's run time
+  // the pipeline's default: weighted in every slab layer (68-72 % of the candidates accepted in
+  // every channel of paper 004 against 11-32 % uniform, for about 6 % of a clustered channel's run
+  // time); in a homogeneous system of one group, weighted once its uniform majorant would accept
+  // below kUniformAcceptanceFloor (engine/majorant.hpp), uniform before
   automatic = 2,
 };
 // The bulk bound B_0 of a weighted layer (WeightedLayer) over its members' root-mean-square peculiar
@@ -170,6 +173,7 @@ class CollisionStage {
     double volume = 0;
   };
   std::vector<Group> groups_;
+  std::vector<std::uint32_t> identity_;  // 0 .. N-1: the member list of a homogeneous system of one group
   std::size_t subpopulation_ = 0;
   WorkPool* pool_ = nullptr;
   void make_groups(const CellGrid& grid, std::size_t particles, const StreamFactory& streams);

@@ -690,7 +690,10 @@ void Engine::collide(double dt) {
   CollisionStage::Totals t;
   try {
     const CollisionStage::PendingMembers pending{&grid_, store_.cells()};
-    t = collisions_.run(checked_collision_, store_.span(), grid_, grid_.is_slab() ? cells_.data() : nullptr,
+    // A homogeneous system of one collision group has the global moments as that group's.
+    const bool one_group = !grid_.is_slab() && subpopulation_count(store_.size(), pipeline_.subpopulation) == 1;
+    t = collisions_.run(checked_collision_, store_.span(), grid_,
+                        grid_.is_slab() ? cells_.data() : one_group ? &global_ : nullptr,
                         global_.temperature, system_.mass, system_.sigma, dt, streams_, cells_reversed_,
                         members_written_by_collisions() ? &pending : nullptr);
   } catch (const CollisionStage::Overload& e) {

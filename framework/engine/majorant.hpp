@@ -14,6 +14,12 @@ namespace gdsmc::host {
 // written to /run/collisions_missed_by_majorant), while <|g|>/w = 32 % of the candidates collide
 // (6 sqrt(2), the value before SDK 6.0: 1e-7, 27 %). Exceedances raise the ratio until the update.
 constexpr double kInitialMajorantRatio = 7.0;
+// <|g|> / sqrt(T/m) of a Maxwellian, 4 / sqrt(pi): a uniform draw against the ratio w accepts
+// kMaxwellMeanRelativeSpeed / w of its candidates.
+constexpr double kMaxwellMeanRelativeSpeed = 2.2567583341910251;
+// The acceptance below which a homogeneous system of one group draws weighted pairs by default
+// (run.pair_selection: auto; CollisionStage::collide_group): its uniform ratio above 7.52.
+constexpr double kUniformAcceptanceFloor = 0.30;
 // The collisions a homogeneous group may have missed since the start, as a fraction of those it
 // made, and still let its ratio decay, by kMajorantDecay per moment update, towards
 // kInitialMajorantRatio (CollisionStage::reset_majorants). Resetting to 7 at every update left USF

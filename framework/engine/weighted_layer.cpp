@@ -41,6 +41,33 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void mark_fast(cons
   for (std::uint32_t a = 0; a < n; ++a) flag[a] = !(s[a] < bulk);
 }
 
+// The squared peculiar speeds about u of particles 0 .. n-1 into s, flag[a] = 1 where s[a] is not
+// below `bulk` (NaN included): one pass, no gather. Returns their sum (lanes as lane_sum).
+__attribute__((target_clones("avx512f", "avx2", "default"))) double peculiar_squares_marked(
+    const double* __restrict vx, const double* __restrict vy, const double* __restrict vz, std::uint32_t n, double ux,
+    double uy, double uz, double bulk, double* __restrict s, std::uint8_t* __restrict flag) {
+  double lane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  const std::uint32_t whole = n & ~7u;
+  for (std::uint32_t a = 0; a < whole; a += 8)
+    for (int k = 0; k < 8; ++k) {
+      const double dx = vx[a + k] - ux, dy = vy[a + k] - uy, dz = vz[a + k] - uz;
+      const double q = dx * dx + dy * dy + dz * dz;
+      s[a + k] = q;
+      flag[a + k] = !(q < bulk);
+      lane[k] += q;
+    }
+  for (std::uint32_t a = whole; a < n; ++a) {
+    const double dx = vx[a] - ux, dy = vy[a] - uy, dz = vz[a] - uz;
+    const double q = dx * dx + dy * dy + dz * dz;
+    s[a] = q;
+    flag[a] = !(q < bulk);
+    lane[a - whole] += q;
+  }
+  double sum = 0;
+  for (const double x : lane) sum += x;
+  return sum;
+}
+
 namespace {
 // 2^(k+1), k < WeightedLayer::kClasses: the class bounds in units of B_0.
 constexpr auto kClassScale = [] {
@@ -51,8 +78,7 @@ constexpr auto kClassScale = [] {
 }();
 }  // namespace
 
-bool WeightedLayer::build(const ParticleSpan& p, const std::uint32_t* members, std::uint32_t count,
-                          const double (&u)[3], double bulk_over_rms) {
+void WeightedLayer::reset(std::uint32_t count, const double (&u)[3]) {
   std::copy(u, u + 3, u_);
   count_ = count;
   listed_.resize(count);
@@ -60,17 +86,42 @@ bool WeightedLayer::build(const ParticleSpan& p, const std::uint32_t* members, s
   square_.resize(count);
   for (int k = 0; k < top_; ++k) list_[k].clear();  // classes from top_ up are empty (sum_envelope)
   top_ = 0;
+}
+
+void WeightedLayer::set_bulk(double bulk) {
+  low_ = bulk;
+  inverse_low_ = 1.0 / low_;
+  low_square_ = low_ * low_;
+  inverse_low_square_ = 1.0 / low_square_;
+}
+
+bool WeightedLayer::build(const ParticleSpan& p, const std::uint32_t* members, std::uint32_t count,
+                          const double (&u)[3], double bulk_over_rms) {
+  reset(count, u);
   double* const s = square_.data();
   const double sum = peculiar_squares(p.vx.data, p.vy.data, p.vz.data, members, count, u[0], u[1], u[2], s);
   // No relative motion (no pair can collide), or a broken velocity (the engine's checks name it).
   if (!(sum > 0) || !std::isfinite(sum)) return false;
-  low_ = bulk_over_rms * std::sqrt(sum / count);
-  inverse_low_ = 1.0 / low_;
-  low_square_ = low_ * low_;
-  inverse_low_square_ = 1.0 / low_square_;
-  std::uint8_t* const flags = listed_.data();
+  set_bulk(bulk_over_rms * std::sqrt(sum / count));
   // The few at or above B_0: flagged (vectorized), then found eight flags at a time and listed.
-  mark_fast(s, count, low_square_, flags);
+  mark_fast(s, count, low_square_, listed_.data());
+  return list_fast();
+}
+
+bool WeightedLayer::build_contiguous(const ParticleSpan& p, std::uint32_t count, const double (&u)[3], double bulk) {
+  reset(count, u);
+  if (!(bulk > 0) || !std::isfinite(bulk)) return false;
+  set_bulk(bulk);
+  const double sum = peculiar_squares_marked(p.vx.data, p.vy.data, p.vz.data, count, u[0], u[1], u[2], low_square_,
+                                             square_.data(), listed_.data());
+  if (!(sum > 0) || !std::isfinite(sum)) return false;
+  return list_fast();
+}
+
+bool WeightedLayer::list_fast() {
+  const std::uint32_t count = count_;
+  const double* const s = square_.data();
+  std::uint8_t* const flags = listed_.data();
   const auto enlist = [&](std::uint32_t a) {
     const int k = class_of(s[a]);
     pos_[a] = static_cast<std::uint32_t>(list_[k].size());

@@ -33,6 +33,10 @@ class WeightedLayer {
   // relative to the others (no pair can collide) or a speed is not finite.
   bool build(const ParticleSpan& p, const std::uint32_t* members, std::uint32_t count, const double (&u)[3],
              double bulk_over_rms);
+  // Particles 0 .. count-1 of storage (a homogeneous system of one group) about u, with a given bulk
+  // bound B_0 (any B_0 > 0 covers the bulk; one near kBulkSpeedBound times the rms speed is the
+  // efficient one): one pass over the velocities, no gather and no second pass for B_0.
+  bool build_contiguous(const ParticleSpan& p, std::uint32_t count, const double (&u)[3], double bulk);
 
   double envelope() const { return envelope_; }  // E
   double bulk_bound() const { return low_; }      // B_0
@@ -115,6 +119,9 @@ class WeightedLayer {
     const int k = (static_cast<int>((bits >> 52) & 0x7ff) - 1023) >> 1;  // floor(exponent / 2)
     return k < 0 ? 0 : k < kClasses ? k : kClasses - 1;
   }
+  void reset(std::uint32_t count, const double (&u)[3]);
+  void set_bulk(double bulk);
+  bool list_fast();  // list the flagged members in their classes, set the bounds and the envelope
   void sum_envelope() {
     bulk_ = static_cast<double>(count_) * low_;
     double total = 0;
