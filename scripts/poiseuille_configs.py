@@ -146,6 +146,19 @@ def main():
             "poiseuille_bimodality_sweep", "# The nearly elastic gases of Figs. 7-9 and 17-18 (e_n = 0.95 for Fig. 17) at a_hat = 0.5.\n",
             0.05, 0.99, 0.5, "diffuse", 50000,
             sweep="  collision.alpha: [0.95, 0.995, 0.999]\n" + kn_axis()),
+        "poiseuille_fig9b_sweep": pipeline(
+            "poiseuille_fig9b_sweep", "# Fig. 9(b): the rarefaction-driven unimodal-to-bimodal transition of T(y)/T(0) at e_n = 0.9999,\n"
+            "# a_hat = 0.5, with increasing Kn.\n",
+            0.05, 0.9999, 0.5, "diffuse", 50000,
+            sweep=kn_axis([0.02, 0.03, 0.05, 0.1, 0.2])),
+        "poiseuille_fig22": pipeline(
+            "poiseuille_fig22", "# Fig. 22(b, c): the steady profiles of the elastic gas at Kn = 0.05, a_hat = 0.5 averaged over four\n"
+            "# consecutive windows of 3 t_r (t_r = 72 tau0) after 10 t_r, where the steady test has passed. All cases of\n"
+            "# a sweep share the seed, so the four are windows of one trajectory.\n",
+            0.05, 1.0, 0.5, "diffuse", 50000,
+            sweep="  window:\n" + "".join(
+                f'    "{k + 1}": {{diagnostics.0.min_time: {720 + 216 * k}, run.stop.time: {936 + 216 * k}}}\n'
+                for k in range(4))),
         "poiseuille_restitution_sweep": pipeline(
             "poiseuille_restitution_sweep", "# Against e_n at Kn = 0.05, 1 and 5 (Figs. 4c-d, 7b, 10d, 12b): the e_n the other sweeps lack.\n",
             0.05, 0.9, 0.5, "diffuse", 50000,

@@ -31,6 +31,8 @@ RUNS = [  # name, what, default e_n (when not a sweep axis)
     ("linear", "e_n = 1, â = min(0.05, 0.2 Kn) × Kn (near linear response)", 1.0),
     ("linear_a0.1", "e_n = 1, â = 0.1 × Kn (earlier run, nonlinear at small Kn)", 1.0),
     ("ahat", "e_n = 1, â 0.05, 0.25, 0.5 × Kn 1, 5, 4 realizations (Fig. 19's forcing unit)", 1.0),
+    ("fig9b", "e_n = 0.9999 × Kn 0.02–0.2, â = 0.5 (Fig. 9b)", 0.9999),
+    ("fig22", "e_n = 1, Kn = 0.05, â = 0.5: four consecutive windows of 3 t_r of one trajectory (Fig. 22b, c)", 1.0),
     ("fig2", "single case Kn = 0.1, â = 0.3, e_n = 1, N = 1e5 (Figs. 2, 13)", 1.0),
     ("resolution", "base (180 layers, dt 0.02 τ0) vs halved (360, 0.01 τ0), Kn = 0.05, e_n = 0.7, â = 0.5", 0.7),
 ]
@@ -223,6 +225,154 @@ def pick(cases, en=None, kn=None, ahat=None, walls=None):
         r.append(c)
     return sorted(r, key=lambda c: c.kn)
 
+
+
+def fig9b_section(out, files, status, main05, docdir):
+    """Fig. 9(b): T(y)/T(0) at e_n = 0.9999 against Kn, the unimodal-to-bimodal transition with rarefaction."""
+    w = out.append
+    w("### Fig. 9(b): the rarefaction-driven transition at e_n = 0.9999, â = 0.5")
+    w("")
+    if missing(out, files, status, "fig9b"):
+        return
+    w("A profile is called bimodal when ΔT exceeds twice its error. The paper's Fig. 9(b) shows T(y)/T(0) going from")
+    w("unimodal to bimodal as Kn grows; it gives the Kn values only in the figure.")
+    w("")
+    rows, labels = [], []
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    for c in sorted(files["fig9b"], key=lambda c: c.kn):
+        (d, de), (yv, ye) = sval(c, "delta_T"), sval(c, "y_T_max")
+        ref = pick(main05, en=1.0, kn=c.kn)
+        known = bool(np.isfinite(d) and np.isfinite(de))
+        bimodal = known and d > 2 * de
+        if known:
+            labels.append((c.kn, bimodal))
+        rows.append([f"{c.kn:g}", fmt(d, de), fmt(yv, ye), ("bimodal" if bimodal else "unimodal") if known else "—",
+                     fmt(*sval(ref[0], "delta_T")) if ref else ""])
+        y = c.y()
+        T, _ = c.a("T")
+        t0 = sval(c, "T_centre")[0]
+        if np.isfinite(t0) and t0 > 0:
+            ax.plot(y, T / t0, label=f"Kn = {c.kn:g}")
+    table(out, ["Kn", "ΔT", "y_Tmax / W", "T(y)", "ΔT at e_n = 1 (sweep)"], rows)
+    ax.set_xlabel("y / W"); ax.set_ylabel("T / T(0)"); ax.set_title("e_n = 0.9999, â = 0.5"); ax.legend(fontsize=7)
+    w(savefig(fig, docdir, "fig9b"))
+    w("")
+    uni = [k for k, b in labels if not b]
+    bi = [k for k, b in labels if b]
+    order = bool(uni and bi and max(uni) < min(bi))
+    FINDINGS.append("Fig. 9(b), e_n = 0.9999: " + (f"unimodal at Kn = {', '.join(f'{k:g}' for k in uni)}" if uni else "never unimodal")
+                    + "; " + (f"bimodal at Kn = {', '.join(f'{k:g}' for k in bi)}" if bi else "never bimodal")
+                    + (" — one transition with increasing Kn, as the paper's figure shows." if order else
+                       " (the paper: unimodal below a Kn, bimodal above it)."))
+
+
+def dufour_section(out, main05):
+    """Eq. 30: T_s = c1 Kn_fw T'_w + c2 Kn_fw rho'_w fitted per e_n at Kn <= 0.2, beside Maxwell's c2 = 0."""
+    w = out.append
+    w("**Eq. 30: the Dufour term of the temperature slip.** The paper proposes T_s ∝ c₁ Kn_fw T′_w + c₂ Kn_fw ρ′_w")
+    w("(c₂ = 0 for e_n = 1, growing with 1 − e_n) and fits nothing. Here both forms are fitted per e_n over the")
+    w("near-continuum points Kn ≤ 0.2 (ρ′_w = `drho_dy_fw`, the same wall fit as T′_w; weighted least squares with")
+    w("effective variances, the regressors' errors propagated through the coefficients, iterated to the fit):")
+    w("")
+    rows = []
+    need = ("T_s", "dT_dy_fw", "drho_dy_fw", "Kn_fw")
+    for en in sorted({c.en for c in main05}, reverse=True):
+        cc = [c for c in pick(main05, en=en) if c.kn <= 0.2 + 1e-9
+              and all(np.isfinite(c.s(q)[0]) and np.isfinite(c.s(q)[1]) for q in need)]
+        if len(cc) < 4:
+            continue
+        kf = np.array([c.s("Kn_fw")[0] for c in cc])
+        ts = np.array([c.s("T_s") for c in cc])
+        x1 = np.array([c.s("dT_dy_fw") for c in cc]) * kf[:, None]
+        x2 = np.array([c.s("drho_dy_fw") for c in cc]) * kf[:, None]
+
+        def fit(cols):
+            X = np.vstack([x[:, 0] for x in cols]).T
+            coef = np.zeros(len(cols))
+            for _ in range(5):  # the effective variances follow the coefficients
+                sw = 1.0 / np.sqrt(ts[:, 1] ** 2 + sum((coef[i] * x[:, 1]) ** 2 for i, x in enumerate(cols)))
+                coef, *_ = np.linalg.lstsq(X * sw[:, None], ts[:, 0] * sw, rcond=None)
+            sw = 1.0 / np.sqrt(ts[:, 1] ** 2 + sum((coef[i] * x[:, 1]) ** 2 for i, x in enumerate(cols)))
+            A = X * sw[:, None]
+            chi2 = float(np.sum(((X @ coef - ts[:, 0]) * sw) ** 2)) / max(1, len(cc) - len(cols))
+            return coef, np.sqrt(np.diag(np.linalg.inv(A.T @ A))), chi2
+        (a2, e2, q2), (a1, e1, q1) = fit([x1, x2]), fit([x1])
+        rows.append([f"{en:g}", len(cc), fmt(a2[0], e2[0]), fmt(a2[1], e2[1]), fmt(q2, d=2), fmt(a1[0], e1[0]), fmt(q1, d=2)])
+    if not rows:
+        w("*(no runs with `drho_dy_fw`: poiseuille_channel 1.4.0 or later writes it)*")
+        w("")
+        return
+    table(out, ["e_n", "Kn points", "c₁ (Eq. 30)", "c₂ (Eq. 30)", "χ²/dof", "c₁ alone (c₂ = 0)", "χ²/dof"], rows)
+    FINDINGS.append("Eq. 30 (Kn ≤ 0.2): " + "; ".join(f"e_n = {r[0]}: c₂ = {r[3]} (χ²/dof {r[4]} against {r[6]} with c₂ = 0)"
+                                                      for r in rows)
+                    + " (paper: c₂ = 0 for e_n = 1 and grows with 1 − e_n; no values given).")
+
+
+def fig22_section(out, files, status, docdir):
+    """Appendix, Fig. 22: E(t) to its plateau at Kn = 0.05 (the sweep), and the profiles of four consecutive windows."""
+    w = out.append
+    w("## 11. Appendix, Fig. 22: the statistical steady state (Kn = 0.05, â = 0.5)")
+    w("")
+    w("**(a) E(t).** The total kinetic energy per particle, E(t)/E(0), from the sweep's records; the steady test of")
+    w("`poiseuille_channel` starts averaging once window means of E over 2 t_r agree. The drift is a straight-line")
+    w("fit of E over the averaging window, times the window's length, over the window's mean E:")
+    w("")
+    if not missing(out, files, status, "sweep"):
+        rows = []
+        fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
+        for c in pick(files["sweep"], kn=0.05):
+            t = np.array(c.d["time"][:], dtype=float)
+            E = np.array(c.d["E"][:], dtype=float)
+            if len(E) < 3 or not E[0]:
+                continue
+            t0 = c.s("steady_from")[0]
+            m = (t >= t0) if np.isfinite(t0) else np.zeros(len(t), bool)
+            drift = fluct = NAN
+            if m.sum() > 3:
+                slope = np.polyfit(t[m], E[m], 1)[0]
+                drift = slope * (t[m][-1] - t[m][0]) / np.mean(E[m])
+                fluct = np.std(E[m], ddof=1) / np.mean(E[m])
+            pct = lambda x: fmt(100 * x, d=3) + " %" if np.isfinite(x) else "—"
+            rows.append([f"{c.en:g}", fmt(t0, d=0), fmt(np.mean(E[m]) / E[0] if m.any() else NAN, d=4),
+                         pct(drift), pct(fluct)])
+            ax[0].plot(t, E / E[0], label=f"e_n = {c.en:g}")
+        table(out, ["e_n", "averaging from [τ0]", "steady E/E(0)", "drift over the window", "rms of the records / mean"], rows)
+        ax[0].set_xlabel("t / τ0"); ax[0].set_ylabel("E(t) / E(0)"); ax[0].set_title("(a) Kn = 0.05"); ax[0].legend(fontsize=7)
+    else:
+        fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
+    w("**(b, c) Profiles over four consecutive windows** (run fig22: e_n = 1, windows of 216 τ0 = 3 t_r from 720 τ0,")
+    w("one trajectory; each window's temperature about its own mean velocity, where the paper used Δt₁'s). For each")
+    w("pair of consecutive windows, χ²/dof of the bin-by-bin difference over its jackknife errors (the stored profiles are")
+    w("symmetrised, so dof = bins/2), and the largest |difference|/σ:")
+    w("")
+    if not missing(out, files, status, "fig22"):
+        wins = sorted(files["fig22"], key=lambda c: int(c.g.attrs.get("sweep.window", b"0").decode()
+                                                         if isinstance(c.g.attrs.get("sweep.window"), bytes)
+                                                         else c.g.attrs.get("sweep.window", 0)))
+        rows = []
+        for q, lab, a_ in (("u_x", "u_x", ax[1]), ("T", "T", ax[2])):
+            for k, c in enumerate(wins):
+                v, _ = c.a(q)
+                a_.plot(c.y(), v, label=f"window {k + 1} (from {c.s('steady_from')[0]:.0f} τ0, {c.s('averaged_time')[0]:.0f} τ0 long)")
+            for k in range(len(wins) - 1):
+                (v1, e1), (v2, e2) = wins[k].a(q), wins[k + 1].a(q)
+                z = (v1 - v2) / np.sqrt(e1 ** 2 + e2 ** 2)
+                z = z[np.isfinite(z)]
+                rows.append([lab, f"{k + 1} – {k + 2}", fmt(float(np.sum(z ** 2)) / len(z) if len(z) else NAN, d=2),
+                             fmt(float(np.max(np.abs(z))) if len(z) else NAN, d=1)])
+            a_.set_xlabel("y / W"); a_.set_ylabel(lab); a_.legend(fontsize=6)
+        ax[1].set_title("(b) u_x, e_n = 1"); ax[2].set_title("(c) T, e_n = 1")
+        table(out, ["profile", "windows", "χ²/dof of the difference", "largest |difference| / σ"], rows)
+        qs = [fmt(*c.s("Q")) for c in wins]
+        w("Q per window: " + ", ".join(qs) + ".")
+        w("")
+        chis = [float(r[2]) for r in rows if r[2] != "—"]
+        FINDINGS.append(f"Fig. 22 (e_n = 1, Kn = 0.05): the u_x and T profiles of four consecutive 216 τ0 windows differ with "
+                        f"χ²/dof {min(chis):.2f}–{max(chis):.2f} (1 if they are the same profile; dof = bins/2 and the jackknife errors are "
+                        "themselves uncertain by about 1/√(2(batches − 1))); the paper: the profiles collapse." if chis else
+                        "Fig. 22: no window comparison available.")
+    w(savefig(fig, docdir, "fig22"))
+    w("")
 
 # What the numbers alone do not say: found while validating, left open, with what was tried.
 OPEN_FINDINGS = [
@@ -635,6 +785,8 @@ def main():
         w(savefig(fig, docdir, "delta_T"))
         w("")
 
+    fig9b_section(out, files, status, main05, docdir)
+
     # 6. slip
     w("## 6. Figs. 10–12: velocity and temperature slip, â = 0.5")
     w("")
@@ -693,6 +845,8 @@ def main():
         ax.set_xscale("log"); ax.set_yscale("log"); ax.set_xlabel("Kn_fw"); ax.set_ylabel("ζ / W"); ax.legend(fontsize=7)
         w(savefig(fig, docdir, "zeta"))
         w("")
+
+        dufour_section(out, main05)
 
     # 7. normal stresses
     w("## 7. Figs. 13–18: normal-stress differences and χ, â = 0.5")
@@ -970,7 +1124,9 @@ def main():
             w("*(resolution file lacks the base or halved case)*")
             w("")
 
-    w("## 11. Findings")
+    fig22_section(out, files, status, docdir)
+
+    w("## 12. Findings")
     w("")
     for f in FINDINGS:
         w("* " + f)
