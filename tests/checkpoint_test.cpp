@@ -104,6 +104,24 @@ TEST(Checkpoint, AHomogeneousRunKilledThreeTimesAndResumedIsTheSameBits) {
   expect_kill_and_resume_gives_the_same_bits(kHomogeneous, {"--threads", "2"}, 40);
 }
 
+// A homogeneous system of one group whose sheared tails raise its uniform majorant, so that it
+// switches to weighted pairs (run.pair_selection auto; the choice follows the saved majorant, and
+// the weighted time counter's credit is the saved remainder).
+TEST(Checkpoint, AShearedOneGroupRunDrawingWeightedPairsKilledAndResumedIsTheSameBits) {
+  expect_kill_and_resume_gives_the_same_bits(
+      "run:\n  seed: 8\n  particles: 10000\n"
+      "  time_step: {value: 0.002, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 30}\n  record_every: 40\n  sample_every: 4\n"
+      "  average_after: {collisions_per_particle: 10}\n"
+      "  checkpoint: {every: {collisions_per_particle: 0.5}}\n"
+      "system: {density: 1.0e-3, temperature: 1.0}\ninitial_state: {plugin: local_equilibrium, shear_rate: 4}\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.5}\n"
+      "forcings: [{plugin: uniform_shear, shear_rate: 4}]\n"
+      "diagnostics: [temperature, shear_rheology, collision_count]\n"
+      "output: {file: out.h5}\n",
+      {}, 20);
+}
+
 TEST(Checkpoint, ASlabBetweenWallsKilledThreeTimesAndResumedIsTheSameBits) {
   expect_kill_and_resume_gives_the_same_bits(
       "run:\n  seed: 11\n  particles: 30000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 16}\n"
