@@ -327,10 +327,22 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       jackknife(jack, whole.scalars, err.scalars, [](const Result& r) -> const std::vector<double>& { return r.scalars; });
       jackknife(jack, whole.profiles, err.profiles, [](const Result& r) -> const std::vector<double>& { return r.profiles; });
     }
+    // A NaN error says why (issue 29: no NaN error without its reason and the remedy).
+    const auto error_doc = [&](const std::string& what, double value, double error) {
+      std::string doc = "jackknife error over the batches of " + what;
+      if (std::isfinite(error)) return doc;
+      if (used < 2)
+        return doc + "; NaN: the steady window holds " + std::to_string(used) +
+               " batch(es) (E(t) never settled, or the run stopped right after it did): run longer (run.stop) or "
+               "lower min_time; with run.realizations >= 2 the host's _stderr is the realizations' scatter";
+      if (!std::isfinite(value)) return doc + "; NaN: the value itself is undefined in this run (see its description)";
+      return doc + "; NaN: the value is undefined in some batch's complement (a gradient or fit without enough "
+                   "finite bins there): run longer so that every batch fills every bin";
+    };
     for (std::size_t s = 0; s < kScalar; ++s) {
       out.scalar(kScalars[s].name, whole.scalars[s], kScalars[s].unit, kScalars[s].doc);
       out.scalar(std::string(kScalars[s].name) + "_error", err.scalars[s], kScalars[s].unit,
-                 std::string("jackknife error over the batches of ") + kScalars[s].name);
+                 error_doc(kScalars[s].name, whole.scalars[s], err.scalars[s]));
     }
     double chi2 = 0;
     std::size_t terms = 0;
@@ -353,8 +365,12 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
                             err.profiles.begin() + static_cast<std::ptrdiff_t>((k + 1) * bins_));
       out.array(std::string("steady_") + kProfiles[k].name, v, {bins_}, kProfiles[k].unit,
                 std::string("steady ") + kProfiles[k].doc);
+      const bool any_nan = std::any_of(e.begin(), e.end(), [](double x) { return !std::isfinite(x); });
+      const bool value_nan = std::any_of(v.begin(), v.end(), [](double x) { return !std::isfinite(x); });
       out.array(std::string("steady_") + kProfiles[k].name + "_error", e, {bins_}, kProfiles[k].unit,
-                std::string("jackknife error of steady_") + kProfiles[k].name);
+                any_nan ? error_doc("steady_" + std::string(kProfiles[k].name) + " (some bins)",
+                                    value_nan ? std::nan("") : 0.0, std::nan(""))
+                        : std::string("jackknife error of steady_") + kProfiles[k].name);
     }
     char line[512];
     if (!steady_) {
