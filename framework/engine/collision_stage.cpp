@@ -433,7 +433,7 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   // Weighted pairs in every slab layer; in a homogeneous system of one group (members in storage
   // order) when asked for, or by default once its uniform majorant would accept fewer than
   // kUniformAcceptanceFloor of a Maxwellian's candidates (a pass over the particles per step then
-  // buys back the candidates: USF IHS alpha = 0.5, a* = 4 accepted 20 % uniform, 71 % weighted).
+  // buys back the candidates: USF IHS alpha = 0.5, a* = 4 accepted 20 % uniform, 68 % weighted).
   const bool in_storage_order = group.members && group.members == identity_.data();
   if (weighted_ && group.members &&
       (!in_storage_order || selection_ == PairSelection::weighted ||
