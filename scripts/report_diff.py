@@ -5,8 +5,8 @@ regenerated ..., and its old-versus-new differences listed").
 Usage: report_diff.py OLD.md NEW.md [--top K]
        report_diff.py docs/validation/usf.md            # the committed version (git HEAD) against the file
 
-Every table cell written "value ± error" is keyed by its section heading, the table's column header
-and the row's cells that are not values (so the same quantity is found in both reports even when
+Every table cell written "value ± error" is keyed by its section heading and the line of text
+before its table, the table's column header and the row's cells that are not values (so the same quantity is found in both reports even when
 rows or tables were added); the difference is given in units of the combined error
 sqrt(e_old^2 + e_new^2). Prints a summary (cells compared, how many differ by more than 2 and 3
 combined errors, the expected count for independent Gaussian values) and the K largest differences
@@ -22,13 +22,15 @@ VALUE = re.compile(r"^\s*\*{0,2}([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)\s*±\s*(\d
 
 def cells(text):
     """{(section, column, row label): (value, error)} of every "value ± error" table cell."""
-    out, section, header = {}, "", None
+    out, section, header, caption = {}, "", None, ""
     for line in text.splitlines():
         if line.startswith("#"):
-            section, header = line.lstrip("#").strip(), None
+            section, header, caption = line.lstrip("#").strip(), None, ""
             continue
         if not line.startswith("|"):
             header = None
+            if line.strip():
+                caption = line.strip()[:60]  # the text before a table tells same-shaped tables apart
             continue
         row = [c.strip() for c in line.strip().strip("|").split("|")]
         if header is None:
@@ -40,7 +42,7 @@ def cells(text):
         label = " / ".join(c for c, m in zip(row, parsed) if not m and c)
         for k, m in enumerate(parsed):
             if m and k < len(header):
-                key = (section, header[k], label)
+                key = (section + (" — " + caption if caption else ""), header[k], label)
                 if key not in out:  # the first of duplicate cells (a table repeated in a figure note)
                     out[key] = (float(m.group(1)), float(m.group(2)))
     return out
