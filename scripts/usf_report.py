@@ -1309,8 +1309,13 @@ def main():
     _, vi, ei = get(P[("IHS", 4.0)], "shear_rheology.temperature")
     _, ve, ee = get(P[("EHS", 4.0)], "shear_rheology.temperature")
     r05 = ve[0] / vi[0]
-    w(f"\nSteady temperature (the tables' last row): at alpha = 0.5, aτ⁰ = 4, EHS is {rel(ve[0], vi[0]):.1f} "
-      f"± {100 * r05 * np.hypot(ei[0] / vi[0], ee[0] / ve[0]):.1f} % hotter than IHS ({ve[0]:.2f} against "
+    err05 = 100 * r05 * np.hypot(ei[0] / vi[0], ee[0] / ve[0])
+    # A NaN error says why (issue 29): the host's steady error of T needs 4 batches of 5 tau_int.
+    err_text = (f" ± {err05:.1f}" if np.isfinite(err05) else
+                " (no error: the steady T of one of the two runs has none, its window s ≥ 60 holding fewer than 4 "
+                "batches of 5 integrated autocorrelation times of T: a longer run or run.realizations >= 2 would give one)")
+    w(f"\nSteady temperature (the tables' last row): at alpha = 0.5, aτ⁰ = 4, EHS is {rel(ve[0], vi[0]):.1f} %"
+      f"{err_text} hotter than IHS ({ve[0]:.2f} against "
       f"{vi[0]:.2f}); the paper says \"about 12 %\" (Sec. V.B).\n")
 
     w("\n## Transients (paper Figs. 5, 7, 8, 10-12)\n")
