@@ -153,12 +153,14 @@ def main():
             sweep=kn_axis([0.02, 0.03, 0.05, 0.1, 0.2])),
         "poiseuille_fig22": pipeline(
             "poiseuille_fig22", "# Fig. 22(b, c): the steady profiles of the elastic gas at Kn = 0.05, a_hat = 0.5 averaged over four\n"
-            "# consecutive windows of 3 t_r (t_r = 72 tau0) after 10 t_r, where the steady test has passed. All cases of\n"
-            "# a sweep share the seed, so the four are windows of one trajectory.\n",
+            "# consecutive windows of 4 t_r = 288 tau0 (t_r = 72 tau0) from 8 t_r; the sweep's steady test passed at 6 t_r.\n"
+            "# All cases of a sweep share the seed, so the four are windows of one trajectory. The windows are placed by\n"
+            "# hand: min_time on a boundary of the steady test's 144 tau0 windows and any change accepted\n"
+            "# (steady_tolerance 1), so that averaging starts exactly at min_time.\n",
             0.05, 1.0, 0.5, "diffuse", 50000,
             sweep="  window:\n" + "".join(
-                f'    "{k + 1}": {{diagnostics.0.min_time: {720 + 216 * k}, run.stop.time: {936 + 216 * k}}}\n'
-                for k in range(4))),
+                f'    "{k + 1}": {{diagnostics.0.min_time: {576 + 288 * k}, run.stop.time: {864 + 288 * k}, '
+                f'diagnostics.0.steady_tolerance: 1}}\n' for k in range(4))),
         "poiseuille_restitution_sweep": pipeline(
             "poiseuille_restitution_sweep", "# Against e_n at Kn = 0.05, 1 and 5 (Figs. 4c-d, 7b, 10d, 12b): the e_n the other sweeps lack.\n",
             0.05, 0.9, 0.5, "diffuse", 50000,

@@ -384,7 +384,7 @@ def fig22_section(out, files, status, docdir):
         ax[0].set_xlabel("t / τ0"); ax[0].set_ylabel("E(t) / E(0)"); ax[0].set_title("(a) Kn = 0.05"); ax[0].legend(fontsize=7)
     else:
         fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
-    w("**(b, c) Profiles over four consecutive windows** (run fig22: e_n = 1, windows of 216 τ0 = 3 t_r from 720 τ0,")
+    w("**(b, c) Profiles over four consecutive windows** (run fig22: e_n = 1, windows of 288 τ0 = 4 t_r from 576 τ0,")
     w("one trajectory; each window's temperature about its own mean velocity, where the paper used Δt₁'s). For each")
     w("pair of consecutive windows, χ²/dof of the bin-by-bin difference over its jackknife errors (the stored profiles are")
     w("symmetrised, so dof = bins/2), and the largest |difference|/σ:")
@@ -411,7 +411,7 @@ def fig22_section(out, files, status, docdir):
         w("Q per window: " + ", ".join(qs) + ".")
         w("")
         chis = [float(r[2]) for r in rows if r[2] != "—"]
-        FINDINGS.append(f"Fig. 22 (e_n = 1, Kn = 0.05): the u_x and T profiles of four consecutive 216 τ0 windows differ with "
+        FINDINGS.append(f"Fig. 22 (e_n = 1, Kn = 0.05): the u_x and T profiles of four consecutive 288 τ0 windows differ with "
                         f"χ²/dof {min(chis):.2f}–{max(chis):.2f} (1 if they are the same profile; dof = bins/2 and the jackknife errors are "
                         "themselves uncertain by about 1/√(2(batches − 1))); the paper: the profiles collapse." if chis else
                         "Fig. 22: no window comparison available.")
