@@ -96,6 +96,7 @@ class Case:
         self.run, self.g = run, group
         self.d = group["diagnostics/poiseuille_channel"]
         a = {k: (v.decode() if isinstance(v, bytes) else str(v)) for k, v in group.attrs.items()}
+        self.attrs = a  # the case's attributes, decoded (sweep.<axis> values among them)
         self.label = a.get("case", run)
         self.en = float(a["sweep.collision.alpha"]) if "sweep.collision.alpha" in a else en_default
         self.walls = a["sweep.walls_Kn"].split(",")[0].strip() if "sweep.walls_Kn" in a else a.get("sweep.walls", "1")
@@ -287,11 +288,15 @@ def dufour_section(out, main05):
     w("squares with effective variances, the regressors' errors propagated through the coefficients, iterated to the fit):")
     w("")
     rows = []
-    need = ("T_s", "dT_dy_fw", "drho_dy_fw", "Kn_fw")
+
+    def usable(en, top):
+        """The cases of one e_n at Kn <= top whose four Eq. 30 quantities have values and errors."""
+        need = ("T_s", "dT_dy_fw", "drho_dy_fw", "Kn_fw")
+        return [c for c in pick(main05, en=en) if c.kn <= top + 1e-9
+                and all(np.isfinite(c.s(q)[0]) and np.isfinite(c.s(q)[1]) for q in need)]
     for top in (0.05, 0.2):
         for en in sorted({c.en for c in main05}, reverse=True):
-            cc = [c for c in pick(main05, en=en) if c.kn <= top + 1e-9
-                  and all(np.isfinite(c.s(q)[0]) and np.isfinite(c.s(q)[1]) for q in need)]
+            cc = usable(en, top)
             if len(cc) < 3:
                 continue
             kf = np.array([c.s("Kn_fw")[0] for c in cc])
@@ -329,16 +334,14 @@ def dufour_section(out, main05):
     # The paper's reading: c1 the elastic gas's (c2 = 0 there), c2 then carries the inelastic excess.
     joint = []
     for top in (0.05, 0.2):
-        el = [c for c in pick(main05, en=1.0) if c.kn <= top + 1e-9
-              and all(np.isfinite(c.s(q)[0]) and np.isfinite(c.s(q)[1]) for q in need)]
+        el = usable(1.0, top)
         if len(el) < 2:
             continue
         x = np.array([c.s("Kn_fw")[0] * c.s("dT_dy_fw")[0] for c in el])
         y = np.array([c.s("T_s") for c in el])
         c1 = float(np.sum(x * y[:, 0] / y[:, 1] ** 2) / np.sum(x * x / y[:, 1] ** 2))
         for en in sorted({c.en for c in main05 if c.en < 1.0}, reverse=True):
-            cc = [c for c in pick(main05, en=en) if c.kn <= top + 1e-9
-                  and all(np.isfinite(c.s(q)[0]) and np.isfinite(c.s(q)[1]) for q in need)]
+            cc = usable(en, top)
             if len(cc) < 2:
                 continue
             kf = np.array([c.s("Kn_fw")[0] for c in cc])
@@ -402,9 +405,7 @@ def fig22_section(out, files, status, docdir):
     w("symmetrised, so dof = bins/2), and the largest |difference|/σ:")
     w("")
     if not missing(out, files, status, "fig22"):
-        wins = sorted(files["fig22"], key=lambda c: int(c.g.attrs.get("sweep.window", b"0").decode()
-                                                         if isinstance(c.g.attrs.get("sweep.window"), bytes)
-                                                         else c.g.attrs.get("sweep.window", 0)))
+        wins = sorted(files["fig22"], key=lambda c: int(c.attrs.get("sweep.window", 0)))
         rows = []
         for q, lab, a_ in (("u_x", "u_x", ax[1]), ("T", "T", ax[2])):
             for k, c in enumerate(wins):

@@ -12,10 +12,10 @@ sqrt(e_old^2 + e_new^2). Prints a summary (cells compared, how many differ by mo
 combined errors, the expected count for independent Gaussian values) and the K largest differences
 as a Markdown table. Cells whose runs did not change give a difference of 0; cells with no error are
 skipped."""
+import argparse
 import math
 import re
 import subprocess
-import sys
 
 VALUE = re.compile(r"^\s*\*{0,2}([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)\s*±\s*(\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)\*{0,2}")
 
@@ -49,17 +49,18 @@ def cells(text):
 
 
 def main():
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    top = int(sys.argv[sys.argv.index("--top") + 1]) if "--top" in sys.argv else 15
-    if "--top" in sys.argv:
-        args.remove(str(top))
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("reports", nargs="+", metavar="REPORT", help="OLD.md NEW.md, or one file against git HEAD")
+    parser.add_argument("--top", type=int, default=15, help="how many of the largest differences to list (15)")
+    opts = parser.parse_args()
+    args, top = opts.reports, opts.top
     if len(args) == 1:
         old = subprocess.run(["git", "show", "HEAD:" + args[0]], capture_output=True, text=True, check=True).stdout
         new = open(args[0]).read()
     elif len(args) == 2:
         old, new = open(args[0]).read(), open(args[1]).read()
     else:
-        sys.exit(__doc__)
+        parser.error("give OLD.md NEW.md, or one report to compare with its committed version")
     a, b = cells(old), cells(new)
     rows = []
     for key in a.keys() & b.keys():
