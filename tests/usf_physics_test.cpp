@@ -369,7 +369,8 @@ TEST(usf_physics, ShearedIhsOfOneGroupDrawsWeightedPairsByDefaultWithTheSameStre
   for (int k = 0; k < 2; ++k) {
     t::TempDir dir;
     std::string yaml = usf_yaml("IHS", 0.5, 4.0, 2000, 50, 25, 0.002);
-    yaml.replace(yaml.find("  subpopulation: 256\n"), 20, k == 0 ? "" : "  pair_selection: uniform\n");
+    const std::string groups = "  subpopulation: 256\n";  // one group of 2000 instead (the default size)
+    yaml.replace(yaml.find(groups), groups.size(), k == 0 ? "" : "  pair_selection: uniform\n");
     host::Pipeline p = t::load_yaml(dir, yaml);
     host::Engine e(p, 0);
     e.run();
