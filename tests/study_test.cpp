@@ -7,6 +7,7 @@
 #include <gdsmc/physics/series.hpp>
 
 #include "output/hdf5_file.hpp"
+#include "study/statistics.hpp"
 #include "study/study.hpp"
 #include "test_support.hpp"
 
@@ -381,6 +382,67 @@ TEST(Study, SeveralRealizationsTakeTheSteadyErrorFromTheScatterOfTheirOwnMeans) 
   EXPECT_NEAR(scalar_named(avg[0], "x.steady_mean"), expected.mean, 1e-12);
   EXPECT_NEAR(scalar_named(avg[0], "x.steady_stderr"), expected.standard_error, 1e-12);
   EXPECT_NE(scalar_item(avg[0], "x.steady_stderr").doc.find("K = 5 realizations"), std::string::npos);
+}
+
+// The seed check of an error (issue 29 item 2): chi2/dof of K values about their mean against
+// their own errors, and its central 95 % band, checked against chi2 tables and by hand.
+TEST(Study, SeedCheckBandIsTheCentral95PercentOfChiSquaredPerDof) {
+  // chi2 quantiles: 19 dof 8.9065 (2.5 %), 32.8523 (97.5 %); 4 dof 0.4844, 11.1433.
+  const host::SeedBand b20 = host::seed_chi2_band(20);
+  EXPECT_NEAR(b20.low, 8.9065 / 19, 1e-4);
+  EXPECT_NEAR(b20.high, 32.8523 / 19, 1e-4);
+  const host::SeedBand b5 = host::seed_chi2_band(5);
+  EXPECT_NEAR(b5.low, 0.4844 / 4, 1e-4);
+  EXPECT_NEAR(b5.high, 11.1433 / 4, 1e-4);
+  EXPECT_TRUE(std::isnan(host::seed_chi2_band(1).low));
+  // 1, 2, 3 with errors 1 about their mean 2: (1 + 0 + 1) / 2.
+  EXPECT_DOUBLE_EQ(host::seed_chi2_per_dof({1, 2, 3}, {1, 1, 1}), 1.0);
+  // Errors 1 and sqrt(7): pooled <e^2> = 4 about the mean 2, (1 + 1)/4; weighted, the mean
+  // (1 + 3/7)/(1 + 1/7) = 1.25 and 0.25^2 + 1.75^2/7 = 0.5 (one dof).
+  EXPECT_NEAR(host::seed_chi2_per_dof({1, 3}, {1, std::sqrt(7.0)}), 0.5, 1e-12);
+  EXPECT_NEAR(host::seed_chi2_per_dof({1, 3}, {1, std::sqrt(7.0)}, true), 0.5, 1e-12);
+  // An error that is not finite and positive makes the check NaN, never a silent pass.
+  EXPECT_TRUE(std::isnan(host::seed_chi2_per_dof({1, 2, 3}, {1, std::nan(""), 1})));
+  EXPECT_TRUE(std::isnan(host::seed_chi2_per_dof({1, 2, 3}, {1, 0, 1})));
+}
+
+// Every scalar error of a study with realizations gets its seed check, and the summary names the
+// errors outside the band. 20 realizations of a value x ~ N(0, 1) that quotes x_error = 1 (honest),
+// of y = x quoting y_error = 0.4 (understated: chi2/dof ~ 1/0.16 = 6.25, far above 1.73 for any
+// draw), and of z whose error is NaN in one realization (not checked, named as such). The draws are
+// seeded, so the honest check's place inside its band is deterministic here.
+TEST(Study, EveryScalarErrorOfSeveralRealizationsGetsItsSeedCheck) {
+  const std::size_t K = 20;
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<std::vector<host::DiagnosticOutput>> runs;
+  for (std::size_t r = 0; r < K; ++r) {
+    host::DiagnosticOutput d("g", nullptr);
+    const double x = g(rng);
+    d.scalars.push_back({"x", "1", "value", x});
+    d.scalars.push_back({"x_error", "1", "its honest error", 1.0});
+    d.scalars.push_back({"y_mean", "1", "value", x});
+    d.scalars.push_back({"y_standard_error", "1", "an understated error", 0.4});
+    d.scalars.push_back({"z", "1", "value", x});
+    d.scalars.push_back({"z_error", "1", "an error NaN in one realization", r == 7 ? std::nan("") : 1.0});
+    runs.push_back({std::move(d)});
+  }
+  const auto avg = host::average_realizations(runs, nullptr);
+  const host::SeedBand band = host::seed_chi2_band(K);
+  const double x = scalar_named(avg[0], "x_error_seed_chi2_dof");
+  EXPECT_GE(x, band.low);
+  EXPECT_LE(x, band.high);
+  EXPECT_NEAR(scalar_named(avg[0], "y_standard_error_seed_chi2_dof"), x / (0.4 * 0.4), 1e-12);
+  EXPECT_TRUE(std::isnan(scalar_named(avg[0], "z_error_seed_chi2_dof")));
+  EXPECT_TRUE(std::isfinite(scalar_named(avg[0], "x_error_seed_chi2_dof_weighted")));
+  EXPECT_EQ(avg[0].attributes.at("seed_chi2_band_95"), "[0.469, 1.73] for 19 dof");
+  const std::string& check = avg[0].attributes.at("seed_check");
+  EXPECT_NE(check.find("1 of 2 inside"), std::string::npos) << check;
+  EXPECT_NE(check.find("outside: y_mean"), std::string::npos) << check;
+  EXPECT_NE(check.find("not checked, a realization's error NaN (its reason in its description): z"), std::string::npos)
+      << check;
+  // No error pair, no check: the companions of the host (_stderr) are not errors of a plugin.
+  EXPECT_THROW(scalar_named(avg[0], "x_error_stderr_seed_chi2_dof"), std::runtime_error);
 }
 
 // Many short independent realizations of an equilibrium gas (elastic hard spheres: a2 fluctuates

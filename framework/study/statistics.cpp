@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <string>
+
+#include <boost/math/distributions/chi_squared.hpp>
 
 #include <gdsmc/physics/series.hpp>
 
@@ -13,6 +16,22 @@
 namespace gdsmc::host {
 
 namespace {
+
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+// The value a scalar named `name` is the error of: "X" for "X_error" or "X_standard_error"
+// (the value is X or X_mean); "" for a scalar that is no error.
+std::string error_base(const std::string& name) {
+  for (const char* suffix : {"_standard_error", "_error"}) {
+    const std::size_t n = std::char_traits<char>::length(suffix);
+    if (name.size() > n && name.compare(name.size() - n, n, suffix) == 0) return name.substr(0, name.size() - n);
+  }
+  return "";
+}
 
 double mean_of(const std::vector<double>& v) {
   double s = 0;
@@ -100,6 +119,60 @@ void average_scalars(Combiner& combine, const DiagnosticOutput& first, Diagnosti
   }
 }
 
+// The seed check of every error a run reports (issue 29 item 2): for each scalar pair value X and
+// error E (E named X_error or X_standard_error, X also X_mean), chi2/dof of the realizations'
+// values about their mean against their own errors, "<E>_seed_chi2_dof" (and "_weighted"), and a
+// text attribute "seed_check" (printed in the case's summary) naming those outside the 95 % band
+// of chi2 with K - 1 degrees of freedom.
+void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std::size_t d, DiagnosticOutput& out) {
+  const DiagnosticOutput& first = runs[0][d];
+  const std::size_t K = runs.size();
+  const SeedBand band = seed_chi2_band(K);
+  const std::string band_text = "[" + number(band.low) + ", " + number(band.high) + "] for " + std::to_string(K - 1) + " dof";
+  std::vector<double> x(K), e(K);
+  std::string outside, unchecked;
+  std::size_t pairs = 0, checked = 0, inside = 0;
+  for (std::size_t s = 0; s < first.scalars.size(); ++s) {
+    const std::string& name = first.scalars[s].name;
+    const std::string base = error_base(name);
+    if (base.empty()) continue;
+    std::size_t v = first.scalars.size();
+    for (std::size_t t = 0; t < first.scalars.size(); ++t)
+      if (first.scalars[t].name == base || first.scalars[t].name == base + "_mean") v = t;
+    if (v == first.scalars.size()) continue;
+    for (std::size_t r = 0; r < K; ++r) {
+      x[r] = runs[r][d].scalars[v].value;
+      e[r] = runs[r][d].scalars[s].value;
+    }
+    const double chi2 = seed_chi2_per_dof(x, e, false);
+    out.scalars.push_back({name + "_seed_chi2_dof", "1",
+                           "chi2/dof of the " + std::to_string(K) + " realizations' " + first.scalars[v].name +
+                               " about their mean against the mean of their own " + name +
+                               " squared (1 when the errors hold; 95 % band " + band_text +
+                               "; NaN when an error is not finite and positive)",
+                           chi2});
+    out.scalars.push_back({name + "_seed_chi2_dof_weighted", "1",
+                           "the same with each realization weighted by its own " + name +
+                               " (nu/(nu-2) on average when each error has nu degrees of freedom: it also "
+                               "tests how precise each error is)",
+                           seed_chi2_per_dof(x, e, true)});
+    ++pairs;
+    if (!std::isfinite(chi2)) {
+      unchecked += (unchecked.empty() ? "" : ", ") + first.scalars[v].name;
+      continue;
+    }
+    ++checked;
+    if (chi2 >= band.low && chi2 <= band.high) ++inside;
+    else outside += (outside.empty() ? "" : ", ") + first.scalars[v].name + " " + number(chi2);
+  }
+  if (pairs == 0) return;
+  out.attributes["seed_chi2_band_95"] = band_text;
+  out.attributes["seed_check"] = first.group() + ": errors checked over " + std::to_string(K) +
+                                 " realizations (chi2/dof, 95 % band " + band_text + "): " + std::to_string(inside) +
+                                 " of " + std::to_string(checked) + " inside" + (outside.empty() ? "" : "; outside: " + outside) +
+                                 (unchecked.empty() ? "" : "; not checked, a realization's error NaN (its reason in its description): " + unchecked);
+}
+
 }  // namespace
 
 std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector<DiagnosticOutput>>& runs,
@@ -117,6 +190,7 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
     Combiner combine(runs, d);
     average_columns(combine, first, records, out);
     average_scalars(combine, first, out);
+    add_seed_checks(runs, d, out);
     out.bin_centres = first.bin_centres;
     for (std::size_t p = 0; p < first.profiles.size(); ++p)
       combine_item(combine, first.profiles[p],
@@ -149,12 +223,6 @@ struct SteadyWindow {
 const char* const kNoRecord = "; NaN: no record reached the window";
 
 bool is_stderr(const std::string& name) { return name.size() > 7 && name.compare(name.size() - 7, 7, "_stderr") == 0; }
-
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
 
 // One value per record: a series (stride 1) or one bin of a profile (stride bins, offset bin).
 struct Values {
@@ -406,6 +474,40 @@ std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>&
     lines.push_back(fmt("warning: %zu error%s estimated by plugins %s NaN, in ", counts[1], counts[1] == 1 ? "" : "s", counts[1] == 1 ? "is" : "are") + where[1] + " (e.g. " +
                     first[1] + "; each description says why)" + remedy);
   return lines;
+}
+
+SeedBand seed_chi2_band(std::size_t realizations) {
+  SeedBand b;
+  if (realizations < 2) return b;
+  const double dof = static_cast<double>(realizations - 1);
+  const boost::math::chi_squared dist(dof);
+  b.low = boost::math::quantile(dist, 0.025) / dof;
+  b.high = boost::math::quantile(dist, 0.975) / dof;
+  return b;
+}
+
+double seed_chi2_per_dof(const std::vector<double>& values, const std::vector<double>& errors, bool weighted) {
+  const std::size_t K = values.size();
+  if (K < 2 || errors.size() != K) return std::nan("");
+  double sw = 0, swx = 0, sx = 0, se2 = 0;
+  for (std::size_t r = 0; r < K; ++r) {
+    if (!std::isfinite(values[r]) || !std::isfinite(errors[r]) || !(errors[r] > 0)) return std::nan("");
+    const double w = 1.0 / (errors[r] * errors[r]);
+    sw += w;
+    swx += w * values[r];
+    sx += values[r];
+    se2 += errors[r] * errors[r];
+  }
+  const double dof = static_cast<double>(K - 1);
+  double chi2 = 0;
+  if (weighted) {
+    const double mean = swx / sw;
+    for (std::size_t r = 0; r < K; ++r) chi2 += (values[r] - mean) * (values[r] - mean) / (errors[r] * errors[r]);
+  } else {
+    const double mean = sx / static_cast<double>(K), e2 = se2 / static_cast<double>(K);
+    for (std::size_t r = 0; r < K; ++r) chi2 += (values[r] - mean) * (values[r] - mean) / e2;
+  }
+  return chi2 / dof;
 }
 
 double integrated_autocorrelation_time(const std::vector<double>& v) {

@@ -1,5 +1,7 @@
 // Statistics over the runs of a case: averages over realizations and steady-state averages.
 #pragma once
+#include <cmath>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +38,23 @@ std::string steady_window_missed(const std::vector<DiagnosticOutput>& diagnostic
 // *_standard_error / *_error scalars: how many, in which diagnostics, why, and what to do (issue 29:
 // no NaN error without a printed reason and the remedy).
 std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>& diagnostics);
+
+// The seed check of an error: K realizations' values x_r with their own errors e_r give
+//   chi2/dof = sum_r (x_r - xbar)^2 / <e^2> / (K - 1)       (weighted = false: xbar the plain mean,
+//                                                            <e^2> the mean of the e_r^2), or
+//   chi2/dof = sum_r (x_r - xbar_w)^2 / e_r^2 / (K - 1)    (weighted = true: xbar_w weighted by 1/e_r^2).
+// When the errors hold, the first follows chi2 with K - 1 dof over K - 1 (mean 1): it tests the
+// calibration of the errors. The second also carries the noise of each e_r: with nu degrees of
+// freedom per error its mean is nu/(nu - 2), above 1 for honest but imprecise errors. NaN for fewer
+// than 2 values or an error that is not finite and positive. average_realizations writes both for
+// every scalar error (<error>_seed_chi2_dof, _weighted) and a "seed_check" attribute.
+double seed_chi2_per_dof(const std::vector<double>& values, const std::vector<double>& errors, bool weighted = false);
+// The central 95 % band of chi2/dof for K realizations (K - 1 dof): the 2.5 % and 97.5 % quantiles
+// of chi2 with K - 1 dof over K - 1 (K = 20: [0.469, 1.729]).
+struct SeedBand {
+  double low = std::nan(""), high = std::nan("");
+};
+SeedBand seed_chi2_band(std::size_t realizations);
 
 inline constexpr double kBatchTaus = 5.0;
 inline constexpr std::size_t kMinBatches = 4, kMaxBatches = 64;

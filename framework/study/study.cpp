@@ -194,6 +194,10 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   case_out.diagnostics = average_realizations(diagnostics, nullptr);
   add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0,
                       diagnostics);
+  for (const auto& d : case_out.diagnostics) {
+    const auto check = d.attributes.find("seed_check");
+    if (check != d.attributes.end()) case_summary.push_back(check->second);
+  }
   const std::string missed =
       steady_window_missed(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0);
   if (!missed.empty()) case_summary.push_back("warning: " + missed);
