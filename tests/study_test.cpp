@@ -409,8 +409,9 @@ TEST(Study, SeedCheckBandIsTheCentral95PercentOfChiSquaredPerDof) {
 // Every scalar error of a study with realizations gets its seed check, and the summary names the
 // errors outside the band. 20 realizations of a value x ~ N(0, 1) that quotes x_error = 1 (honest),
 // of y = x quoting y_error = 0.4 (understated: chi2/dof ~ 1/0.16 = 6.25, far above 1.73 for any
-// draw), and of z whose error is NaN in one realization (not checked, named as such). The draws are
-// seeded, so the honest check's place inside its band is deterministic here.
+// draw), of z whose error is NaN in one realization (left out of z's check, which then runs over
+// 19), and of w whose error is NaN in all but one (not checked, named as such). The draws are
+// seeded, so the honest checks' places inside their bands are deterministic here.
 TEST(Study, EveryScalarErrorOfSeveralRealizationsGetsItsSeedCheck) {
   const std::size_t K = 20;
   std::mt19937_64 rng(29);
@@ -425,6 +426,8 @@ TEST(Study, EveryScalarErrorOfSeveralRealizationsGetsItsSeedCheck) {
     d.scalars.push_back({"y_standard_error", "1", "an understated error", 0.4});
     d.scalars.push_back({"z", "1", "value", x});
     d.scalars.push_back({"z_error", "1", "an error NaN in one realization", r == 7 ? std::nan("") : 1.0});
+    d.scalars.push_back({"w", "1", "value", x});
+    d.scalars.push_back({"w_error", "1", "an error NaN in all but one realization", r == 3 ? 1.0 : std::nan("")});
     runs.push_back({std::move(d)});
   }
   const auto avg = host::average_realizations(runs, nullptr);
@@ -433,14 +436,20 @@ TEST(Study, EveryScalarErrorOfSeveralRealizationsGetsItsSeedCheck) {
   EXPECT_GE(x, band.low);
   EXPECT_LE(x, band.high);
   EXPECT_NEAR(scalar_named(avg[0], "y_standard_error_seed_chi2_dof"), x / (0.4 * 0.4), 1e-12);
-  EXPECT_TRUE(std::isnan(scalar_named(avg[0], "z_error_seed_chi2_dof")));
+  // z: realization 7 left out, the check over the other 19 (18 dof), said in its description.
+  const auto& z = scalar_item(avg[0], "z_error_seed_chi2_dof");
+  EXPECT_GE(z.value, host::seed_chi2_band(19).low);
+  EXPECT_LE(z.value, host::seed_chi2_band(19).high);
+  EXPECT_NE(z.doc.find("19 of the 20 realizations"), std::string::npos) << z.doc;
+  EXPECT_NE(z.doc.find("1 left out"), std::string::npos) << z.doc;
+  EXPECT_TRUE(std::isnan(scalar_named(avg[0], "w_error_seed_chi2_dof")));
   EXPECT_TRUE(std::isfinite(scalar_named(avg[0], "x_error_seed_chi2_dof_weighted")));
   EXPECT_EQ(avg[0].attributes.at("seed_chi2_band_95"), "[0.469, 1.73] for 19 dof");
   const std::string& check = avg[0].attributes.at("seed_check");
-  EXPECT_NE(check.find("1 of 2 inside"), std::string::npos) << check;
+  EXPECT_NE(check.find("2 of 3 inside"), std::string::npos) << check;
   EXPECT_NE(check.find("outside: y_mean"), std::string::npos) << check;
-  EXPECT_NE(check.find("not checked, a realization's error NaN (its reason in its description): z"), std::string::npos)
-      << check;
+  EXPECT_NE(check.find("up to 1 realization(s) left out"), std::string::npos) << check;
+  EXPECT_NE(check.find("not checked, fewer than 2 finite errors: w"), std::string::npos) << check;
   // No error pair, no check: the companions of the host (_stderr) are not errors of a plugin.
   EXPECT_THROW(scalar_named(avg[0], "x_error_stderr_seed_chi2_dof"), std::runtime_error);
 }

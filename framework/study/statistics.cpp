@@ -123,15 +123,18 @@ void average_scalars(Combiner& combine, const DiagnosticOutput& first, Diagnosti
 // error E (E named X_error or X_standard_error, X also X_mean), chi2/dof of the realizations'
 // values about their mean against their own errors, "<E>_seed_chi2_dof" (and "_weighted"), and a
 // text attribute "seed_check" (printed in the case's summary) naming those outside the 95 % band
-// of chi2 with K - 1 degrees of freedom.
+// of chi2 with K - 1 degrees of freedom. A realization whose E is not finite and positive (its
+// reason is in E's description) is left out of that check, and said so; with fewer than two left,
+// the check is NaN.
 void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std::size_t d, DiagnosticOutput& out) {
   const DiagnosticOutput& first = runs[0][d];
   const std::size_t K = runs.size();
-  const SeedBand band = seed_chi2_band(K);
-  const std::string band_text = "[" + number(band.low) + ", " + number(band.high) + "] for " + std::to_string(K - 1) + " dof";
-  std::vector<double> x(K), e(K);
+  const auto band_text = [](const SeedBand& b, std::size_t k) {
+    return "[" + number(b.low) + ", " + number(b.high) + "] for " + std::to_string(k - 1) + " dof";
+  };
+  std::vector<double> x, e;
   std::string outside, unchecked;
-  std::size_t pairs = 0, checked = 0, inside = 0;
+  std::size_t pairs = 0, checked = 0, inside = 0, most_left_out = 0;
   for (std::size_t s = 0; s < first.scalars.size(); ++s) {
     const std::string& name = first.scalars[s].name;
     const std::string base = error_base(name);
@@ -140,16 +143,23 @@ void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std
     for (std::size_t t = 0; t < first.scalars.size(); ++t)
       if (first.scalars[t].name == base || first.scalars[t].name == base + "_mean") v = t;
     if (v == first.scalars.size()) continue;
+    x.clear(), e.clear();
     for (std::size_t r = 0; r < K; ++r) {
-      x[r] = runs[r][d].scalars[v].value;
-      e[r] = runs[r][d].scalars[s].value;
+      const double value = runs[r][d].scalars[v].value, error = runs[r][d].scalars[s].value;
+      if (!std::isfinite(value) || !std::isfinite(error) || !(error > 0)) continue;
+      x.push_back(value), e.push_back(error);
     }
+    const std::size_t used = x.size();
+    const SeedBand band = seed_chi2_band(used);
+    const std::string over = std::to_string(used) + (used < K ? " of the " + std::to_string(K) : "") + " realizations";
+    const std::string left_out =
+        used < K ? "; " + std::to_string(K - used) + " left out, their " + name + " NaN or not positive (the reason in its description)" : "";
     const double chi2 = seed_chi2_per_dof(x, e, false);
     out.scalars.push_back({name + "_seed_chi2_dof", "1",
-                           "chi2/dof of the " + std::to_string(K) + " realizations' " + first.scalars[v].name +
-                               " about their mean against the mean of their own " + name +
-                               " squared (1 when the errors hold; 95 % band " + band_text +
-                               "; NaN when an error is not finite and positive)",
+                           "chi2/dof of " + over + "' " + first.scalars[v].name +
+                               " about their mean against the mean of their own " + name + " squared (1 when the errors hold" +
+                               (used >= 2 ? "; 95 % band " + band_text(band, used) : "") + left_out +
+                               "; NaN with fewer than 2 finite errors)",
                            chi2});
     out.scalars.push_back({name + "_seed_chi2_dof_weighted", "1",
                            "the same with each realization weighted by its own " + name +
@@ -162,15 +172,21 @@ void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std
       continue;
     }
     ++checked;
+    most_left_out = std::max(most_left_out, K - used);
     if (chi2 >= band.low && chi2 <= band.high) ++inside;
     else outside += (outside.empty() ? "" : ", ") + first.scalars[v].name + " " + number(chi2);
   }
   if (pairs == 0) return;
-  out.attributes["seed_chi2_band_95"] = band_text;
-  out.attributes["seed_check"] = first.group() + ": errors checked over " + std::to_string(K) +
-                                 " realizations (chi2/dof, 95 % band " + band_text + "): " + std::to_string(inside) +
-                                 " of " + std::to_string(checked) + " inside" + (outside.empty() ? "" : "; outside: " + outside) +
-                                 (unchecked.empty() ? "" : "; not checked, a realization's error NaN (its reason in its description): " + unchecked);
+  const std::string full_band = band_text(seed_chi2_band(K), K);
+  out.attributes["seed_chi2_band_95"] = full_band;
+  out.attributes["seed_check"] =
+      first.group() + ": errors checked over " + std::to_string(K) + " realizations (chi2/dof, 95 % band " + full_band +
+      "): " + std::to_string(inside) + " of " + std::to_string(checked) + " inside" +
+      (outside.empty() ? "" : "; outside: " + outside) +
+      (most_left_out ? "; up to " + std::to_string(most_left_out) +
+                           " realization(s) left out of a check, their error NaN (the reason in its description)"
+                     : "") +
+      (unchecked.empty() ? "" : "; not checked, fewer than 2 finite errors: " + unchecked);
 }
 
 }  // namespace
