@@ -365,7 +365,7 @@ void check_python(const Document& d, const Block& b, const fs::path& cwd) {
 // R0_mean, R0_standard_error -> R0; steady_T_error -> steady_T.
 std::set<std::string> plugin_datasets(hid_t file, const std::string& group) {
   static const std::set<std::string> kHost = {"time", "collisions_per_particle", "bin_centre", "realizations"};
-  static const std::regex kCompanion(R"((\.steady_mean|\.steady_stderr|_stderr|_seed_chi2_dof|_seed_chi2_dof_weighted)$)");
+  static const std::regex kCompanion(R"((\.steady_mean|\.steady_stderr|_stderr)?(_seed_chi2_dof|_seed_chi2_dof_weighted)?$)");
   static const std::regex kOwn(R"((_standard_error|_error|_mean)$)");
   std::set<std::string> names;
   for (std::string n : members(file, group)) {

@@ -454,6 +454,36 @@ TEST(Study, EveryScalarErrorOfSeveralRealizationsGetsItsSeedCheck) {
   EXPECT_THROW(scalar_named(avg[0], "x_error_stderr_seed_chi2_dof"), std::runtime_error);
 }
 
+// The host's steady errors of one realization get the same seed check when a study has several
+// realizations: 40 realizations of an AR(1) series (tau_int = 5.7 records, 2000 records from s = 10:
+// the batch-means error is calibrated there, Study.SteadyErrorsOfIndependentRealizations... below),
+// declared stationary; a series the diagnostic does not declare stationary gets no check.
+TEST(Study, TheHostsSteadyErrorsOfOneRealizationAreCheckedAgainstTheRealizationsScatter) {
+  const std::size_t K = 40;
+  std::vector<std::vector<host::DiagnosticOutput>> runs;
+  for (std::size_t r = 0; r < K; ++r) {
+    host::DiagnosticOutput d = series_output(ar1(2100, 0.7, 500 + r));
+    d.attributes["stationary"] = "all";
+    runs.push_back({std::move(d)});
+  }
+  auto avg = host::average_realizations(runs, nullptr);
+  for (auto& run : runs) host::add_steady_averages(run, 10.0, std::nullopt);
+  host::add_seed_checks(runs, 0, avg[0], host::SeedErrors::steady);
+  const host::SeedBand band = host::seed_chi2_band(K);
+  const double chi2 = scalar_named(avg[0], "x.steady_stderr_seed_chi2_dof");
+  EXPECT_GE(chi2, band.low);
+  EXPECT_LE(chi2, band.high);
+  EXPECT_NE(avg[0].attributes.at("seed_check_steady").find("1 of 1 inside"), std::string::npos)
+      << avg[0].attributes.at("seed_check_steady");
+  // Not declared stationary: no check.
+  auto undeclared = runs;
+  for (auto& run : undeclared) run[0].attributes.erase("stationary");
+  auto plain = host::average_realizations(undeclared, nullptr);
+  host::add_seed_checks(undeclared, 0, plain[0], host::SeedErrors::steady);
+  EXPECT_THROW(scalar_named(plain[0], "x.steady_stderr_seed_chi2_dof"), std::runtime_error);
+  EXPECT_EQ(plain[0].attributes.count("seed_check_steady"), 0u);
+}
+
 // Many short independent realizations of an equilibrium gas (elastic hard spheres: a2 fluctuates
 // about a fixed mean): each run's single-realization steady error, used as a z-score of its steady
 // mean against the grand mean, must have unit variance. Tolerance: the chi^2 of the K z-scores in

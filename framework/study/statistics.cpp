@@ -33,6 +33,21 @@ std::string error_base(const std::string& name) {
   return "";
 }
 
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// Whether diagnostic d declares the series of a host steady error (name "<series>.steady_stderr")
+// stationary: its attribute `stationary` is "all" or names the series among names separated by
+// commas. A steady average of a cooling T or of a running count has no error to promise.
+bool declared_stationary(const DiagnosticOutput& d, const std::string& error_name) {
+  const auto declared = d.attributes.find("stationary");
+  if (declared == d.attributes.end()) return false;
+  if (declared->second == "all") return true;
+  const std::string series = error_name.substr(0, error_name.find('.'));
+  return ("," + declared->second + ",").find("," + series + ",") != std::string::npos;
+}
+
 double mean_of(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x;
@@ -126,7 +141,10 @@ void average_scalars(Combiner& combine, const DiagnosticOutput& first, Diagnosti
 // of chi2 with K - 1 degrees of freedom. A realization whose E is not finite and positive (its
 // reason is in E's description) is left out of that check, and said so; with fewer than two left,
 // the check is NaN.
-void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std::size_t d, DiagnosticOutput& out) {
+}  // namespace
+
+void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std::size_t d, DiagnosticOutput& out,
+                     SeedErrors kind) {
   const DiagnosticOutput& first = runs[0][d];
   const std::size_t K = runs.size();
   const auto band_text = [](const SeedBand& b, std::size_t k) {
@@ -137,11 +155,18 @@ void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std
   std::size_t pairs = 0, checked = 0, inside = 0, most_left_out = 0;
   for (std::size_t s = 0; s < first.scalars.size(); ++s) {
     const std::string& name = first.scalars[s].name;
-    const std::string base = error_base(name);
-    if (base.empty()) continue;
     std::size_t v = first.scalars.size();
-    for (std::size_t t = 0; t < first.scalars.size(); ++t)
-      if (first.scalars[t].name == base || first.scalars[t].name == base + "_mean") v = t;
+    if (kind == SeedErrors::plugin) {
+      const std::string base = error_base(name);
+      if (base.empty()) continue;
+      for (std::size_t t = 0; t < first.scalars.size(); ++t)
+        if (first.scalars[t].name == base || first.scalars[t].name == base + "_mean") v = t;
+    } else {
+      if (!ends_with(name, ".steady_stderr") || !declared_stationary(first, name)) continue;
+      const std::string mean = name.substr(0, name.size() - 6) + "mean";  // X.steady_stderr -> X.steady_mean
+      for (std::size_t t = 0; t < first.scalars.size(); ++t)
+        if (first.scalars[t].name == mean) v = t;
+    }
     if (v == first.scalars.size()) continue;
     x.clear(), e.clear();
     for (std::size_t r = 0; r < K; ++r) {
@@ -179,8 +204,9 @@ void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std
   if (pairs == 0) return;
   const std::string full_band = band_text(seed_chi2_band(K), K);
   out.attributes["seed_chi2_band_95"] = full_band;
-  out.attributes["seed_check"] =
-      first.group() + ": errors checked over " + std::to_string(K) + " realizations (chi2/dof, 95 % band " + full_band +
+  out.attributes[kind == SeedErrors::plugin ? "seed_check" : "seed_check_steady"] =
+      first.group() + (kind == SeedErrors::plugin ? ": errors" : ": the host's steady errors of one realization") +
+      " checked over " + std::to_string(K) + " realizations (chi2/dof, 95 % band " + full_band +
       "): " + std::to_string(inside) + " of " + std::to_string(checked) + " inside" +
       (outside.empty() ? "" : "; outside: " + outside) +
       (most_left_out ? "; up to " + std::to_string(most_left_out) +
@@ -188,8 +214,6 @@ void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std
                      : "") +
       (unchecked.empty() ? "" : "; not checked, fewer than 2 finite errors: " + unchecked);
 }
-
-}  // namespace
 
 std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector<DiagnosticOutput>>& runs,
                                                    std::vector<std::string>* summary) {
@@ -206,7 +230,7 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
     Combiner combine(runs, d);
     average_columns(combine, first, records, out);
     average_scalars(combine, first, out);
-    add_seed_checks(runs, d, out);
+    add_seed_checks(runs, d, out, SeedErrors::plugin);
     out.bin_centres = first.bin_centres;
     for (std::size_t p = 0; p < first.profiles.size(); ++p)
       combine_item(combine, first.profiles[p],
@@ -440,9 +464,6 @@ std::string steady_window_missed(const std::vector<DiagnosticOutput>& diagnostic
 }
 
 std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>& diagnostics) {
-  const auto ends_with = [](const std::string& s, const std::string& tail) {
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-  };
   // Per kind (the host's steady errors, the plugins' own): the count and "group (n)" per diagnostic.
   std::size_t counts[2] = {0, 0};
   std::string where[2], first[2];
@@ -450,13 +471,7 @@ std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>&
     // The host's steady errors count for the series the diagnostic declares stationary (its
     // attribute `stationary`: "all" or names separated by commas); a steady average of a cooling T
     // or of a running count has no error to promise.
-    const auto declared = d.attributes.find("stationary");
-    const auto stationary = [&](const std::string& error_name) {
-      if (declared == d.attributes.end()) return false;
-      if (declared->second == "all") return true;
-      const std::string series = error_name.substr(0, error_name.find('.'));
-      return ("," + declared->second + ",").find("," + series + ",") != std::string::npos;
-    };
+    const auto stationary = [&](const std::string& error_name) { return declared_stationary(d, error_name); };
     std::size_t here[2] = {0, 0};
     const auto note = [&](int kind, const std::string& name) {
       if (counts[kind] + here[kind] == 0) first[kind] = d.group() + "/" + name;

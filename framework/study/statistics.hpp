@@ -46,9 +46,19 @@ std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>&
 // When the errors hold, the first follows chi2 with K - 1 dof over K - 1 (mean 1): it tests the
 // calibration of the errors. The second also carries the noise of each e_r: with nu degrees of
 // freedom per error its mean is nu/(nu - 2), above 1 for honest but imprecise errors. NaN for fewer
-// than 2 values or an error that is not finite and positive. average_realizations writes both for
-// every scalar error (<error>_seed_chi2_dof, _weighted) and a "seed_check" attribute.
+// than 2 values or an error that is not finite and positive.
 double seed_chi2_per_dof(const std::vector<double>& values, const std::vector<double>& errors, bool weighted = false);
+// The seed check of every error of diagnostic d over K = runs.size() >= 2 realizations, into `out`
+// (the realization average): for each scalar error and its value, <error>_seed_chi2_dof (and
+// _weighted) over the realizations whose error is finite and positive, the attribute
+// seed_chi2_band_95 and a summary text attribute naming the errors outside the band. `plugin`:
+// the errors diagnostics report themselves (X_error or X_standard_error beside X or X_mean; text
+// in "seed_check", written by average_realizations). `steady`: the host's steady errors of one
+// realization (X.steady_stderr beside X.steady_mean, for the series the diagnostic declares
+// stationary; `runs` must hold each realization's own steady averages; text in "seed_check_steady").
+enum class SeedErrors { plugin, steady };
+void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std::size_t d, DiagnosticOutput& out,
+                     SeedErrors kind);
 // The central 95 % band of chi2/dof for K realizations (K - 1 dof): the 2.5 % and 97.5 % quantiles
 // of chi2 with K - 1 dof over K - 1 (K = 20: [0.469, 1.729]).
 struct SeedBand {

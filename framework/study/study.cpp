@@ -194,18 +194,29 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   case_out.diagnostics = average_realizations(diagnostics, nullptr);
   add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0,
                       diagnostics);
-  for (const auto& d : case_out.diagnostics) {
-    const auto check = d.attributes.find("seed_check");
-    if (check != d.attributes.end()) case_summary.push_back(check->second);
+  // Each realization's own steady averages (one realization's errors, by batch means): written with
+  // output.realizations, and checked against the realizations' scatter (issue 29 item 2).
+  const bool steady = p.average_after_collisions_per_particle || p.average_after_time_tau0;
+  if (steady && diagnostics.size() >= 2) {
+    for (auto& run : diagnostics)
+      add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
+    for (std::size_t d = 0; d < case_out.diagnostics.size(); ++d)
+      add_seed_checks(diagnostics, d, case_out.diagnostics[d], SeedErrors::steady);
   }
+  for (const auto& d : case_out.diagnostics)
+    for (const char* key : {"seed_check", "seed_check_steady"}) {
+      const auto check = d.attributes.find(key);
+      if (check != d.attributes.end()) case_summary.push_back(check->second);
+    }
   const std::string missed =
       steady_window_missed(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0);
   if (!missed.empty()) case_summary.push_back("warning: " + missed);
-  else if (p.average_after_collisions_per_particle || p.average_after_time_tau0)
+  else if (steady)
     for (auto& line : nan_error_warnings(case_out.diagnostics)) case_summary.push_back(std::move(line));
   if (p.output_realizations) {
-    for (auto& run : diagnostics)
-      add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
+    if (diagnostics.size() < 2)
+      for (auto& run : diagnostics)
+        add_steady_averages(run, p.average_after_collisions_per_particle, p.average_after_time_tau0);
     for (std::size_t d = 0; d < case_out.diagnostics.size(); ++d)
       for (auto& run : diagnostics) case_out.diagnostics[d].realizations.push_back(std::move(run[d]));
   }
