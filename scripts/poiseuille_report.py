@@ -489,7 +489,7 @@ OPEN_FINDINGS = [
     "(the caption's a read with u_R = √2) does not explain Fig. 19 either: at â = 0.25 Q is still 3.6 ± 0.8 % (Kn = 1) "
     "and 8.6 ± 0.6 % (Kn = 5) below its â = 0.05 value, against 10.2 and 16.9 % at â = 0.5 (section 9, \"Fig. 19's "
     "forcing unit\").",
-    "**The elastic Knudsen minimum at â = 0.5 sits at Kn ≈ 1.2** (section 8), above the linearised BGK value 0.83: "
+    "**The elastic Knudsen minimum at â = 0.5 sits at Kn ≈ 1.1** (section 8 gives the fit), above the linearised BGK value 0.83: "
     "the acceleration lowers Q more at large Kn (previous finding), which moves the minimum outwards. The near-linear "
     "sweep is too noisy at Kn ≥ 0.5 (±1 %) to place its own minimum to better than a factor of two.",
     "**Eq. 33 at â = 10 and the time step.** Diagnostics sample on both sides of the collision stage (bracketed "
