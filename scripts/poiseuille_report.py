@@ -486,9 +486,9 @@ OPEN_FINDINGS = [
     "its deviation cannot be compared. Fig. 13's caption gives â = 0.3 as a = 0.00016 (W = 1860): that is Eq. 17 exactly "
     "in the paper's velocity unit u_R = √(2k_BT_w/m) = 1 (a = â u_R²/W = 1.61e-4), while gdsmc's reduced units have "
     "T_w = m = 1, u_R = √2 (a = 3.2e-4 for the same â), so this report reads every â as the paper's. An effective â/2 "
-    "(the caption's a read with u_R = √2) does not explain Fig. 19 either: at â = 0.25 Q is still 3.6 ± 0.8 % (Kn = 1) "
-    "and 8.6 ± 0.6 % (Kn = 5) below its â = 0.05 value, against 10.2 and 16.9 % at â = 0.5 (section 9, \"Fig. 19's "
-    "forcing unit\").",
+    "(the caption's a read with u_R = √2) does not explain Fig. 19 either: at â = 0.25 Q is still about 5 % (Kn = 1) "
+    "and 9 % (Kn = 5) below its â = 0.05 value, against 11 and 17 % at â = 0.5 (section 9, \"Fig. 19's forcing unit\", "
+    "with the errors).",
     "**The elastic Knudsen minimum at â = 0.5 sits at Kn ≈ 1.1** (section 8 gives the fit), above the linearised BGK value 0.83: "
     "the acceleration lowers Q more at large Kn (previous finding), which moves the minimum outwards. The near-linear "
     "sweep is too noisy at Kn ≥ 0.5 (±1 %) to place its own minimum to better than a factor of two.",
