@@ -542,23 +542,7 @@ double seed_chi2_per_dof(const std::vector<double>& values, const std::vector<do
 }
 
 double integrated_autocorrelation_time(const std::vector<double>& v) {
-  const std::size_t n = v.size();
-  if (n < 2) return 1.0;
-  const double m = mean_of(v);
-  double c0 = 0;
-  for (double x : v) c0 += (x - m) * (x - m);
-  c0 /= static_cast<double>(n);
-  if (!(c0 > 0)) return 1.0;
-  // Sokal's automatic window: the smallest W with W >= c tau(W), c = 5.
-  double tau = 1;
-  for (std::size_t t = 1; t < n; ++t) {
-    double ct = 0;
-    for (std::size_t i = 0; i + t < n; ++i) ct += (v[i] - m) * (v[i + t] - m);
-    ct /= static_cast<double>(n);
-    tau += 2 * ct / c0;
-    if (static_cast<double>(t) >= 5.0 * tau) break;
-  }
-  return std::max(tau, 1.0);
+  return gdsmc::integrated_autocorrelation_time(v.data(), v.size());
 }
 
 BatchSpec choose_batches(const std::vector<double>& v) {
