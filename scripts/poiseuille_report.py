@@ -227,21 +227,8 @@ def seeds_section(out, files, status):
     w(f"error: 1 when the errors hold, 95 % band {band}; the weighted form is larger by ν/(ν − 2) for errors of ν")
     w("degrees of freedom). sd/error is √(χ²/dof): the factor by which one run's error understates (> 1) the scatter.")
     w("")
-    rows, above = [], []
-    for q, label in SEED_QUANTITIES:
-        if q + "_error_seed_chi2_dof" not in d:
-            continue
-        v = float(d[q][()])
-        se = float(d[q + "_stderr"][()]) if q + "_stderr" in d else NAN
-        chi = float(d[q + "_error_seed_chi2_dof"][()])
-        chw = float(d[q + "_error_seed_chi2_dof_weighted"][()])
-        rows.append([label, fmt(v, se), f"{float(d[q + '_error'][()]):.2g}", f"{chi:.2f}", f"{chw:.2f}",
-                     f"{math.sqrt(chi):.2f}" if chi >= 0 else "—"])
-        if np.isfinite(chi):
-            lo, hi = (float(x) for x in band.split("]")[0].strip("[").split(","))
-            if chi > hi:
-                above.append(f"{label} {chi:.2f}")
-    table(out, ["quantity", "mean ± error over realizations", "mean own error", "χ²/dof", "weighted", "sd/error"], rows)
+    rows, _, above = report_figures.seed_check(d, [(label, q, q + "_error") for q, label in SEED_QUANTITIES], fmt)
+    table(out, report_figures.SEED_CHECK_HEADER, rows)
     check = d.attrs.get("seed_check", "")
     w("gdsmc's summary line: " + (check.decode() if isinstance(check, bytes) else str(check)) + ".")
     w("")

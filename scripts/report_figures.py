@@ -38,6 +38,38 @@ def runs_line(*paths):
     return f"gdsmc {', '.join(versions)}, runs of {when}"  # the paper's stated numbers: grey dotted lines, black open markers
 
 
+def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
+    """The seed check gdsmc wrote into a diagnostic group of a study with realizations (issue 29
+    item 2; user guide, "The seed check of every error"), as report rows. `quantities`: (label,
+    value dataset, error dataset), e.g. ("Q", "Q", "Q_error") or ("T", "temperature.steady_mean",
+    "temperature.steady_stderr"). Returns (rows, band text, labels with chi2/dof above the band):
+    rows of [label, mean ± error over realizations, mean own error, chi2/dof, weighted, sd/error],
+    sd/error = sqrt(chi2/dof), the factor by which one run's error understates (> 1) the scatter.
+    `fmt(value, error)` writes the mean and its error (the report's own rounding)."""
+    def text(v):
+        return v.decode() if isinstance(v, bytes) else str(v)
+
+    def val(name):
+        return float(group[name][()]) if name in group else float("nan")
+
+    band = text(group.attrs.get("seed_chi2_band_95", ""))
+    high = float(band.split("]")[0].strip("[").split(",")[1]) if band.startswith("[") else float("nan")
+    rows, above = [], []
+    for label, value, error in quantities:
+        chi = val(error + "_seed_chi2_dof")
+        if not np.isfinite(chi) and error + "_seed_chi2_dof" not in group:
+            continue
+        v, se = val(value), val(value + "_stderr")
+        rows.append([label, fmt(v, se), f"{val(error):.2g}", f"{chi:.2f}",
+                     f"{val(error + '_seed_chi2_dof_weighted'):.2f}", f"{np.sqrt(chi):.2f}" if chi >= 0 else "—"])
+        if chi > high:
+            above.append(f"{label} {chi:.2f}")
+    return rows, band, above
+
+
+SEED_CHECK_HEADER = ["quantity", "mean ± error over realizations", "mean own error", "χ²/dof", "weighted", "sd/error"]
+
+
 def savefig(fig, docdir, subdir, name, dpi=110):
     """Write fig to DOCDIR/SUBDIR/NAME.png, close it, return '![NAME](SUBDIR/NAME.png)'."""
     d = os.path.join(docdir, subdir)
