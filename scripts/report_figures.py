@@ -43,7 +43,8 @@ def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
     item 2; user guide, "The seed check of every error"), as report rows. `quantities`: (label,
     value dataset, error dataset), e.g. ("Q", "Q", "Q_error") or ("T", "temperature.steady_mean",
     "temperature.steady_stderr"). Returns (rows, band text, labels with chi2/dof above the band):
-    rows of [label, mean ± error over realizations, mean own error, chi2/dof, weighted, sd/error],
+    rows of [label, mean ± error over realizations, mean own error (— for the host's steady errors, whose
+    realizations' own values are not in the output), chi2/dof, weighted, sd/error],
     sd/error = sqrt(chi2/dof), the factor by which one run's error understates (> 1) the scatter.
     `fmt(value, error)` writes the mean and its error (the report's own rounding)."""
     def text(v):
@@ -59,8 +60,11 @@ def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
         chi = val(error + "_seed_chi2_dof")
         if not np.isfinite(chi) and error + "_seed_chi2_dof" not in group:
             continue
-        v, se = val(value), val(value + "_stderr")
-        rows.append([label, fmt(v, se), f"{val(error):.2g}", f"{chi:.2f}",
+        # The host's steady error of a realization average is that over the realizations (the realizations'
+        # own steady errors are not averaged into the output); a plugin's error is averaged, beside X_stderr.
+        host = error.endswith(".steady_stderr")
+        v, se = val(value), val(error if host else value + "_stderr")
+        rows.append([label, fmt(v, se), "—" if host else f"{val(error):.2g}", f"{chi:.2f}",
                      f"{val(error + '_seed_chi2_dof_weighted'):.2f}", f"{np.sqrt(chi):.2f}" if chi >= 0 else "—"])
         if chi > high:
             above.append(f"{label} {chi:.2f}")

@@ -19,7 +19,8 @@ import os
 import h5py
 import numpy as np
 
-from report_figures import PAPER_COLOUR, paper_hline, paper_points, plt, runs_line, savefig
+from report_figures import (PAPER_COLOUR, SEED_CHECK_HEADER, paper_hline, paper_points, plt, runs_line, savefig,
+                            seed_check)
 
 # Values stated in the text of paper 000 (steady uniform shear flow).
 PAPER = {
@@ -1198,6 +1199,41 @@ def rel(x, y):
     return 100.0 * (x / y - 1.0)
 
 
+SEED_QUANTITIES = [("T/T0", "temperature"), ("a*", "a_star"), ("−P_xy/nT", "minus_Pxy_over_nT"),
+                   ("N₁/nT", "N1_over_nT"), ("N₂/nT", "N2_over_nT")]
+
+
+def seeds_section(path):
+    """Issue 29 item 2: the USF stresses' errors of one realization against the scatter of K realizations,
+    as gdsmc's seed check wrote it: shear_rheology's own batch-means errors (X_standard_error) and the
+    host's steady errors (X.steady_stderr)."""
+    g = h5py.File(path, "r")
+    d = g["diagnostics/shear_rheology"]
+    k = int(d.attrs.get("realizations", 0))
+    n = int(g["system"].attrs["particles"]) if "system" in g and "particles" in g["system"].attrs else 0
+    out = ["\n## Error bars against the seed scatter (issue 29 item 2)\n",
+           f"`configs/usf_ihs_alpha0.5_shear4.yaml` (IHS, alpha = 0.5, aτ⁰ = 4, steady window s = 30–60) at N = {n}, "
+           f"{k} realizations ({runs_line(path)}). Each realization quotes two errors of its steady values: "
+           "shear_rheology's own (batch means over 32–64 batches, corrected for their autocorrelation) and the host's "
+           "(batches of at least 5 autocorrelation times, NaN below 4 of them). gdsmc checks both against the "
+           "realizations' scatter: χ²/dof of the values about their mean over the mean squared error, 1 when the "
+           "errors hold (band below); sd/error = √(χ²/dof). A realization whose error is NaN is left out of that "
+           "check, which biases it (user guide).\n"]
+    for title, suffix in (("shear_rheology's own errors", lambda q: (q + "_mean", q + "_standard_error")),
+                          ("the host's steady errors", lambda q: (q + ".steady_mean", q + ".steady_stderr"))):
+        rows, band, above = seed_check(d, [(label, *suffix(q)) for label, q in SEED_QUANTITIES])
+        out.append(f"{title} (95 % band {band}):\n")
+        out.append("| " + " | ".join(SEED_CHECK_HEADER) + " |")
+        out.append("|" + "---|" * len(SEED_CHECK_HEADER))
+        out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+        out.append("\nOutside the band: " + (", ".join(above) if above else "none") + ".\n")
+    for key in ("seed_check", "seed_check_steady"):
+        if key in d.attrs:
+            v = d.attrs[key]
+            out.append("gdsmc's summary line: " + (v.decode() if isinstance(v, bytes) else str(v)) + ".\n")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("sweep", nargs="?")
@@ -1205,6 +1241,7 @@ def main():
                     default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "validation"))
     ap.add_argument("--refined")
     ap.add_argument("--long")
+    ap.add_argument("--seeds", help="configs/usf_ihs_alpha0.5_shear4.yaml with realizations: the errors against their scatter")
     ap.add_argument("--transient", nargs="+", default=[],
                     help="output(s) of configs/usf_transient_sweep.yaml: the section of paper 000's remaining numbers")
     ap.add_argument("--splice", metavar="USF_MD",
@@ -1390,6 +1427,8 @@ def main():
         w("\nRelative to IHS at alpha = 0.5, aτ⁰ = 4: " + "; ".join(lines) + ". The paper: the refined drag brings "
           "T_s, P_xy and P_xx - P_yy closer to IHS, while P_zz - P_yy \"is still about 40% smaller in both EHS "
           "systems than in the IHS system\" (Sec. V.C). The refined run is the filled diamond of Figs. 14-16.")
+    if args.seeds:
+        out += seeds_section(args.seeds)
     if args.transient:
         out += transient_section(transient_cases(args.transient), args.transient, docdir)
     print("\n".join(out))
