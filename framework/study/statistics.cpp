@@ -134,6 +134,8 @@ void average_scalars(Combiner& combine, const DiagnosticOutput& first, Diagnosti
   }
 }
 
+}  // namespace
+
 // The seed check of every error a run reports (issue 29 item 2): for each scalar pair value X and
 // error E (E named X_error or X_standard_error, X also X_mean), chi2/dof of the realizations'
 // values about their mean against their own errors, "<E>_seed_chi2_dof" (and "_weighted"), and a
@@ -141,8 +143,6 @@ void average_scalars(Combiner& combine, const DiagnosticOutput& first, Diagnosti
 // of chi2 with K - 1 degrees of freedom. A realization whose E is not finite and positive (its
 // reason is in E's description) is left out of that check, and said so; with fewer than two left,
 // the check is NaN.
-}  // namespace
-
 void add_seed_checks(const std::vector<std::vector<DiagnosticOutput>>& runs, std::size_t d, DiagnosticOutput& out,
                      SeedErrors kind) {
   const DiagnosticOutput& first = runs[0][d];

@@ -131,10 +131,10 @@ class BatchMeans {
   double mean() const { return count_ ? sum_ / static_cast<double>(count_) : std::nan(""); }
   // Standard error of the mean from the spread of the batch means, times the square root of their
   // integrated autocorrelation time (consecutive batches shorter than the correlation time of the
-  // samples are correlated: taken as independent, 20 seeds of a Poiseuille channel and of USF
-  // scattered 2-4 times the variance their errors claimed); NaN with fewer than 4 batches. Still a
-  // lower bound when the batches span fewer than about 20 autocorrelation times (the host's steady
-  // errors are NaN there; realizations give an honest error).
+  // samples are correlated; taken as independent, AR(1) series spanning 20 autocorrelation times
+  // scattered 4 times the variance their errors claimed, 1.7 times with this correction,
+  // tests/physics_toolkit_test.cpp); NaN with fewer than 4 batches. So still low when the samples
+  // span fewer than about 40 autocorrelation times: realizations give the honest error there.
   double standard_error() const {
     if (batches_ < 4) return std::nan("");
     double m = 0;
