@@ -23,18 +23,16 @@ std::string number(double x) {
   return buf;
 }
 
-// The value a scalar named `name` is the error of: "X" for "X_error" or "X_standard_error"
-// (the value is X or X_mean); "" for a scalar that is no error.
-std::string error_base(const std::string& name) {
-  for (const char* suffix : {"_standard_error", "_error"}) {
-    const std::size_t n = std::char_traits<char>::length(suffix);
-    if (name.size() > n && name.compare(name.size() - n, n, suffix) == 0) return name.substr(0, name.size() - n);
-  }
-  return "";
-}
-
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// The value a scalar named `name` is the error of, if it is a plugin's own error: "X" for
+// "X_error" or "X_standard_error" (the value is X or X_mean); "" for a scalar that is no error.
+std::string error_base(const std::string& name) {
+  for (const std::string suffix : {"_standard_error", "_error"})
+    if (name.size() > suffix.size() && ends_with(name, suffix)) return name.substr(0, name.size() - suffix.size());
+  return "";
 }
 
 // Whether diagnostic d declares the series of a host steady error (name "<series>.steady_stderr")
@@ -262,7 +260,7 @@ struct SteadyWindow {
 // Said in the description of a steady average whose window holds no record.
 const char* const kNoRecord = "; NaN: no record reached the window";
 
-bool is_stderr(const std::string& name) { return name.size() > 7 && name.compare(name.size() - 7, 7, "_stderr") == 0; }
+bool is_stderr(const std::string& name) { return name.size() > 7 && ends_with(name, "_stderr"); }
 
 // One value per record: a series (stride 1) or one bin of a profile (stride bins, offset bin).
 struct Values {
@@ -482,7 +480,7 @@ std::vector<std::string> nan_error_warnings(const std::vector<DiagnosticOutput>&
       if (ends_with(sc.name, ".steady_stderr")) {
         if (stationary(sc.name)) note(0, sc.name);
       }
-      else if (ends_with(sc.name, "_standard_error") || ends_with(sc.name, "_error")) note(1, sc.name);
+      else if (!error_base(sc.name).empty()) note(1, sc.name);
     }
     for (const auto& a : d.arrays)
       if (ends_with(a.name, ".steady_stderr") && stationary(a.name) && std::any_of(a.data.begin(), a.data.end(), [](double x) { return !std::isfinite(x); }))
