@@ -95,7 +95,7 @@ class Case:
     def __init__(self, run, group, en_default):
         self.run, self.g = run, group
         self.d = group["diagnostics/poiseuille_channel"]
-        a = {k: (v.decode() if isinstance(v, bytes) else str(v)) for k, v in group.attrs.items()}
+        a = {k: report_figures.h5_text(v) for k, v in group.attrs.items()}
         self.attrs = a  # the case's attributes, decoded (sweep.<axis> values among them)
         self.label = a.get("case", run)
         self.en = float(a["sweep.collision.alpha"]) if "sweep.collision.alpha" in a else en_default
@@ -219,18 +219,15 @@ def seeds_section(out, files, status):
     c = files["seeds"][0]
     d = c.d
     k = int(c.g["run"].attrs.get("realizations", 0)) if "run" in c.g else 0
-    band = d.attrs.get("seed_chi2_band_95", "")
-    band = band.decode() if isinstance(band, bytes) else str(band)
+    rows, band, above = report_figures.seed_check(d, [(label, q, q + "_error") for q, label in SEED_QUANTITIES], fmt)
     w(f"The issue's short channel (Kn = 0.5, e_n = 0.9, â = 0.5, 2·10⁴ particles, 88 τ0, steady windows of 8 τ0 from")
     w(f"16 τ0), {k} realizations; {runs_line(c.g.file.filename)}. Each realization quotes its own jackknife error;")
     w("gdsmc checks them against the realizations' scatter (χ²/dof of the values about their mean over the mean squared")
     w(f"error: 1 when the errors hold, 95 % band {band}; the weighted form is larger by ν/(ν − 2) for errors of ν")
     w("degrees of freedom). sd/error is √(χ²/dof): the factor by which one run's error understates (> 1) the scatter.")
     w("")
-    rows, _, above = report_figures.seed_check(d, [(label, q, q + "_error") for q, label in SEED_QUANTITIES], fmt)
     table(out, report_figures.SEED_CHECK_HEADER, rows)
-    check = d.attrs.get("seed_check", "")
-    w("gdsmc's summary line: " + (check.decode() if isinstance(check, bytes) else str(check)) + ".")
+    w("gdsmc's summary line: " + report_figures.h5_text(d.attrs.get("seed_check", "")) + ".")
     w("")
     if above:
         FINDINGS.append("Error bars (section 12): one run's jackknife errors understate the seed scatter of " +
@@ -642,7 +639,7 @@ def main():
         if files[name]:
             g = files[name][0].g.get("plugins/diagnostics[0]")
             v = g.attrs.get("version", "?") if g is not None else "?"
-            vers.setdefault(v.decode() if isinstance(v, bytes) else str(v), []).append(name)
+            vers.setdefault(report_figures.h5_text(v), []).append(name)
     w("poiseuille_channel versions: " + "; ".join(f"{v} ({', '.join(names)})" for v, names in sorted(vers.items())) + ".")
     w("From 1.1.0 the steady test accepts a window whose mean E differs from the previous one's within steady_tolerance")
     w("or within steady_sigmas standard errors of the difference; 1.0.0 took the tolerance alone and missed one noisy case,")

@@ -15,6 +15,11 @@ import numpy as np  # noqa: E402
 PAPER_COLOUR = "0.35"
 
 
+def h5_text(v):
+    """An HDF5 string attribute or value as str (h5py returns bytes or str depending on how it was written)."""
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
 def runs_line(*paths):
     """'gdsmc VERSION, runs of DATE': the version each output records (gdsmc_version) and the UTC
     time its file was written (the end of its run), the earliest to the latest; for a report's
@@ -27,7 +32,7 @@ def runs_line(*paths):
     for path in paths:
         with h5py.File(path, "r") as f:
             v = f.attrs.get("gdsmc_version", "?")
-        v = v.decode() if isinstance(v, bytes) else str(v)
+        v = h5_text(v)
         if v not in versions:
             versions.append(v)
         times.append(os.path.getmtime(path))
@@ -47,19 +52,16 @@ def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
     realizations' own values are not in the output), chi2/dof, weighted, sd/error],
     sd/error = sqrt(chi2/dof), the factor by which one run's error understates (> 1) the scatter.
     `fmt(value, error)` writes the mean and its error (the report's own rounding)."""
-    def text(v):
-        return v.decode() if isinstance(v, bytes) else str(v)
-
     def val(name):
         return float(group[name][()]) if name in group else float("nan")
 
-    band = text(group.attrs.get("seed_chi2_band_95", ""))
+    band = h5_text(group.attrs.get("seed_chi2_band_95", ""))
     high = float(band.split("]")[0].strip("[").split(",")[1]) if band.startswith("[") else float("nan")
     rows, above = [], []
     for label, value, error in quantities:
-        chi = val(error + "_seed_chi2_dof")
-        if not np.isfinite(chi) and error + "_seed_chi2_dof" not in group:
+        if error + "_seed_chi2_dof" not in group:
             continue
+        chi = val(error + "_seed_chi2_dof")
         # The host's steady error of a realization average is that over the realizations (the realizations'
         # own steady errors are not averaged into the output); a plugin's error is averaged, beside X_stderr.
         host = error.endswith(".steady_stderr")

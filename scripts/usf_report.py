@@ -20,7 +20,7 @@ import h5py
 import numpy as np
 
 from report_figures import (PAPER_COLOUR, SEED_CHECK_HEADER, paper_hline, paper_points, plt, runs_line, savefig,
-                            seed_check)
+                            seed_check, h5_text)
 
 # Values stated in the text of paper 000 (steady uniform shear flow).
 PAPER = {
@@ -1229,8 +1229,7 @@ def seeds_section(path):
         out.append("\nOutside the band: " + (", ".join(above) if above else "none") + ".\n")
     for key in ("seed_check", "seed_check_steady"):
         if key in d.attrs:
-            v = d.attrs[key]
-            out.append("gdsmc's summary line: " + (v.decode() if isinstance(v, bytes) else str(v)) + ".\n")
+            out.append("gdsmc's summary line: " + h5_text(d.attrs[key]) + ".\n")
     return out
 
 
