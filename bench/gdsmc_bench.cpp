@@ -67,6 +67,7 @@
 #include <gdsmc/physics/moments.hpp>
 
 #include "config/pipeline.hpp"
+#include "engine/bulk_rng.hpp"
 #include "engine/cells.hpp"
 #include "engine/collision_stage.hpp"
 #include "engine/engine.hpp"
@@ -500,6 +501,7 @@ struct StageRun {
     grid.homogeneous(n, run.engine->system().volume);
     stage.set_subpopulation(run.pipeline.subpopulation);
     stage.set_pool(pool.get());
+    stage.set_collisions_only(!std::getenv("NOKEPT"));  // as the engine's HCS: only collisions change the velocities
   }
 };
 
@@ -525,6 +527,7 @@ void BM_HomogeneousStage(benchmark::State& state) {
     if (temperature < kRescaleBelow * kT0) {  // as Cell::rescale: zero mean, exactly T0
       state.PauseTiming();
       impose_exact_moments(span, kT0);
+      s->stage.velocities_changed();
       energy = 1.5 * static_cast<double>(span.count) * kT0;
       temperature = kT0;
       state.ResumeTiming();
@@ -550,6 +553,20 @@ void BM_Philox4x32_10(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Philox4x32_10);
+
+// Sixteen blocks of consecutive counters side by side (host::BulkRng's refill): items/s = blocks.
+void BM_PhiloxSixteenBlocks(benchmark::State& state) {
+  const PhiloxKey k = stream_key(kSeed, 0);
+  alignas(64) std::uint32_t out[64];
+  std::uint32_t first = 1;
+  for (auto _ : state) {
+    host::philox_sixteen_blocks(k, first, 2, 3, 4, out);
+    benchmark::DoNotOptimize(out);
+    first += 16;
+  }
+  state.SetItemsProcessed(16 * state.iterations());
+}
+BENCHMARK(BM_PhiloxSixteenBlocks);
 
 template <class F>
 void rng_bench(benchmark::State& state, F&& draw) {

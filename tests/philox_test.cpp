@@ -8,6 +8,7 @@
 
 #include <gdsmc/random.hpp>
 
+#include "engine/bulk_rng.hpp"
 #include "engine/streams.hpp"
 
 namespace {
@@ -252,4 +253,55 @@ TEST(Rng, UnitVectorIsotropic) {
   }
 }
 
+// Every version of the sixteen-block Philox this processor runs (baseline, AVX2, AVX-512) gives
+// the blocks of philox4x32_10, across the wrap of the counter word.
+TEST(Philox, SixteenBlocksSideBySideAreTheBlocksOneAtATime) {
+  const auto versions = gdsmc::host::philox_sixteen_versions();
+  ASSERT_GE(versions.size(), 1u);
+  const PhiloxKey key{0x243F6A88u, 0x85A308D3u};
+  for (const std::uint32_t first : {0u, 12345u, 0xFFFFFFF8u}) {
+    std::uint32_t out[64];
+    for (std::size_t v = 0; v < versions.size(); ++v) {
+      versions[v](key, first, 7u, 0xDEADBEEFu, 0x02000001u, out);
+      for (std::uint32_t l = 0; l < 16; ++l) {
+        const PhiloxCounter w = gdsmc::philox4x32_10({first + l, 7u, 0xDEADBEEFu, 0x02000001u}, key);
+        for (int k = 0; k < 4; ++k) ASSERT_EQ(out[4 * l + k], w[k]) << "version " << v << ", block " << l;
+      }
+    }
+  }
+}
+
+// The host's BulkRng (sixteen blocks at a time, vectorized) draws the numbers of the Rng it is
+// made from, whatever number of that Rng's block was used; the Rng it hands back continues where it
+// stopped. Mixed draws (below with rejections near 2^32, uniform, uniform32) at every stopping
+// point over four refills, and the all-ones counter word, where the next counter wraps to 0.
+TEST(Rng, BulkRngDrawsTheSameNumbersAndHandsBackTheStreamWhereItStopped) {
+  const gdsmc::host::StreamFactory factory(7, 3);
+  for (const std::uint32_t unit : {0u, 5u}) {
+    for (unsigned already = 0; already < 6; ++already) {
+      for (unsigned taken = 0; taken < 260; taken += 7) {
+        Rng plain = factory.rng(StreamPurpose::collisions, 0, unit);
+        if (unit == 5) {  // start four numbers before the counter word wraps
+          const auto p = gdsmc::host::StreamFactory::position(plain);
+          gdsmc::host::StreamFactory::set_position(plain, {0xFFFFFFFEu, p.counter[1], p.counter[2], p.counter[3]},
+                                                   p.block, 4);
+        }
+        for (unsigned k = 0; k < already; ++k) plain.next_u32();
+        gdsmc::host::BulkRng bulk(plain);
+        for (unsigned k = 0; k < taken; ++k) {
+          switch (k % 4) {
+            case 0: ASSERT_EQ(bulk.below(0xFFFFFFF0u), plain.below(0xFFFFFFF0u)) << k; break;
+            case 1: ASSERT_EQ(bulk.uniform(), plain.uniform()) << k; break;
+            case 2: ASSERT_EQ(bulk.below(37), plain.below(37)) << k; break;
+            default: ASSERT_EQ(bulk.uniform32(), plain.uniform32()) << k;
+          }
+        }
+        Rng back = bulk.rng();
+        for (unsigned k = 0; k < 9; ++k) ASSERT_EQ(back.next_u32(), plain.next_u32()) << already << " " << taken;
+      }
+    }
+  }
+}
+
 }  // namespace
+

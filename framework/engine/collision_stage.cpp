@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "engine/bulk_rng.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/majorant.hpp"
 #include "engine/weighted_layer.hpp"
@@ -17,6 +18,7 @@ std::size_t subpopulation_count(std::size_t particles, std::size_t size) {
 }
 
 void CollisionStage::reset(std::size_t cells) {
+  kept_valid_ = false;
   ratio_.assign(cells, kInitialMajorantRatio);
   remainder_.assign(cells, 0.0);
   energy_.assign(cells, 0.0);
@@ -36,6 +38,34 @@ void CollisionStage::reset_majorants() {
     if (missed_so_far_[c] <= kMissedCollisionsTolerance * collided_so_far_[c])
       ratio_[c] = std::max(kInitialMajorantRatio, kMajorantDecay * ratio_[c]);
   }
+}
+
+std::uint8_t CollisionStage::kept_level(double vx, double vy, double vz) const {
+  const double dx = vx - kept_velocity_[0], dy = vy - kept_velocity_[1], dz = vz - kept_velocity_[2];
+  // Strictly above c / step, and above it by 1e-6 of a level at least: beyond the roundings of c
+  // here and of |g| in the rule (4e-9 of the speed at the highest finite level).
+  const double q = std::sqrt(dx * dx + dy * dy + dz * dz) * kept_inverse_step_ + 1e-6;
+  return q < kKeptLevels - 2 ? static_cast<std::uint8_t>(static_cast<int>(q) + 1)
+                             : static_cast<std::uint8_t>(kKeptLevels - 1);  // also NaN
+}
+
+void CollisionStage::build_kept(const ParticleSpan& particles, double unit) {
+  const std::size_t n = particles.count;
+  double mean[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i)
+    mean[0] += particles.vx.data[i], mean[1] += particles.vy.data[i], mean[2] += particles.vz.data[i];
+  for (int k = 0; k < 3; ++k) kept_velocity_[k] = std::isfinite(mean[k]) ? mean[k] / static_cast<double>(n) : 0.0;
+  kept_unit_ = unit;
+  const double step = kKeptTop * unit / (kKeptLevels - 2);
+  kept_inverse_step_ = 1.0 / step;
+  for (int q = 0; q < kKeptLevels - 1; ++q) kept_speed_[q] = q * step;
+  kept_speed_[kKeptLevels - 1] = INFINITY;
+  kept_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    kept_[i] = kept_level(particles.vx.data[i], particles.vy.data[i], particles.vz.data[i]);
+  kept_vx_ = particles.vx.data;
+  kept_count_ = n;
+  kept_valid_ = true;
 }
 
 void CollisionStage::set_tally_count(std::size_t count) {
@@ -138,7 +168,8 @@ inline std::uint32_t strided_particle(std::uint64_t first, std::uint64_t stride,
   return static_cast<std::uint32_t>(r);
 }
 
-inline void prefetch(const double* a) {
+template <class T>
+inline void prefetch(const T* a) {
 #if defined(__GNUC__)
   __builtin_prefetch(a, 1, 3);  // written if the pair collides
 #else
@@ -151,6 +182,9 @@ inline void prefetch(const double* a) {
 // batch early). Since the rule draws from its own stream and takes the pairs in order on the
 // current velocities, where a batch ends changes only the speed, never a result.
 constexpr std::uint32_t kPairBatch = 32;
+// A uniform draw of this many candidates (three numbers each) or more takes its numbers from a
+// BulkRng (64 at a time); fewer, from the stream itself.
+constexpr std::uint64_t kBulkCandidates = 32;
 constexpr std::uint32_t kSeenBits = 4096;
 struct BatchScratch {
   std::uint32_t i[kPairBatch], j[kPairBatch];
@@ -200,7 +234,7 @@ CollisionStage::CollisionStage(PairCount scheme) : scheme_(scheme) {}
 CollisionStage::~CollisionStage() = default;
 
 void CollisionStage::collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                        std::uint64_t candidates, Rng& select, PairBatch& batch) const {
+                                        std::uint64_t candidates, Rng& stream, PairBatch& batch, bool kept) {
   const Group& group = groups_[c];
   const std::uint32_t* const members = group.members;
   const std::uint64_t first = group.first, stride = group.stride, total = particles.count;
@@ -222,24 +256,26 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
   std::uint32_t m = 0;
   // The batch's velocities (prefetched as its pairs were drawn) to the rule, and the accepted
   // pairs' back to storage.
+  std::uint8_t* const bound = kept ? kept_.data() : nullptr;
   const auto flush = [&] {
     s.load_velocities(m, vx, vy, vz);
     batch.count = m;
     rule.collide_batch(batch);
     s.store_accepted(m, vx, vy, vz);
+    if (bound)
+      for (std::uint32_t q = 0; q < m; ++q)
+        if (s.accepted[q]) {
+          bound[s.i[q]] = kept_level(s.v1[q].x, s.v1[q].y, s.v1[q].z);
+          bound[s.j[q]] = kept_level(s.v2[q].x, s.v2[q].y, s.v2[q].z);
+        }
     s.forget(m);
     s.dirty = false;
     m = 0;
   };
-  for (std::uint64_t k = 0; k < candidates; ++k) {
-    const std::uint32_t a = select.below(count);
-    std::uint32_t b = select.below(count - 1);
-    b += (b >= a);
-    const double u = select.uniform32();
-    if (m > 0 && (s.holds(a) || s.holds(b))) flush();
+  // A candidate into the open batch (its velocities prefetched), the batch closed when full.
+  const auto open = [&](std::uint32_t a, std::uint32_t b, std::uint32_t i, std::uint32_t j, double u) {
     s.add(a);
     s.add(b);
-    const std::uint32_t i = particle(a), j = particle(b);
     s.i[m] = i;
     s.j[m] = j;
     s.la[m] = a;
@@ -248,8 +284,61 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
     prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
     if (++m == kPairBatch) flush();
+  };
+  // The candidates from `draws` (the stream itself, or drawn ahead by BulkRng: the same numbers).
+  const auto draw_all = [&](auto& draws) {
+    if (bound) {
+      // Candidates drawn kAhead ahead of their test, their bounds prefetched. A candidate that
+      // meets a particle of the open batch closes it first (its bound is then current); one whose
+      // u w is not below the two bounds' sum is rejected here, as the rule would reject it
+      // (u w >= |g|), without its velocities; the rest go to the rule in order, as without bounds.
+      constexpr std::uint32_t kAhead = 16;
+      struct Drawn {
+        std::uint32_t a, b, i, j;
+        double u;
+      } ring[kAhead];
+      const double w = batch.speed_bound;
+      const double* const level = kept_speed_;
+      const auto test = [&](const Drawn& d) {
+        if (m > 0 && (s.holds(d.a) || s.holds(d.b))) flush();
+        if (d.u * w >= level[bound[d.i]] + level[bound[d.j]]) return;
+        open(d.a, d.b, d.i, d.j, d.u);
+      };
+      for (std::uint64_t k = 0; k < candidates; ++k) {
+        Drawn& d = ring[k % kAhead];
+        if (k >= kAhead) test(d);
+        d.a = draws.below(count);
+        d.b = draws.below(count - 1);
+        d.b += (d.b >= d.a);
+        d.u = draws.uniform32();
+        d.i = particle(d.a);
+        d.j = particle(d.b);
+        prefetch(bound + d.i), prefetch(bound + d.j);
+      }
+      for (std::uint64_t k = candidates > kAhead ? candidates - kAhead : 0; k < candidates; ++k)
+        test(ring[k % kAhead]);
+    } else {
+      for (std::uint64_t k = 0; k < candidates; ++k) {
+        const std::uint32_t a = draws.below(count);
+        std::uint32_t b = draws.below(count - 1);
+        b += (b >= a);
+        const double u = draws.uniform32();
+        if (m > 0 && (s.holds(a) || s.holds(b))) flush();
+        open(a, b, particle(a), particle(b), u);
+      }
+    }
+    if (m > 0) flush();
+  };
+  // Three numbers a candidate: sixteen Philox blocks at a time once there are enough of them.
+  if (candidates >= kBulkCandidates) {
+    BulkRng draws(stream);
+    draw_all(draws);
+    stream = draws.rng();
+  } else {
+    Rng draws = stream;  // a local copy: its state stays in registers across the rule's calls
+    draw_all(draws);
+    stream = draws;
   }
-  if (m > 0) flush();
 }
 
 // Weighted pairs of one layer over the step (000 Eq. 4.13 with pair majorants c_a + c_b): envelope
@@ -266,8 +355,9 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
 // running it again on the pairs before E from the saved stream, results and tallies), that event is
 // the next candidate, and the time counter starts again at E. Returns the credit left at dt.
 double CollisionStage::collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                        WeightedLayer& layer, double credit, double dt, Rng& select,
+                                        WeightedLayer& layer, double credit, double dt, Rng& stream,
                                         PairBatch& batch) {
+  Rng select = stream;  // a local copy, kept in registers across the rule's calls (collide_candidates)
   const Group& group = groups_[c];
   const std::uint32_t* const members = group.members;
   const std::uint32_t count = group.count;
@@ -401,6 +491,7 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
     if (++m == kPairBatch) flush(t);
   }
   counts_[3 * c] = candidates;
+  stream = select;
   return f0 + rate * (dt - t0) - static_cast<double>(events);
 }
 
@@ -458,6 +549,9 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
       remainder_[c] = 0;
       return;
     }
+    // This step's velocities are not followed by the kept bounds (a homogeneous system of one
+    // group: no other group runs meanwhile); they are rebuilt at the next uniform step.
+    kept_valid_ = false;
     // The remainder is a fraction of an envelope event here and of a uniform candidate otherwise:
     // in [0, 1) either way, so a layer that changes its draw (run.pair_selection at a resume)
     // carries less than one.
@@ -485,7 +579,7 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
     const double expected = per_time * (dt / slices) + remainder;
     const auto candidates = static_cast<std::uint64_t>(expected);
     remainder = expected - static_cast<double>(candidates);
-    collide_candidates(rule, particles, c, candidates, select, batch);
+    collide_candidates(rule, particles, c, candidates, select, batch, kept_this_step_);
     counts[0] += candidates;
   }
   counts[1] = batch.collided;
@@ -579,6 +673,14 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
                        "step and %.0f per particle are allowed)",
                        total, per_particle, kMaxCandidatesPerStep, kMaxCandidatesPerParticle),
                    total);
+
+  // The kept speed bounds of a system that only collides (set_collisions_only): rebuilt when not
+  // current, or when sqrt(T) has moved beyond [0.7, 1.42] of the build's (the levels' resolution).
+  kept_this_step_ = collisions_only_ && !grid.is_slab() && rule.kernel_form() == KernelForm::hard_sphere &&
+                    particles.count >= 2 && speed_[0] > 0 && std::isfinite(speed_[0]);
+  if (kept_this_step_ && (!kept_valid_ || kept_vx_ != particles.vx.data || kept_count_ != particles.count ||
+                          !(speed_[0] > 0.7 * kept_unit_ && speed_[0] < 1.42 * kept_unit_)))
+    build_kept(particles, speed_[0]);
 
   // The groups are independent (own stream, majorant, remainder, results): any thread, any order.
   if (pending && !reversed && grid.is_slab()) {

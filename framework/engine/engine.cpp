@@ -76,6 +76,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   cells_.assign(cells, CellMoments{});
   moments_follow_collisions_ = system_.geometry != Geometry::slab && forcings_before_.empty() &&
                                forcings_after_.empty() && accelerations_.empty();
+  collisions_.set_collisions_only(moments_follow_collisions_);
   if (setup != Setup::objects_only) {
     if (system_.geometry == Geometry::slab) {
       grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());

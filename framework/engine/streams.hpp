@@ -35,6 +35,21 @@ class StreamFactory {
     return Streams(step_stream_key(stream_key(seed, 0), step), purpose, instance);
   }
 
+  // Where a stream stands (its key, the counter of its next block, its current block and how many
+  // of that block's four numbers it has used), for BulkRng (engine/bulk_rng.hpp), which draws the
+  // same numbers ahead and then puts the stream where it left off.
+  struct Position {
+    PhiloxKey key;
+    PhiloxCounter counter, block;
+    unsigned used;
+  };
+  static Position position(const Rng& r) { return {r.key_, r.ctr_, r.block_, r.used_}; }
+  static void set_position(Rng& r, const PhiloxCounter& counter, const PhiloxCounter& block, unsigned used) {
+    r.ctr_ = counter;
+    r.block_ = block;
+    r.used_ = used;
+  }
+
  private:
   PhiloxKey run_key_{0u, 0u};
   PhiloxKey step_key_{0u, 0u};

@@ -68,6 +68,23 @@ class StreamFactory;  // the host's only way to make streams (framework/engine/s
 
 class Streams;
 
+// A uniform integer in [0, n), n > 0, from uniform 32-bit words next(), exactly unbiased (Lemire's
+// multiply-shift with rejection; the rejection happens with probability below n / 2^32): Rng::below,
+// and the host's streams drawn ahead, which must give the same numbers.
+template <class Next>
+inline std::uint32_t uniform_below(std::uint32_t n, Next&& next) {
+  std::uint64_t m = static_cast<std::uint64_t>(next()) * n;
+  auto low = static_cast<std::uint32_t>(m);
+  if (low < n) {
+    const std::uint32_t threshold = static_cast<std::uint32_t>(-n) % n;
+    while (low < threshold) {
+      m = static_cast<std::uint64_t>(next()) * n;
+      low = static_cast<std::uint32_t>(m);
+    }
+  }
+  return static_cast<std::uint32_t>(m >> 32);
+}
+
 // A stream of random numbers. Copyable; never shared between threads. Plugins receive streams
 // from the host (Streams below, or as an argument); they cannot name another plugin's streams.
 //
@@ -92,19 +109,9 @@ class Rng {
   double uniform_open0() { return (static_cast<double>(next_u64() >> 11) + 1.0) * 0x1.0p-53; }
   // Uniform on [0, 1) with 32 random bits: enough for an acceptance test, half the cost.
   double uniform32() { return static_cast<double>(next_u32()) * 0x1.0p-32; }
-  // Uniform integer in [0, n), n > 0, exactly unbiased (Lemire's multiply-shift with rejection;
-  // the rejection happens with probability below n / 2^32).
+  // Uniform integer in [0, n), n > 0, exactly unbiased (uniform_below).
   std::uint32_t below(std::uint32_t n) {
-    std::uint64_t m = static_cast<std::uint64_t>(next_u32()) * n;
-    auto low = static_cast<std::uint32_t>(m);
-    if (low < n) {
-      const std::uint32_t threshold = static_cast<std::uint32_t>(-n) % n;
-      while (low < threshold) {
-        m = static_cast<std::uint64_t>(next_u32()) * n;
-        low = static_cast<std::uint32_t>(m);
-      }
-    }
-    return static_cast<std::uint32_t>(m >> 32);
+    return uniform_below(n, [this] { return next_u32(); });
   }
   // Standard normal deviate (Box-Muller; both values of a pair are used).
   double normal() {
