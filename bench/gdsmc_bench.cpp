@@ -501,7 +501,7 @@ struct StageRun {
     grid.homogeneous(n, run.engine->system().volume);
     stage.set_subpopulation(run.pipeline.subpopulation);
     stage.set_pool(pool.get());
-    stage.set_collisions_only(!std::getenv("NOKEPT"));  // as the engine's HCS: only collisions change the velocities
+    stage.set_collisions_only(true);  // as the engine's HCS: only collisions change the velocities
   }
 };
 
