@@ -15,12 +15,6 @@ namespace {
 constexpr std::uint32_t kM0 = 0xD2511F53u, kM1 = 0xCD9E8D57u;
 constexpr std::uint32_t kW0 = 0x9E3779B9u, kW1 = 0xBB67AE85u;
 
-// The sixteen blocks' words as four rows (a, b, c, d of block l at [l]) into out's block order.
-void interleave(const std::uint32_t (&a)[16], const std::uint32_t (&b)[16], const std::uint32_t (&c)[16],
-                const std::uint32_t (&d)[16], std::uint32_t* out) {
-  for (int l = 0; l < 16; ++l) out[4 * l] = a[l], out[4 * l + 1] = b[l], out[4 * l + 2] = c[l], out[4 * l + 3] = d[l];
-}
-
 void sixteen_scalar(PhiloxKey key, std::uint32_t first, std::uint32_t c1, std::uint32_t c2, std::uint32_t c3,
                     std::uint32_t* out) {
   for (std::uint32_t l = 0; l < 16; ++l) {
@@ -37,6 +31,12 @@ void sixteen_scalar(PhiloxKey key, std::uint32_t first, std::uint32_t c1, std::u
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 #pragma GCC diagnostic ignored "-Wuninitialized"
+// The sixteen blocks' words as four rows (a, b, c, d of block l at [l]) into out's block order.
+void interleave(const std::uint32_t (&a)[16], const std::uint32_t (&b)[16], const std::uint32_t (&c)[16],
+                const std::uint32_t (&d)[16], std::uint32_t* out) {
+  for (int l = 0; l < 16; ++l) out[4 * l] = a[l], out[4 * l + 1] = b[l], out[4 * l + 2] = c[l], out[4 * l + 3] = d[l];
+}
+
 // Vectors of 32-bit words held in 64-bit lanes (zero above): one lane per counter, so that a round's
 // two 32 x 32 -> 64-bit products are one vpmuludq each (the instruction multiplies the low halves).
 // The arithmetic of philox4x32_10 lane by lane: integer operations only, the same words.
