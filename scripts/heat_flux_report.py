@@ -17,7 +17,7 @@ import sys
 import h5py
 import numpy as np
 
-from report_figures import band, paper_hline, paper_points, paper_vline, plt, runs_line, savefig, seed_check
+from report_figures import band, band_upper, paper_hline, paper_points, paper_vline, plt, runs_line, savefig, seed_check
 
 ELASTIC_KAPPA = 1.025218  # converged Sonine kappa/kappa0 at alpha = 1 (001, ref. 37)
 PAPER_BETA6 = {1.0: 0.87, 0.3: 0.66}  # 001 Sec. IV: share of b'_1 carried by c_x^2 <= 6
@@ -471,7 +471,7 @@ def main():
                                                     "conductivity_over_kappa0.steady_stderr")])
             checks.append(({r[0]: r[3] for r in rows}, band_text))
             anchor_bracketed = str(c.d.attrs.get("sampling", "")).startswith("bracketed")
-            high = float(band_text.split("]")[0].strip("[").split(",")[1]) if band_text.startswith("[") else float("nan")
+            high = band_upper(band_text)
             own = float(checks[-1][0].get("own", "nan"))
             if own > high:
                 anchor_seed_outside.append((float(c.scalar("epsilon_star")[0]), own, band_text))

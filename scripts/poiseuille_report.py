@@ -264,8 +264,7 @@ def windows_table(out, files):
     w("gdsmc's summary lines: " + "; ".join(summary) + ".")
     w("")
     longest = runs[-1]
-    high = float(report_figures.h5_text(longest[2].attrs.get("seed_chi2_band_95", "[nan, nan]")).split("]")[0]
-                 .strip("[").split(",")[1])
+    high = report_figures.band_upper(report_figures.h5_text(longest[2].attrs.get("seed_chi2_band_95", "")))
     outside = [label for q, label in quantities
                if q + "_error_seed_chi2_dof" in longest[2] and float(longest[2][q + "_error_seed_chi2_dof"][()]) > high]
     FINDINGS.append("Error bars (section 12): at " + f"{longest[1] // 4} t_r the jackknife errors of " +

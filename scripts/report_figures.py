@@ -43,6 +43,11 @@ def runs_line(*paths):
     return f"gdsmc {', '.join(versions)}, runs of {when}"  # the paper's stated numbers: grey dotted lines, black open markers
 
 
+def band_upper(band):
+    """The upper end of a seed check's band as gdsmc writes it ("[0.607, 1.49] for 39 dof"); NaN if none."""
+    return float(band.split("]")[0].strip("[").split(",")[1]) if band.startswith("[") else float("nan")
+
+
 def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
     """The seed check gdsmc wrote into a diagnostic group of a study with realizations (issue 29
     item 2; user guide, "The seed check of every error"), as report rows. `quantities`: (label,
@@ -56,7 +61,7 @@ def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
         return float(group[name][()]) if name in group else float("nan")
 
     band = h5_text(group.attrs.get("seed_chi2_band_95", ""))
-    high = float(band.split("]")[0].strip("[").split(",")[1]) if band.startswith("[") else float("nan")
+    high = band_upper(band)
     rows, above = [], []
     for label, value, error in quantities:
         if error + "_seed_chi2_dof" not in group:
