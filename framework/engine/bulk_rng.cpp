@@ -131,6 +131,11 @@ std::vector<PhiloxSixteen> philox_sixteen_versions() {
   return versions;
 }
 
+bool philox_sixteen_vectorized() {
+  static const bool vectorized = philox_sixteen_versions().size() > 1;
+  return vectorized;
+}
+
 // The version for this processor, chosen once: AVX-512 (two sets of eight lanes), AVX2 (four of
 // four), or one block after the other.
 void philox_sixteen_blocks(PhiloxKey key, std::uint32_t first, std::uint32_t c1, std::uint32_t c2, std::uint32_t c3,

@@ -21,6 +21,8 @@ void philox_sixteen_blocks(PhiloxKey key, std::uint32_t first, std::uint32_t c1,
 // last): for the tests, which hold each to philox4x32_10.
 using PhiloxSixteen = void (*)(PhiloxKey, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t*);
 std::vector<PhiloxSixteen> philox_sixteen_versions();
+// Whether philox_sixteen_blocks runs a vector version here (else sixteen blocks cost sixteen).
+bool philox_sixteen_vectorized();
 
 class BulkRng {
  public:

@@ -218,6 +218,10 @@ class CollisionStage {
   // counter's credit at dt.
   double collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
                           WeightedLayer& layer, double credit, double dt, Rng& select, PairBatch& batch);
+  // Its events and candidates drawn from `select` (a copy of the stream, or a BulkRng of it).
+  template <class Draws>
+  double weighted_step(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, WeightedLayer& layer,
+                       double credit, double dt, Draws& select, PairBatch& batch);
   double solid_angle_ = M_PI;  // Omega_B of the rule's kernel form (pi: hard sphere; 4 pi: general)
   // run() with pending members: the pieces in order (block b < blocks, or blocks + layer), and
   // each block's stamp once it is scattered (the run's number: nothing to clear between steps).
