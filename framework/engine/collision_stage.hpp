@@ -197,8 +197,8 @@ class CollisionStage {
                           std::uint64_t candidates, Rng& select, PairBatch& batch, bool kept);
   // Kept speed bounds (set_collisions_only): particle i's peculiar speed |v_i - kept_velocity_| is
   // at most kept_speed_[kept_[i]], a byte per particle: level q < kKeptLevels - 1 bounds speeds up to
-  // q kept_step_ (kept_step_ = kKeptTop sqrt(T/m) / (kKeptLevels - 2) at the build's T), the last
-  // level any speed. kept_[a] and kept_[b] thus bound |g| (triangle inequality), with room for every
+  // q times the level step kKeptTop sqrt(T/m) / (kKeptLevels - 2) at the build's T (whose inverse is
+  // kept_inverse_step_), the last level any speed. kept_[a] and kept_[b] thus bound |g| (triangle inequality), with room for every
   // rounding of the rule's |g|: a uniform candidate whose acceptance number u has
   // u w >= kept_speed_[kept_[a]] + kept_speed_[kept_[b]] would be rejected by the hard-sphere kernel
   // (u w >= |g|), and one that could exceed w passes. Written in one pass when not valid (or when
