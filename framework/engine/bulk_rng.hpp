@@ -52,4 +52,20 @@ class BulkRng {
   alignas(64) std::uint32_t buffer_[kNumbers];
 };
 
+// body(draws) with draws giving the numbers of `stream`: a BulkRng of it when `ahead`, else a local
+// copy (whose state stays in registers across the calls body makes, where a reference's would go to
+// memory around each); then `stream` stands where body left it.
+template <class Body>
+void draw_from(Rng& stream, bool ahead, Body&& body) {
+  if (ahead) {
+    BulkRng draws(stream);
+    body(draws);
+    stream = draws.rng();
+  } else {
+    Rng draws = stream;
+    body(draws);
+    stream = draws;
+  }
+}
+
 }  // namespace gdsmc::host

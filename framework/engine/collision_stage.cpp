@@ -18,7 +18,7 @@ std::size_t subpopulation_count(std::size_t particles, std::size_t size) {
 }
 
 void CollisionStage::reset(std::size_t cells) {
-  kept_valid_ = false;
+  kept_.invalidate();
   ratio_.assign(cells, kInitialMajorantRatio);
   remainder_.assign(cells, 0.0);
   energy_.assign(cells, 0.0);
@@ -38,34 +38,6 @@ void CollisionStage::reset_majorants() {
     if (missed_so_far_[c] <= kMissedCollisionsTolerance * collided_so_far_[c])
       ratio_[c] = std::max(kInitialMajorantRatio, kMajorantDecay * ratio_[c]);
   }
-}
-
-std::uint8_t CollisionStage::kept_level(double vx, double vy, double vz) const {
-  const double dx = vx - kept_velocity_[0], dy = vy - kept_velocity_[1], dz = vz - kept_velocity_[2];
-  // Strictly above c / step, and above it by 1e-6 of a level at least: beyond the roundings of c
-  // here and of |g| in the rule (4e-9 of the speed at the highest finite level).
-  const double q = std::sqrt(dx * dx + dy * dy + dz * dz) * kept_inverse_step_ + 1e-6;
-  return q < kKeptLevels - 2 ? static_cast<std::uint8_t>(static_cast<int>(q) + 1)
-                             : static_cast<std::uint8_t>(kKeptLevels - 1);  // also NaN
-}
-
-void CollisionStage::build_kept(const ParticleSpan& particles, double unit) {
-  const std::size_t n = particles.count;
-  double mean[3] = {0, 0, 0};
-  for (std::size_t i = 0; i < n; ++i)
-    mean[0] += particles.vx.data[i], mean[1] += particles.vy.data[i], mean[2] += particles.vz.data[i];
-  for (int k = 0; k < 3; ++k) kept_velocity_[k] = std::isfinite(mean[k]) ? mean[k] / static_cast<double>(n) : 0.0;
-  kept_unit_ = unit;
-  const double step = kKeptTop * unit / (kKeptLevels - 2);
-  kept_inverse_step_ = 1.0 / step;
-  for (int q = 0; q < kKeptLevels - 1; ++q) kept_speed_[q] = q * step;
-  kept_speed_[kKeptLevels - 1] = INFINITY;
-  kept_.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-    kept_[i] = kept_level(particles.vx.data[i], particles.vy.data[i], particles.vz.data[i]);
-  kept_vx_ = particles.vx.data;
-  kept_count_ = n;
-  kept_valid_ = true;
 }
 
 void CollisionStage::set_tally_count(std::size_t count) {
@@ -256,7 +228,7 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
   std::uint32_t m = 0;
   // The batch's velocities (prefetched as its pairs were drawn) to the rule, and the accepted
   // pairs' back to storage.
-  std::uint8_t* const bound = kept ? kept_.data() : nullptr;
+  std::uint8_t* const bound = kept ? kept_.levels() : nullptr;
   const auto flush = [&] {
     s.load_velocities(m, vx, vy, vz);
     batch.count = m;
@@ -265,8 +237,8 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     if (bound)
       for (std::uint32_t q = 0; q < m; ++q)
         if (s.accepted[q]) {
-          bound[s.i[q]] = kept_level(s.v1[q].x, s.v1[q].y, s.v1[q].z);
-          bound[s.j[q]] = kept_level(s.v2[q].x, s.v2[q].y, s.v2[q].z);
+          bound[s.i[q]] = kept_.level(s.v1[q].x, s.v1[q].y, s.v1[q].z);
+          bound[s.j[q]] = kept_.level(s.v2[q].x, s.v2[q].y, s.v2[q].z);
         }
     s.forget(m);
     s.dirty = false;
@@ -298,7 +270,7 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
         double u;
       } ring[kAhead];
       const double w = batch.speed_bound;
-      const double* const level = kept_speed_;
+      const double* const level = kept_.speeds();
       const auto test = [&](const Drawn& d) {
         if (m > 0 && (s.holds(d.a) || s.holds(d.b))) flush();
         if (d.u * w >= level[bound[d.i]] + level[bound[d.j]]) return;
@@ -330,15 +302,7 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     if (m > 0) flush();
   };
   // Three numbers a candidate: sixteen Philox blocks at a time once there are enough of them.
-  if (candidates >= kBulkCandidates) {
-    BulkRng draws(stream);
-    draw_all(draws);
-    stream = draws.rng();
-  } else {
-    Rng draws = stream;  // a local copy: its state stays in registers across the rule's calls
-    draw_all(draws);
-    stream = draws;
-  }
+  draw_from(stream, candidates >= kBulkCandidates, draw_all);
 }
 
 // Weighted pairs of one layer over the step (000 Eq. 4.13 with pair majorants c_a + c_b): envelope
@@ -494,20 +458,14 @@ double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSp
 }
 
 // A layer-step draws two numbers an envelope event and two more a candidate: a few Philox blocks at
-// least, which sixteen side by side (AVX2, AVX-512) cost less than one after the other. Without a
-// vector version, a local copy of the stream (its state in registers across the rule's calls).
+// least, which sixteen side by side (AVX2, AVX-512) cost less than one after the other; without a
+// vector version, from a local copy of the stream.
 double CollisionStage::collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
                                         WeightedLayer& layer, double credit, double dt, Rng& stream,
                                         PairBatch& batch) {
-  if (philox_sixteen_vectorized()) {
-    BulkRng draws(stream);
-    const double left = weighted_step(rule, particles, c, layer, credit, dt, draws, batch);
-    stream = draws.rng();
-    return left;
-  }
-  Rng draws = stream;
-  const double left = weighted_step(rule, particles, c, layer, credit, dt, draws, batch);
-  stream = draws;
+  double left = 0;
+  draw_from(stream, philox_sixteen_vectorized(),
+            [&](auto& draws) { left = weighted_step(rule, particles, c, layer, credit, dt, draws, batch); });
   return left;
 }
 
@@ -567,7 +525,7 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
     }
     // This step's velocities are not followed by the kept bounds (a homogeneous system of one
     // group: no other group runs meanwhile); they are rebuilt at the next uniform step.
-    kept_valid_ = false;
+    kept_.invalidate();
     // The remainder is a fraction of an envelope event here and of a uniform candidate otherwise:
     // in [0, 1) either way, so a layer that changes its draw (run.pair_selection at a resume)
     // carries less than one.
@@ -690,13 +648,11 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
                        total, per_particle, kMaxCandidatesPerStep, kMaxCandidatesPerParticle),
                    total);
 
-  // The kept speed bounds of a system that only collides (set_collisions_only): rebuilt when not
-  // current, or when sqrt(T) has moved beyond [0.7, 1.42] of the build's (the levels' resolution).
+  // The kept speed bounds of a system that only collides (set_collisions_only), rebuilt when not
+  // current (KeptSpeedBounds::current).
   kept_this_step_ = collisions_only_ && !grid.is_slab() && rule.kernel_form() == KernelForm::hard_sphere &&
                     particles.count >= 2 && speed_[0] > 0 && std::isfinite(speed_[0]);
-  if (kept_this_step_ && (!kept_valid_ || kept_vx_ != particles.vx.data || kept_count_ != particles.count ||
-                          !(speed_[0] > 0.7 * kept_unit_ && speed_[0] < 1.42 * kept_unit_)))
-    build_kept(particles, speed_[0]);
+  if (kept_this_step_ && !kept_.current(particles, speed_[0])) kept_.build(particles, speed_[0]);
 
   // The groups are independent (own stream, majorant, remainder, results): any thread, any order.
   if (pending && !reversed && grid.is_slab()) {

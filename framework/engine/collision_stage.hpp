@@ -13,6 +13,7 @@
 #include <gdsmc/plugin.hpp>
 
 #include "engine/cells.hpp"
+#include "engine/kept_speed_bounds.hpp"
 #include "engine/streams.hpp"
 #include "engine/work_pool.hpp"
 
@@ -70,14 +71,14 @@ class CollisionStage {
   // A homogeneous system whose velocities only this stage changes between two run() calls (no
   // forcing, no acceleration, no particle added, removed or moved in storage: Engine's
   // moments_follow_collisions_). Its uniform candidates of a hard-sphere rule are then tested
-  // first against kept speed bounds (see kept_ below): the same pairs reach the rule, with the
+  // first against kept speed bounds (KeptSpeedBounds): the same pairs reach the rule, with the
   // same outcomes, bit for bit, but most rejected ones without a load of their velocities.
   void set_collisions_only(bool on) {
     collisions_only_ = on;
-    kept_valid_ = false;
+    kept_.invalidate();
   }
   // Velocities were written outside the stage (a benchmark's rescaling): the kept bounds are rebuilt.
-  void velocities_changed() { kept_valid_ = false; }
+  void velocities_changed() { kept_.invalidate(); }
   struct Totals {
     std::uint64_t candidates = 0, accepted = 0, majorant_exceeded = 0;
     double energy_change = 0;  // summed in cell order, whatever the processing order
@@ -195,25 +196,8 @@ class CollisionStage {
   // (those the kept bounds reject first, when `kept`, never reach it).
   void collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
                           std::uint64_t candidates, Rng& select, PairBatch& batch, bool kept);
-  // Kept speed bounds (set_collisions_only): particle i's peculiar speed |v_i - kept_velocity_| is
-  // at most kept_speed_[kept_[i]], a byte per particle: level q < kKeptLevels - 1 bounds speeds up to
-  // q times the level step kKeptTop sqrt(T/m) / (kKeptLevels - 2) at the build's T (whose inverse is
-  // kept_inverse_step_), the last level any speed. kept_[a] and kept_[b] thus bound |g| (triangle inequality), with room for every
-  // rounding of the rule's |g|: a uniform candidate whose acceptance number u has
-  // u w >= kept_speed_[kept_[a]] + kept_speed_[kept_[b]] would be rejected by the hard-sphere kernel
-  // (u w >= |g|), and one that could exceed w passes. Written in one pass when not valid (or when
-  // sqrt(T) has moved by a factor beyond [0.7, 1.42] since), then after every accepted pair: 1 MB at
-  // 10^6 particles, read where the velocities' three arrays (24 MB) were.
-  static constexpr int kKeptLevels = 256;
-  static constexpr double kKeptTop = 8.0;  // the highest finite level, in sqrt(T/m) of the build
-  std::vector<std::uint8_t> kept_;
-  double kept_speed_[kKeptLevels] = {};
-  double kept_velocity_[3] = {0, 0, 0}, kept_unit_ = 0, kept_inverse_step_ = 0;
-  const double* kept_vx_ = nullptr;  // the storage the bounds were built for
-  std::size_t kept_count_ = 0;
-  bool collisions_only_ = false, kept_valid_ = false, kept_this_step_ = false;
-  void build_kept(const ParticleSpan& particles, double unit);
-  std::uint8_t kept_level(double vx, double vy, double vz) const;
+  KeptSpeedBounds kept_;  // engine/kept_speed_bounds.hpp
+  bool collisions_only_ = false, kept_this_step_ = false;
   // Group c's step with weighted pairs (a slab layer, the hard-sphere form): returns the time
   // counter's credit at dt.
   double collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
