@@ -244,30 +244,30 @@ def windows_table(out, files):
     """Section 12's second table: the same channel stopped at 22, 44 and 66 t_r (its steady test passes near
     10 t_r), χ²/dof of each quantity's own errors, so the window the errors need can be read off."""
     w = out.append
-    runs = [(name, stop, files[name][0].d) for name, stop in SEED_RUNS if files.get(name)]
+    runs = [(stop, files[name][0].d) for name, stop in SEED_RUNS if files.get(name)]
     if len(runs) < 2:
         return
     quantities = [(q, label) for q, label in SEED_QUANTITIES if q != "energy_balance_closure"]
     w("The same channel stopped later, the same 40 seeds (its steady test passes near 10 t_r, so the averaging window")
     w("grows from about 12 to 56 t_r; Q's integrated autocorrelation time is about 7 τ0 = 1.75 t_r):")
     w("")
-    header = ["quantity"] + [f"χ²/dof at {stop} τ0 = {stop // 4} t_r" for _, stop, _ in runs]
+    header = ["quantity"] + [f"χ²/dof at {stop} τ0 = {stop // 4} t_r" for stop, _ in runs]
     rows = []
     for q, label in quantities:
         cells = []
-        for _, _, d in runs:
+        for _, d in runs:
             key = q + "_error_seed_chi2_dof"
             cells.append(f"{float(d[key][()]):.2f}" if key in d else "—")
         rows.append([label] + cells)
     table(out, header, rows)
-    summary = [f"{stop} τ0: " + report_figures.h5_text(d.attrs.get("seed_check", "")) for _, stop, d in runs]
+    summary = [f"{stop} τ0: " + report_figures.h5_text(d.attrs.get("seed_check", "")) for stop, d in runs]
     w("gdsmc's summary lines: " + "; ".join(summary) + ".")
     w("")
-    longest = runs[-1]
-    high = report_figures.band_upper(report_figures.h5_text(longest[2].attrs.get("seed_chi2_band_95", "")))
+    stop, d = runs[-1]
+    high = report_figures.band_upper(report_figures.h5_text(d.attrs.get("seed_chi2_band_95", "")))
     outside = [label for q, label in quantities
-               if q + "_error_seed_chi2_dof" in longest[2] and float(longest[2][q + "_error_seed_chi2_dof"][()]) > high]
-    FINDINGS.append("Error bars (section 12): at " + f"{longest[1] // 4} t_r the jackknife errors of " +
+               if q + "_error_seed_chi2_dof" in d and float(d[q + "_error_seed_chi2_dof"][()]) > high]
+    FINDINGS.append("Error bars (section 12): at " + f"{stop // 4} t_r the jackknife errors of " +
                     (", ".join(outside) + " still understate" if outside else "every quantity in the table hold") +
                     "; the sweeps stop at 22 t_r for cost, so their errors understate by the 22 t_r column's √(χ²/dof).")
 
