@@ -69,8 +69,8 @@ SeedBand seed_chi2_band(std::size_t realizations);
 inline constexpr double kBatchTaus = 5.0;
 inline constexpr std::size_t kMinBatches = 4, kMaxBatches = 64;
 
-// The integrated autocorrelation time of a series, in records: 1 + 2 sum_t rho(t), summed up to
-// Sokal's automatic window (the smallest W >= 5 tau(W)); at least 1 (1 for uncorrelated values).
+// The integrated autocorrelation time of a series, in records: 1 + 2 sum_t rho(t) by Wolff's Gamma
+// method with its bias correction (the SDK's gdsmc::integrated_autocorrelation_time).
 double integrated_autocorrelation_time(const std::vector<double>& v);
 
 // Batches for a batch-means error: length >= kBatchTaus tau_int (longer when that would give more

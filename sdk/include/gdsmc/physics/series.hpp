@@ -1,6 +1,7 @@
 // gdsmc SDK: the usual shape of a time-series diagnostic: declare columns, add one value per
 // column at each sample, and at each record append the mean of the samples since the last one.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -57,29 +58,42 @@ class WindowAverage {
   std::size_t samples_ = 0;
 };
 
-// The integrated autocorrelation time of n values, in units of their spacing: 1 + 2 sum_t rho(t),
-// summed up to Sokal's automatic window (the smallest W >= 5 tau(W)); at least 1 (1 for
-// uncorrelated values, and for fewer than 2 values or no spread). With a window of n values it is
-// biased low by about tau/n and uncertain by about sqrt(2(2W + 1)/n) relative: trust it when the
-// values span 20 autocorrelation times or more.
+// The integrated autocorrelation time of n values, in units of their spacing: tau = 1 + 2 sum_t rho(t),
+// so that the variance of their mean is Gamma(0) tau / n (Gamma(0) their variance about their own
+// mean, divided by n). By Wolff's Gamma method (U. Wolff, Comput. Phys. Commun. 156 (2004) 143):
+// autocovariances over their n - t pairs, summed up to the automatic window W (the first W at which
+// exp(-W/tau_W) < tau_W / sqrt(W n), tau_W = S / ln((2 tau_s + 1)/(2 tau_s - 1)), tau_s = tau(W)/2 and
+// S = 1.5), then corrected for the bias of subtracting the values' own mean: times 1 + (2W + 1)/n.
+// Over independent seeds of AR(1) series its errors of the mean hold to about 10 % in variance from
+// 10 autocorrelation times up, and are about 1.3 times too small at 5 (tests/physics_toolkit_test.cpp);
+// the old Sokal window without the correction was 2.1 and 3.2 times too small there. 1 for fewer
+// than 2 values or no spread; never below 1/n.
 inline double integrated_autocorrelation_time(const double* v, std::size_t n) {
   if (n < 2) return 1.0;
   double m = 0;
   for (std::size_t i = 0; i < n; ++i) m += v[i];
   m /= static_cast<double>(n);
-  double c0 = 0;
-  for (std::size_t i = 0; i < n; ++i) c0 += (v[i] - m) * (v[i] - m);
-  c0 /= static_cast<double>(n);
+  const auto autocovariance = [&](std::size_t t) {
+    double c = 0;
+    for (std::size_t i = 0; i + t < n; ++i) c += (v[i] - m) * (v[i + t] - m);
+    return c / static_cast<double>(n - t);
+  };
+  const double c0 = autocovariance(0);
   if (!(c0 > 0)) return 1.0;
-  double tau = 1;
-  for (std::size_t t = 1; t < n; ++t) {
-    double ct = 0;
-    for (std::size_t i = 0; i + t < n; ++i) ct += (v[i] - m) * (v[i + t] - m);
-    ct /= static_cast<double>(n);
-    tau += 2 * ct / c0;
-    if (static_cast<double>(t) >= 5.0 * tau) break;
+  constexpr double S = 1.5;
+  const double dn = static_cast<double>(n);
+  double sum = c0;  // Gamma(0) + 2 sum_{t <= W} Gamma(t)
+  std::size_t W = 0;
+  for (std::size_t t = 1; t < n / 2; ++t) {
+    sum += 2 * autocovariance(t);
+    W = t;
+    const double tau_s = 0.5 * sum / c0;  // Sokal's tau_int, 1/2 for independent values
+    if (tau_s <= 0.5) break;              // no correlation left to sum
+    const double tau_w = S / std::log((2 * tau_s + 1) / (2 * tau_s - 1));
+    if (std::exp(-static_cast<double>(t) / tau_w) < tau_w / std::sqrt(static_cast<double>(t) * dn)) break;
   }
-  return tau > 1.0 ? tau : 1.0;
+  const double tau = sum / c0 * (1 + static_cast<double>(2 * W + 1) / dn);
+  return std::max(tau, 1.0 / dn);
 }
 
 // Mean and standard error of a correlated sequence of samples by batch means: at most
@@ -129,12 +143,13 @@ class BatchMeans {
     sum_ = sums[1];
   }
   double mean() const { return count_ ? sum_ / static_cast<double>(count_) : std::nan(""); }
-  // Standard error of the mean from the spread of the batch means, times the square root of their
-  // integrated autocorrelation time (consecutive batches shorter than the correlation time of the
-  // samples are correlated; taken as independent, AR(1) series spanning 20 autocorrelation times
-  // scattered 4 times the variance their errors claimed, 1.7 times with this correction,
-  // tests/physics_toolkit_test.cpp); NaN with fewer than 4 batches. So still low when the samples
-  // span fewer than about 40 autocorrelation times: realizations give the honest error there.
+  // Standard error of the mean: the variance of the batch means times their integrated
+  // autocorrelation time over their number (integrated_autocorrelation_time above: batches shorter
+  // than the correlation time of the samples are correlated, and its bias correction stands for
+  // the batches' own mean). Over independent seeds of AR(1) series the variance of the means is
+  // 1.0-1.1 times the mean squared error from 10 autocorrelation times up and 1.3 times at 5
+  // (tests/physics_toolkit_test.cpp): below about 10 autocorrelation times, realizations give the
+  // honest error. NaN with fewer than 4 batches.
   double standard_error() const {
     if (batches_ < 4) return std::nan("");
     double m = 0;
@@ -142,7 +157,7 @@ class BatchMeans {
     m /= static_cast<double>(batches_);
     double v = 0;
     for (std::size_t k = 0; k < batches_; ++k) v += (batch_[k] - m) * (batch_[k] - m);
-    v /= static_cast<double>(batches_ - 1);
+    v /= static_cast<double>(batches_);
     return std::sqrt(v * batch_autocorrelation_time() / static_cast<double>(batches_));
   }
   // The integrated autocorrelation time of the complete batches' means, in batches (1 when they are
