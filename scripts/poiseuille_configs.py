@@ -131,6 +131,24 @@ def a_hat_axis(values):
         f'    "{a:g}": {{forcings.0.acceleration.value: {acceleration(a):.8g}}}\n' for a in values)
 
 
+def resolution_axis(kns, widths=(0.2, 0.1)):
+    """Kn x resolution as one axis (issue 29 item 3): the rule's equal layers, then layers sized to the
+    local mean free path (at most w local lambda wide, frozen at the end of the rule's min_time, 4 t_r)
+    at w = 0.2 and 0.1, and w = 0.2 at half the time step. The sampling bins stay the rule's equal
+    ones in every variant, so only the collision layers and the time step change."""
+    lines = []
+    for kn in kns:
+        r = rule(kn)
+        variants = [("uniform", str(r["layers"]), r["dt"])] + [
+            (f"w{w:g}", f'{{mean_free_paths: {w:g}, after: {r["min_time"]:g}}}', r["dt"]) for w in widths] + [
+            (f"w{widths[0]:g} dt/2", f'{{mean_free_paths: {widths[0]:g}, after: {r["min_time"]:g}}}', r["dt"] / 2)]
+        for name, layers, dt in variants:
+            lines.append(f'    "{kn:g} {name}": {{system.mean_free_path: {kn * W_SIGMA:.6g}, system.layers: {layers}, '
+                         f'system.bins: {r["layers"]}, run.time_step.value: {dt:g}, run.stop.time: {r["stop"]:g}, '
+                         f'diagnostics.0.steady_window: {r["window"]:g}, diagnostics.0.min_time: {r["min_time"]:g}}}\n')
+    return "  Kn_resolution:\n" + "".join(lines)
+
+
 def main():
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs")
     files = {
@@ -194,6 +212,17 @@ def main():
             "# (2 - acc)/acc 2/Kn tau0 of the resolution rule.\n",
             0.05, 0.9, 0.5, "maxwell", 50000, dt_cap=0.05,
             sweep="  collision.alpha: [0.9, 0.99]\n" + walls_axis([0.5, 0.1], [0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10], 0.05)),
+        "poiseuille_resolution_sweep": pipeline(
+            "poiseuille_resolution_sweep", "# The small-Kn points of Figs. 4, 7 and 13-16 resolved (issue 29 item 3): at each Kn, the rule's equal\n"
+            "# layers against layers sized to the local mean free path (w = 0.2 and 0.1 local lambda, frozen at 4 t_r)\n"
+            "# and w = 0.2 at half the time step. e_n is set per run (scripts/validate-poiseuille-resolution).\n",
+            0.05, 0.7, 0.5, "diffuse", 50000,
+            sweep=resolution_axis([0.02, 0.03, 0.05])),
+        "poiseuille_knudsen_minimum_sweep": pipeline(
+            "poiseuille_knudsen_minimum_sweep", "# The Knudsen minimum of Q (Fig. 20a, a_hat = 0.5, diffuse walls) on a grid twice as fine as the\n"
+            "# main sweep's around it (issue 29 item 3); realizations are set per run (scripts/validate-poiseuille-resolution).\n",
+            1.0, 0.9, 0.5, "diffuse", 50000,
+            sweep="  collision.alpha: [0.7, 0.9, 0.99, 1.0]\n" + kn_axis([0.5, 0.7, 1, 1.4, 2, 3, 5, 10])),
         "poiseuille_specular": pipeline(
             "poiseuille_specular", "# Specular walls (accommodation 0) have no steady state: collisions and specular reflections\n"
             "# conserve x momentum, so the mean streamwise velocity grows as a t and Q (Eq. 40) as Kn t/tau0.\n"
