@@ -5,6 +5,7 @@ a paper states. Used by poiseuille_report.py, usf_inhomogeneous_report.py, ensko
 heat_flux_report.py.
 Needs Debian's python3-matplotlib and python3-numpy."""
 import os
+import re
 
 import matplotlib
 
@@ -71,7 +72,11 @@ def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
         # own steady errors are not averaged into the output); a plugin's error is averaged, beside X_stderr.
         host = error.endswith(".steady_stderr")
         v, se = val(value), val(error if host else value + "_stderr")
-        rows.append([label, fmt(v, se), "—" if host else f"{val(error):.2g}", f"{chi:.2f}",
+        chi_text = f"{chi:.2f}"
+        if not np.isfinite(chi):  # say how many realizations' own errors were NaN (the host's reason is in them)
+            m = re.search(r"(\d+) left out", h5_text(group[error + "_seed_chi2_dof"].attrs.get("description", "")))
+            chi_text = f"— ({m.group(1)} own errors NaN)" if m else "—"
+        rows.append([label, fmt(v, se), "—" if host else f"{val(error):.2g}", chi_text,
                      f"{val(error + '_seed_chi2_dof_weighted'):.2f}", f"{np.sqrt(chi):.2f}" if chi >= 0 else "—"])
         if chi > high:
             above.append(f"{label} {chi:.2f}")
