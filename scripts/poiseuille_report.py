@@ -618,6 +618,39 @@ def profile_rows(c, ys):
     return [int(np.argmin(np.abs(y - t) + far)) for t in ys]
 
 
+def knudsen_minimum(k, v, e):
+    """(Kn_min, error), (Q_min, error): a parabola in log Kn through the smallest Q and its two
+    neighbours; errors from NMC redraws of Q within its errors; NaN when the smallest Q is at an end."""
+    def one(vv):
+        i = int(np.nanargmin(vv))
+        if i == 0 or i == len(vv) - 1:
+            return NAN, NAN
+        x = np.log(k[i - 1:i + 2]); c = np.polyfit(x, vv[i - 1:i + 2], 2)
+        xv = -c[1] / (2 * c[0])
+        return math.exp(xv), np.polyval(c, xv)
+    r = one(v)
+    if not np.isfinite(r[0]):
+        return (NAN, NAN), (NAN, NAN)
+    d = np.array([one(v + e * RNG.standard_normal(len(v))) for _ in range(NMC)])
+    d = d[np.isfinite(d[:, 0])]
+    return (r[0], r[0] * np.std(np.log(d[:, 0]), ddof=1)), (r[1], np.std(d[:, 1], ddof=1))
+
+
+def slip_power_law(cs):
+    """ζ = Kn_fw^δ / φ (Eq. 26) by weighted least squares in logs over the cases with Kn_fw ≤ 0.1:
+    (δ, its error, φ, χ²/dof, points), or None with fewer than 3 points."""
+    x = np.array([c.s("Kn_fw")[0] for c in cs]); z = np.array([c.s("zeta") for c in cs]).reshape(-1, 2)
+    m = (x <= 0.1) & np.isfinite(z[:, 0]) & (z[:, 0] > 0) & (z[:, 1] > 0)
+    if m.sum() < 3:
+        return None
+    X, Y, S = np.log(x[m]), np.log(z[m, 0]), z[m, 1] / z[m, 0]
+    A = np.vstack([X, np.ones_like(X)]).T / S[:, None]
+    coef, *_ = np.linalg.lstsq(A, Y / S, rcond=None)
+    cov = np.linalg.inv(A.T @ A)
+    chi2 = float(np.sum(((Y - (coef[0] * X + coef[1])) / S) ** 2))
+    return coef[0], math.sqrt(cov[0, 0]), math.exp(-coef[1]), chi2 / max(1, m.sum() - 2), int(m.sum())
+
+
 def main():
     outdir, docdir = sys.argv[1], sys.argv[2]
     files, status = load(outdir)
@@ -936,22 +969,11 @@ def main():
         rows = [[f"{c.en:g}", f"{c.kn:g}"] + [fmt(*c.s(q)) for q in qs] for en in ENS for c in pick(main05, en=en)]
         table(out, ["e_n", "Kn", "Kn_fw", "u_s", "u′_w", "ζ", "T_s", "T′_w", "ζ_T"], rows)
 
-        def pfit(cs):
-            x = np.array([c.s("Kn_fw")[0] for c in cs]); z = np.array([c.s("zeta") for c in cs]).reshape(-1, 2)
-            m = (x <= 0.1) & np.isfinite(z[:, 0]) & (z[:, 0] > 0) & (z[:, 1] > 0)
-            if m.sum() < 3:
-                return None
-            X, Y, S = np.log(x[m]), np.log(z[m, 0]), z[m, 1] / z[m, 0]
-            A = np.vstack([X, np.ones_like(X)]).T / S[:, None]
-            coef, *_ = np.linalg.lstsq(A, Y / S, rcond=None)
-            cov = np.linalg.inv(A.T @ A)
-            chi2 = float(np.sum(((Y - A @ coef * S) / S) ** 2)) if False else float(np.sum(((Y - (coef[0] * X + coef[1])) / S) ** 2))
-            return coef[0], math.sqrt(cov[0, 0]), math.exp(-coef[1]), chi2 / max(1, m.sum() - 2), int(m.sum())
         rows = []
         groups = [("all e_n ≥ 0.9", [c for c in main05 if c.en >= 0.9])] + \
                  [(f"e_n = {en:g}", pick(main05, en=en)) for en in ENS if en >= 0.9 and pick(main05, en=en)]
         for lbl, cs in groups:
-            r = pfit(cs)
+            r = slip_power_law(cs)
             rows.append([lbl] + ([fmt(r[0], r[1]), fmt(r[1] * math.sqrt(max(1.0, r[3])), d=4), fmt(r[2]), fmt(r[3], d=2), r[4]]
                                  if r else ["too few points", "", "", "", ""]))
             if r and lbl.startswith("all"):
@@ -979,7 +1001,7 @@ def main():
             if cc:
                 x = [c.s("Kn_fw")[0] for c in cc]; z = np.array([c.s("zeta") for c in cc])
                 ax.errorbar(x, z[:, 0], z[:, 1], marker="o", ms=3, ls="", label=f"e_n = {en:g}")
-        r = pfit([c for c in main05 if c.en >= 0.9])
+        r = slip_power_law([c for c in main05 if c.en >= 0.9])
         if r:
             xx = np.logspace(-2, -1, 20)
             ax.plot(xx, xx ** r[0] / r[2], "k-", label=f"Kn_fw^{r[0]:.3f}/{r[2]:.3f}")
@@ -1045,20 +1067,6 @@ def main():
     w("## 8. Figs. 19–21 and Sec. VI: flow rate and the Knudsen minimum")
     w("")
 
-    def kmin(k, v, e):
-        def one(vv):
-            i = int(np.nanargmin(vv))
-            if i == 0 or i == len(vv) - 1:
-                return NAN, NAN
-            x = np.log(k[i - 1:i + 2]); c = np.polyfit(x, vv[i - 1:i + 2], 2)
-            xv = -c[1] / (2 * c[0])
-            return math.exp(xv), np.polyval(c, xv)
-        r = one(v)
-        if not np.isfinite(r[0]):
-            return (NAN, NAN), (NAN, NAN)
-        d = np.array([one(v + e * RNG.standard_normal(len(v))) for _ in range(NMC)])
-        d = d[np.isfinite(d[:, 0])]
-        return (r[0], r[0] * np.std(np.log(d[:, 0]), ddof=1)), (r[1], np.std(d[:, 1], ddof=1))
     qfig, qax = plt.subplots(1, 3, figsize=(16, 3.8))
     for j, (tag, cs, run) in enumerate((("â = 0.5", main05, "sweep"), ("â = 10", files["a10"] or [], "a10"))):
         w(f"### Q against Kn, {tag}")
@@ -1077,7 +1085,7 @@ def main():
                 rows.append([f"{en:g}", f"only {len(k)} Kn (min at Kn = {k[np.argmin(v)]:g})" if len(k) else "—", ""])
                 qax[j].errorbar(k, v, e, marker="o", ms=3, capsize=2, label=f"e_n = {en:g}")
                 continue
-            (km, kme), (qm, qme) = kmin(k, v, e)
+            (km, kme), (qm, qme) = knudsen_minimum(k, v, e)
             rows.append([f"{en:g}", fmt(km, kme) if np.isfinite(km) else f"none (min at the end, Kn = {k[np.argmin(v)]:g})",
                          fmt(qm, qme)])
             qax[j].errorbar(k, v, e, marker="o", ms=3, capsize=2, label=f"e_n = {en:g}")
@@ -1109,7 +1117,7 @@ def main():
             cc = [c for c in pick(wl, en=en, walls=a) if any(abs(c.kn - k) < 1e-6 for k in kns)]
             k = np.array([c.kn for c in cc]); v = np.array([c.s("Q") for c in cc])
             m = np.isfinite(v[:, 0])
-            (km, kme), (qm, qme) = kmin(k[m], v[m, 0], v[m, 1]) if m.sum() >= 3 else ((NAN, NAN), (NAN, NAN))
+            (km, kme), (qm, qme) = knudsen_minimum(k[m], v[m, 0], v[m, 1]) if m.sum() >= 3 else ((NAN, NAN), (NAN, NAN))
             rows.append([a, f"{en:g}", "yes" if np.isfinite(km) else "no (minimum at an end)", fmt(km, kme), fmt(qm, qme)])
             qax[2].errorbar(k, v[:, 0], v[:, 1], marker="o", ms=3, capsize=2, label=f"acc {a}, e_n {en:g}")
         table(out, ["accommodation", "e_n", "interior minimum", "Kn_min", "Q_min"], rows)
