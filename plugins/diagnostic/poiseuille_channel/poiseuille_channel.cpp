@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 #include <gdsmc/gdsmc.hpp>
 #include <gdsmc/physics/bins.hpp>
+#include <gdsmc/physics/series.hpp>
 #include <gdsmc/physics/steady.hpp>
 
 namespace {
@@ -99,12 +100,12 @@ constexpr Column kProfiles[kProfile] = {
 
 constexpr double kDelta1 = -0.04;  // 004 Eq. 37 (Sela & Goldhirsch)
 constexpr double kDelta2 = 0.214;  // 004 Eq. 37
-constexpr std::size_t kMaxBatches = 16;
+constexpr std::size_t kMaxBatches = 64;
 
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.4.0";
+  static constexpr const char* version = "1.5.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -120,11 +121,13 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "window mean's error from the means of its 8 equal pieces: a change noise alone explains; the\n"
       "toolkit's gdsmc::SteadyTest). From then on every sample is accumulated (004 Eq. 13) per sampling\n"
       "bin: the sums of 1, v_a and v_a v_b (gdsmc::BinSums), in batches of consecutive records; when\n"
-      "16 batches are full, neighbours are merged (8 batches of twice the length), so the batches\n"
-      "always cover the whole steady window in 8-16 pieces.\n"
+      "64 batches are full, neighbours are merged (32 batches of twice the length), so the batches\n"
+      "always cover the whole steady window in 32-64 pieces.\n"
       "Datasets of the group (name [unit]; every scalar and steady array also has <name>_error, the\n"
-      "delete-one jackknife error over the batches: an honest error when the batches are longer than\n"
-      "the correlation time; with run.realizations the host's <name>_stderr is the safer one):\n"
+      "delete-one jackknife error over the batches times the square root of the integrated\n"
+      "autocorrelation time of the delete-one values (gdsmc::integrated_autocorrelation_time: batches\n"
+      "shorter than the correlation time are not independent); low when the window spans fewer than\n"
+      "about 5 correlation times; with run.realizations the host's <name>_stderr is the safer one):\n"
       "  series per record: E [T_w] (kinetic energy per particle, Eq. A1), steady [1] (0/1),\n"
       "  Q_record [1] (Eq. 40 over the record);\n"
       "  a_hat [1] (Eq. 17; written as the run begins, so `gdsmc validate` shows it), Kn [1] (lambda0/W,\n"
@@ -329,7 +332,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     }
     // A NaN error says why (issue 29: no NaN error without its reason and the remedy).
     const auto error_doc = [&](const std::string& what, double value, double error) {
-      std::string doc = "jackknife error over the batches of " + what;
+      std::string doc = "jackknife error over the batches of " + what + " (times the square root of the delete-one values' integrated autocorrelation time)";
       if (std::isfinite(error)) return doc;
       if (used < 2)
         return doc + "; NaN: the steady window holds " + std::to_string(used) +
@@ -650,15 +653,20 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   template <class Get>
+  // The delete-one jackknife variance, times the integrated autocorrelation time of the delete-one
+  // values in batch order (consecutive batches of a short window are correlated; for a mean this is
+  // BatchMeans' error).
   static void jackknife(const std::vector<Result>& jack, const std::vector<double>& whole, std::vector<double>& err, Get get) {
     const double B = static_cast<double>(jack.size());
+    std::vector<double> v(jack.size());
     for (std::size_t j = 0; j < whole.size(); ++j) {
       double mean = 0;
-      for (const auto& r : jack) mean += get(r)[j];
+      for (std::size_t k = 0; k < jack.size(); ++k) mean += (v[k] = get(jack[k])[j]);
       mean /= B;
       double ss = 0;
-      for (const auto& r : jack) ss += (get(r)[j] - mean) * (get(r)[j] - mean);
-      err[j] = std::sqrt((B - 1.0) / B * ss);
+      for (const double x : v) ss += (x - mean) * (x - mean);
+      const double tau = std::isfinite(ss) ? gdsmc::integrated_autocorrelation_time(v.data(), v.size()) : 1.0;
+      err[j] = std::sqrt((B - 1.0) / B * ss * tau);
     }
   }
 
