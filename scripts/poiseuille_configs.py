@@ -33,8 +33,10 @@ Sec. III.D.1):
                                              their difference (noise), not before 4 t_r (Appendix); near
                                              linear response (the a_hat = min(0.05, 0.2 Kn) sweep) E
                                              hardly feels the flow, so not before 8 t_r
-  stop         22 t_r: the test passes near 10 t_r, leaving about 12 t_r (8-16 jackknife batches
-                                             of at least 0.75 t_r) of averaging
+  stop         22 t_r: the test passes near 10 t_r, leaving about 12 t_r (32-64 jackknife batches,
+                                             corrected for their autocorrelation) of averaging, about 7
+                                             integrated autocorrelation times of Q at Kn = 0.5, where
+                                             the errors hold (docs/validation/README.md)
 Run:  scripts/poiseuille_configs.py   (rewrites the configs; the committed files are its output)
 """
 import math

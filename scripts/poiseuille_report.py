@@ -269,7 +269,7 @@ def windows_table(out, files):
                if q + "_error_seed_chi2_dof" in d and float(d[q + "_error_seed_chi2_dof"][()]) > high]
     FINDINGS.append("Error bars (section 12): at " + f"{stop // 4} t_r the jackknife errors of " +
                     (", ".join(outside) + " still understate" if outside else "every quantity in the table hold") +
-                    "; the sweeps stop at 22 t_r for cost, so their errors understate by the 22 t_r column's √(χ²/dof).")
+                    "; the sweeps stop at 22 t_r, so their errors are read with the 22 t_r column's √(χ²/dof) where it exceeds the band.")
 
 
 def missing(out, files, status, *names):

@@ -95,8 +95,8 @@ def main():
       "[poiseuille.md](poiseuille.md).")
     w("")
     w("**What was run.** â = 0.5, fully diffuse walls at T_w, W/d = 1860, 5·10⁴ particles, one realization per case, "
-      "each run's steady window and jackknife errors as the main sweep (stop at 22 t_r; the errors understate the "
-      "seed scatter by up to 1.45 in standard deviation at this window, poiseuille.md section 12). At each Kn:")
+      "each run's steady window and jackknife errors as the main sweep (stop at 22 t_r; the errors' check against the "
+      "seed scatter at that window is in poiseuille.md section 12 and docs/validation/README.md). At each Kn:")
     w("- `uniform`: the resolution rule's equal layers, max(40, ⌈9/Kn⌉), and time step (0.02 τ0), as the main sweep;")
     w("- `w0.2`, `w0.1`: layers at most 0.2 and 0.1 local mean free paths wide (`system.layers: {mean_free_paths: w, "
       "after: 4 t_r}`: equal until 4 t_r, then set from the density profile and frozen), the same time step;")
