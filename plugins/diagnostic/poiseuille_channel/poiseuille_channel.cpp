@@ -652,10 +652,10 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     return r;
   }
 
-  template <class Get>
   // The delete-one jackknife variance, times the integrated autocorrelation time of the delete-one
   // values in batch order (consecutive batches of a short window are correlated; for a mean this is
   // BatchMeans' error).
+  template <class Get>
   static void jackknife(const std::vector<Result>& jack, const std::vector<double>& whole, std::vector<double>& err, Get get) {
     const double B = static_cast<double>(jack.size());
     std::vector<double> v(jack.size());
