@@ -136,17 +136,21 @@ def a_hat_axis(values):
 def resolution_axis(kns, widths=(0.2, 0.1)):
     """Kn x resolution as one axis (issue 29 item 3): the rule's equal layers, then layers sized to the
     local mean free path (at most w local lambda wide, frozen at the end of the rule's min_time, 4 t_r)
-    at w = 0.2 and 0.1, and w = 0.2 at half the time step. The sampling bins stay the rule's equal
-    ones in every variant, so only the collision layers and the time step change."""
+    at w = 0.2 and 0.1, w = 0.2 at half the time step, and w = 0.1 with twice the sampling bins (the
+    wall gradients' fit spans wall_fit_bins bins: half as wide). The other variants sample on the
+    rule's equal bins, so that between them only the collision layers and the time step change."""
     lines = []
     for kn in kns:
         r = rule(kn)
-        variants = [("uniform", str(r["layers"]), r["dt"])] + [
-            (f"w{w:g}", f'{{mean_free_paths: {w:g}, after: {r["min_time"]:g}}}', r["dt"]) for w in widths] + [
-            (f"w{widths[0]:g} dt/2", f'{{mean_free_paths: {widths[0]:g}, after: {r["min_time"]:g}}}', r["dt"] / 2)]
-        for name, layers, dt in variants:
+        def frozen(w):
+            return f'{{mean_free_paths: {w:g}, after: {r["min_time"]:g}}}'
+        variants = [("uniform", str(r["layers"]), r["dt"], r["layers"])] + [
+            (f"w{w:g}", frozen(w), r["dt"], r["layers"]) for w in widths] + [
+            (f"w{widths[0]:g} dt/2", frozen(widths[0]), r["dt"] / 2, r["layers"]),
+            (f"w{widths[1]:g} bins x2", frozen(widths[1]), r["dt"], 2 * r["layers"])]
+        for name, layers, dt, bins in variants:
             lines.append(f'    "{kn:g} {name}": {{system.mean_free_path: {kn * W_SIGMA:.6g}, system.layers: {layers}, '
-                         f'system.bins: {r["layers"]}, run.time_step.value: {dt:g}, run.stop.time: {r["stop"]:g}, '
+                         f'system.bins: {bins}, run.time_step.value: {dt:g}, run.stop.time: {r["stop"]:g}, '
                          f'diagnostics.0.steady_window: {r["window"]:g}, diagnostics.0.min_time: {r["min_time"]:g}}}\n')
     return "  Kn_resolution:\n" + "".join(lines)
 
@@ -217,7 +221,8 @@ def main():
         "poiseuille_resolution_sweep": pipeline(
             "poiseuille_resolution_sweep", "# The small-Kn points of Figs. 4, 7 and 13-16 resolved (issue 29 item 3): at each Kn, the rule's equal\n"
             "# layers against layers sized to the local mean free path (w = 0.2 and 0.1 local lambda, frozen at 4 t_r)\n"
-            "# and w = 0.2 at half the time step. e_n is set per run (scripts/validate-poiseuille-resolution).\n",
+            "# w = 0.2 at half the time step and w = 0.1 with twice the sampling bins. e_n is set per run\n"
+            "# (scripts/validate-poiseuille-resolution).\n",
             0.05, 0.7, 0.5, "diffuse", 50000,
             sweep=resolution_axis([0.02, 0.03, 0.05])),
         "poiseuille_knudsen_minimum_sweep": pipeline(

@@ -21,7 +21,7 @@ import poiseuille_report as P
 from report_figures import plt, runs_line
 
 NAN = float("nan")
-VARIANTS = ["uniform", "w0.2", "w0.1", "w0.2 dt/2"]
+VARIANTS = ["uniform", "w0.2", "w0.1", "w0.2 dt/2", "w0.1 bins x2"]
 # (key, label): scalars of poiseuille_channel; delta_T by the main report's estimator (Case.dT)
 QUANTITIES = [("N1_centre", "N₁(0)"), ("N2_centre", "N₂(0)"), ("delta_T", "ΔT"), ("rho_centre", "ρ(0)"),
               ("T_centre", "T(0)"), ("u_centre", "u(0)"), ("Q", "Q"), ("u_s", "u_s"), ("Kn_fw", "Kn_fw"),
@@ -85,7 +85,7 @@ def main():
     outdir, docdir = sys.argv[1], sys.argv[2]
     out = []
     w = out.append
-    paths = sorted(glob.glob(os.path.join(outdir, "resolution_en*.h5")))
+    paths = sorted(glob.glob(os.path.join(outdir, "resolution_en*.h5")))  # one per e_n, or more (cases added later)
     kpath = os.path.join(outdir, "knudsen_minimum.h5")
     all_paths = paths + ([kpath] if os.path.exists(kpath) else [])
     w("# Validation: paper 004's small-Kn channels resolved, and the Knudsen minimum on a finer grid")
@@ -100,9 +100,11 @@ def main():
     w("- `uniform`: the resolution rule's equal layers, max(40, ⌈9/Kn⌉), and time step (0.02 τ0), as the main sweep;")
     w("- `w0.2`, `w0.1`: layers at most 0.2 and 0.1 local mean free paths wide (`system.layers: {mean_free_paths: w, "
       "after: 4 t_r}`: equal until 4 t_r, then set from the density profile and frozen), the same time step;")
-    w("- `w0.2 dt/2`: w = 0.2 at half the time step.")
+    w("- `w0.2 dt/2`: w = 0.2 at half the time step;")
+    w("- `w0.1 bins x2`: w = 0.1 with twice the sampling bins (the wall gradients are fitted over `wall_fit_bins` = 3 "
+      "bins next to each wall: half the distance).")
     w("")
-    w("The sampling bins are the rule's equal ones in every variant, so the profiles and the wall quantities are "
+    w("The sampling bins are the rule's equal ones in every other variant, so the profiles and the wall quantities are "
       "sampled alike and only the collision layers and the time step change. The layers column gives their number "
       "and their widths over the local mean free path measured after the freeze (user guide, \"Layers sized to the "
       "local mean free path\"); the centre column the width of the centre layer in local mean free paths.")
@@ -118,10 +120,14 @@ def main():
     w("")
 
     fig, ax = plt.subplots(1, 4, figsize=(19, 3.8))
+    runs_by_en = {}
     for path in paths:
         f = h5py.File(path, "r")
         en = restitution(f)
-        cases = [P.Case(os.path.basename(path), f["cases"][k], en) for k in sorted(f["cases"].keys(), key=int)]
+        runs_by_en.setdefault(en, []).extend(P.Case(os.path.basename(path), f["cases"][k], en)
+                                             for k in sorted(f["cases"].keys(), key=int))
+    for en in sorted(runs_by_en):
+        cases = runs_by_en[en]
         by = {(round(c.kn, 6), variant(c)): c for c in cases}
         kns = sorted({round(c.kn, 6) for c in cases})
         w(f"## e_n = {en:g}")
@@ -136,11 +142,13 @@ def main():
         P.table(out, ["Kn", "variant", "layers", "centre [λ_loc]"] + [l for _, l in QUANTITIES], rows)
 
         w("**Converged?** Differences in standard errors (the two errors in quadrature): layer width (w0.1 − w0.2), "
-          "time step (w0.2 dt/2 − w0.2), and the rule's equal layers against the finest (uniform − w0.1).")
+          "time step (w0.2 dt/2 − w0.2), sampling bins (w0.1 bins x2 − w0.1: the wall gradients' fit over half the "
+          "width), and the rule's equal layers against the finest (uniform − w0.1).")
         w("")
         rows, worst = [], {}
         for kn in kns:
-            for label, a, b in (("layer width", "w0.1", "w0.2"), ("time step", "w0.2 dt/2", "w0.2"), ("equal layers", "uniform", "w0.1")):
+            for label, a, b in (("layer width", "w0.1", "w0.2"), ("time step", "w0.2 dt/2", "w0.2"),
+                                ("sampling bins", "w0.1 bins x2", "w0.1"), ("equal layers", "uniform", "w0.1")):
                 ca, cb = by.get((kn, a)), by.get((kn, b))
                 if ca is None or cb is None:
                     continue
@@ -175,7 +183,7 @@ def main():
         P.table(out, ["quantity", "layers"] + [f"Kn = {k:g}" for k in kns] + ["steps [σ]", "monotonic"], rows)
 
         for j, (q, label, _) in enumerate(MONOTONE):
-            for v, mk in zip(VARIANTS, "osd^"):
+            for v, mk in zip(VARIANTS, "osd^v"):
                 pts = [(kn,) + value(by[(kn, v)], q) for kn in kns if (kn, v) in by]
                 if pts:
                     k_, v_, e_ = zip(*pts)
