@@ -227,20 +227,15 @@ def main():
                 if c is None:
                     continue
                 n = len(c.a("rho")[0])
-                i = [n // 2 - 1, n // 2] if n % 2 == 0 else [n // 2]
-
-                def centre(name):
-                    return centre_bins(c, name)
-                (rc, rce), (tc, tce) = centre("rho"), centre("T")
+                (rc, rce), (tc, tce) = centre_bins(c, "rho"), centre_bins(c, "T")
                 width = float(c.g["system"].attrs["box_y"]) / n  # bin width in sigma (lengths are in sigma)
                 half = int(np.sum(c.a("rho")[0] > rc / 2)) * width  # the density's full width at half its centre value
                 window = (max(2, n // 15) + 0.5) * width
-                tmax = float(np.nanmax(c.a("T")[0]))
                 phi = math.pi / 6 * float(c.g["system"].attrs["number_density"]) * rc  # packing fraction there
                 rows.append([f"{kn:g}", v, f"{width:.1f}", f"{half:.0f}", f"±{window:.0f}", f"{phi:.3f}",
                              P.fmt(rc, rce), P.fmt(*value(c, "rho_centre")), P.fmt(tc, tce), P.fmt(*value(c, "T_centre")),
-                             P.fmt((tmax - tc) / tc, tmax / tc ** 2 * tce), P.fmt(*value(c, "delta_T")),
-                             P.fmt(*centre("N1")), P.fmt(*value(c, "N1_centre")), P.fmt(*centre("N2")), P.fmt(*value(c, "N2_centre"))])
+                             P.fmt(*centre_bins(c, "delta_T")), P.fmt(*value(c, "delta_T")), P.fmt(*centre_bins(c, "N1")),
+                             P.fmt(*value(c, "N1_centre")), P.fmt(*centre_bins(c, "N2")), P.fmt(*value(c, "N2_centre"))])
                 if half < window:
                     spikes.append(f"e_n = {en:g}, Kn = {kn:g} ({v}): ρ {P.fmt(rc, rce)} and T {P.fmt(tc, tce)} in the centre bins "
                                   f"against the fit's {P.fmt(*value(c, 'rho_centre'))} and {P.fmt(*value(c, 'T_centre'))}, a peak "
