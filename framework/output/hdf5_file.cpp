@@ -309,6 +309,7 @@ OutputFile::~OutputFile() {
 OutputFile* OutputFile::current() { return g_current; }
 
 std::vector<ParticleDataset> OutputFile::stage_particles(const std::vector<ParticleColumn>& columns) {
+  const std::lock_guard<std::mutex> one_at_a_time(staging_);
   const Writer w(interrupt_);
   const std::string where = std::string(kStaging) + "/" + std::to_string(staged_++);
   Id g = w.open_or_create(file_, where);

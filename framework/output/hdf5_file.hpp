@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -43,7 +44,10 @@ class OutputFile {
   void commit(const StudyOutput& out);
 
   // Writes the final particles into the file now, in bounded chunks straight from the particle
-  // store (no second copy of them), and returns the datasets naming where they are.
+  // store (no second copy of them), and returns the datasets naming where they are. Runs on
+  // several threads call it at once: the calls are serialized (the HDF5 library is not
+  // thread-safe; unserialized, two first calls both created the staging group and one failed with
+  // "name already exists", once in a clean-clone CI run of tests/threads_test.cpp at --threads 3).
   std::vector<ParticleDataset> stage_particles(const std::vector<ParticleColumn>& columns);
 
   // The file open in this process, if any: Engine::output hands it the final particles while the
@@ -58,6 +62,7 @@ class OutputFile {
   hid_t file_ = -1;
   const std::atomic<bool>* interrupt_;
   std::size_t staged_ = 0;
+  std::mutex staging_;  // stage_particles' calls, one at a time
 };
 
 // Check `file`, create it under a temporary name and write `out` (no inputs to protect: for tests
