@@ -248,6 +248,48 @@ TEST(layers, ChannelLayersSizedToTheLocalMeanFreePathFromTheTransient) {
   EXPECT_TRUE(reported);
 }
 
+// max_width L bounds the layers in length as well: M = ceil(Ly/(w lambda0) + Ly/L) = 40 + 40 layers,
+// each spanning one unit of n(y)/(n-bar w lambda0) + 1/L at the freeze. Equal shares of the profile
+// alone (L ignored) would leave the dilute wall layers about 0.6 lambda0 wide, above L = 0.5, and
+// their units near 1.75, outside the band below.
+TEST(layers, MaxWidthBoundsTheDiluteLayersInLength) {
+  t::TempDir dir;
+  host::Pipeline p = t::load_yaml(dir, channel_yaml("{mean_free_paths: 0.5, after: 100, max_width: 0.5}", 104));
+  ASSERT_EQ(p.layers, 80u);
+  host::Engine e(p);
+  e.run();
+  const SystemInfo& sys = e.system();
+  ASSERT_NE(sys.layer_edges, nullptr);
+  const host::CaseOutput out = e.output();
+  EXPECT_DOUBLE_EQ(out.system.at("layers_max_width_lambda0"), 0.5);
+  const std::vector<double>* local = nullptr;
+  for (const auto& d : out.system_arrays)
+    if (d.name == "layer_width_local_mean_free_paths") local = &d.data;
+  ASSERT_TRUE(local);
+  double narrow = INFINITY, wide = 0, lo = INFINITY, hi = 0;
+  for (std::size_t I = 0; I < sys.cells; ++I) {
+    const double width = sys.layer_width(I) / sys.mean_free_path0;  // lambda0
+    narrow = std::min(narrow, width);
+    wide = std::max(wide, width);
+    // By construction width <= L to the rounding of the edges (set from the profile, exact).
+    ASSERT_LE(width, 0.5 * (1 + 1e-9)) << "layer " << I;
+    // Its units from the mean counts of the 4 tau0 since the freeze: 1 at the freeze. The count part
+    // (up to ~0.9 of the units in the dense centre) moves as in the test above, -24 % to +36 %
+    // measured there; measured here 0.80 to 1.39.
+    const double units = (*local)[I] / 0.5 + width / 0.5;
+    lo = std::min(lo, units);
+    hi = std::max(hi, units);
+  }
+  std::printf("max_width 0.5 lambda0: layers %.4g to %.4g lambda0 wide; units %.3f to %.3f (1 at the freeze)\n",
+              narrow, wide, lo, hi);
+  EXPECT_GT(wide / narrow, 2.0);  // still sized to the density: the dense centre's layers are narrower
+  EXPECT_GT(lo, 0.6);
+  EXPECT_LT(hi, 1.5);
+  bool reported = false;
+  for (const auto& line : e.summary()) reported = reported || t::contains(line, "max_width 0.5 lambda0");
+  EXPECT_TRUE(reported);
+}
+
 // The same channel with equal layers: `layers: 40` and `layers: {uniform: 40}` are one pipeline,
 // and no edges are set (SystemInfo::layer_edges stays nullptr, the host's uniform arithmetic).
 TEST(layers, UniformIsTheDefaultAndUnchanged) {
@@ -316,6 +358,9 @@ TEST(layers, BadLayerSpecificationsNameTheParameterAndWhatIsValid) {
       {"{mean_free_path: 0.5, after: 10}", "mean_free_path"},
       {"{uniform: 0}", "system.layers.uniform"},
       {"{mean_free_paths: 1e-9, after: 10}", "must be between 1 and 1e8"},
+      {"{mean_free_paths: 0.5, after: 10, max_width: 0}", "system.layers.max_width: the widest layer"},
+      {"{uniform: 40, max_width: 1}", "give either uniform: M or mean_free_paths: w"},
+      {"{mean_free_paths: 0.5, after: 10, max_width: 1e-9}", "and max_width 1e-09 lambda0 would make"},
   };
   for (const Case& c : cases) {
     try {

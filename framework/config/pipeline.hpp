@@ -123,8 +123,11 @@ struct Pipeline {
   // equal widths until t = T tau0, then with edges set from the density profile measured over
   // [T/2, T] so that each holds the same share of the particles, i.e. is w' <= w local mean free
   // paths wide (dilute lambda(y) = 1 / (sqrt(2) pi n(y) sigma^2)), and frozen for the rest of the run.
-  // 0: uniform layers throughout (layers: M, the default).
+  // 0: uniform layers throughout (layers: M, the default). With max_width: L as well, no layer is
+  // wider than L either: layer I gets 1/(n_I/(n-bar w lambda0) + 1/L) of width, the harmonic
+  // combination of the two bounds, and `layers` = ceil(Ly/(w lambda0) + Ly/L) (0: no L).
   double layers_mean_free_paths = 0;
+  double layers_max_width = 0;
   double layers_after_tau0 = 0;
 
   PluginUse initial_state;

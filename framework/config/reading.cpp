@@ -29,7 +29,11 @@ std::string system_numbers_line(const Pipeline& p) {
              "particles per layer",
              p.box_y / p.sigma, p.box_y / p.mean_free_path0(), p.mean_free_path0() / p.box_y, p.layers,
              p.box_y / static_cast<double>(p.layers) / p.mean_free_path0(), per_layer);
-    if (p.layers_mean_free_paths > 0)
+    if (p.layers_mean_free_paths > 0 && p.layers_max_width > 0)
+      s += fmt(" until t = %.4g tau0, then sized from the density profile to at most %.4g local mean free paths "
+               "and %.4g lambda0 each",
+               p.layers_after_tau0, p.layers_mean_free_paths, p.layers_max_width / p.mean_free_path0());
+    else if (p.layers_mean_free_paths > 0)
       s += fmt(" until t = %.4g tau0, then sized from the density profile to %.4g local mean free paths each "
                "(target %.4g)",
                p.layers_after_tau0, p.box_y / static_cast<double>(p.layers) / p.mean_free_path0(),

@@ -13,8 +13,10 @@ namespace gdsmc::host {
 
 namespace {
 
-// A length: a bare number in lambda0, or {value: X, unit: lambda0 | sigma}.
-std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::string& path, Pipeline& p) {
+// A length: a bare number in lambda0, or {value: X, unit: lambda0 | sigma}; `what` names it in the
+// error of a length that is not positive and finite.
+std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::string& path, Pipeline& p,
+                                  const char* what = "a box edge") {
   double value = 0;
   std::string unit = "lambda0";
   if (n.IsMap()) {
@@ -34,7 +36,7 @@ std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::st
     if (!read_bare(c, p, path, n, value, dimensions_of(Dimension::length))) return std::nullopt;
   }
   if (!(value > 0) || !std::isfinite(value)) {
-    c.error(path, n, "a box edge must be a positive finite length");
+    c.error(path, n, std::string(what) + " must be a positive finite length");
     return std::nullopt;
   }
   if (unit == "lambda0") return value * p.mean_free_path0();
@@ -45,13 +47,13 @@ std::optional<double> read_length(Checker& c, const YAML::Node& n, const std::st
 
 constexpr const char* kLayersGrammar =
     "valid: layers: M (M layers of equal width), layers: {uniform: M} (the same), or layers: {mean_free_paths: w, "
-    "after: T} (layers at most w local mean free paths wide, set from the density profile of the transient t < T "
-    "tau0 and frozen after it)";
+    "after: T[, max_width: L]} (layers at most w local mean free paths and at most L wide, set from the density "
+    "profile of the transient t < T tau0 and frozen after it)";
 
-// system.layers as a mapping: {uniform: M} or {mean_free_paths: w, after: T}.
+// system.layers as a mapping: {uniform: M} or {mean_free_paths: w, after: T[, max_width: L]}.
 void parse_layers(Checker& c, const YAML::Node& n, Pipeline& p) {
-  c.check_keys(n, "system.layers", {"uniform", "mean_free_paths", "after"});
-  if (n["uniform"] && (n["mean_free_paths"] || n["after"])) {
+  c.check_keys(n, "system.layers", {"uniform", "mean_free_paths", "after", "max_width"});
+  if (n["uniform"] && (n["mean_free_paths"] || n["after"] || n["max_width"])) {
     c.error("system.layers", n, std::string("give either uniform: M or mean_free_paths: w with after: T, not both; ") +
                                     kLayersGrammar);
     return;
@@ -81,32 +83,43 @@ void parse_layers(Checker& c, const YAML::Node& n, Pipeline& p) {
                                 "the layers, e.g. {mean_free_paths: 0.5, after: 100}");
     return;
   }
-  std::optional<double> after = time_in_tau0(c, n["after"], "system.layers.after", p);
-  if (after && !(*after > 0 && std::isfinite(*after))) {
-    c.error("system.layers.after", n["after"],
-            fmt("the transient must last a positive finite time (tau0), got %g: the layers are set from the density "
-                "profile measured over its second half",
-                *after));
-    after.reset();
-  } else if (after && p.stop_time_tau0 && *after >= *p.stop_time_tau0) {
-    c.error("system.layers.after", n["after"],
-            fmt("the layers would be set at t = %g tau0, not before the run stops (run.stop.time %g tau0); give a time "
-                "before the stop, e.g. after: %g",
-                *after, *p.stop_time_tau0, 0.5 * *p.stop_time_tau0));
-    after.reset();
+  double after_tau0 = -1;  // -1: refused (reported)
+  if (const std::optional<double> after = time_in_tau0(c, n["after"], "system.layers.after", p)) {
+    if (!(*after > 0 && std::isfinite(*after)))
+      c.error("system.layers.after", n["after"],
+              fmt("the transient must last a positive finite time (tau0), got %g: the layers are set from the density "
+                  "profile measured over its second half",
+                  *after));
+    else if (p.stop_time_tau0 && *after >= *p.stop_time_tau0)
+      c.error("system.layers.after", n["after"],
+              fmt("the layers would be set at t = %g tau0, not before the run stops (run.stop.time %g tau0); give a "
+                  "time before the stop, e.g. after: %g",
+                  *after, *p.stop_time_tau0, 0.5 * *p.stop_time_tau0));
+    else
+      after_tau0 = *after;
   }
-  if (!(w > 0) || !after || !(p.box_y > 0)) return;
-  const double layers = std::ceil(p.box_y / (w * p.mean_free_path0()) * (1.0 - 1e-12));
+  double max_width = 0;  // 0: no bound in length; -1: refused (reported)
+  if (n["max_width"]) {
+    const std::optional<double> l =
+        read_length(c, n["max_width"], "system.layers.max_width", p, "the widest layer (lambda0 or sigma)");
+    max_width = l ? *l : -1.0;
+  }
+  if (!(w > 0) || after_tau0 < 0 || !(p.box_y > 0) || max_width < 0) return;
+  // Ly/(w lambda0) local-mean-free-path units and Ly/L length units in all (Engine::set_layers_from_profile).
+  const double units = p.box_y / (w * p.mean_free_path0()) + (max_width > 0 ? p.box_y / max_width : 0.0);
+  const double layers = std::ceil(units * (1.0 - 1e-12));
   if (!(layers >= 1 && layers <= 100000000)) {
-    c.error("system.layers.mean_free_paths", n["mean_free_paths"],
-            fmt("%g local mean free paths would make %.3g layers (Ly = %.4g lambda0 holds Ly/lambda0 mean free paths "
-                "in all): the count must be between 1 and 1e8",
-                w, layers, p.box_y / p.mean_free_path0()));
+    c.error(max_width > 0 ? "system.layers" : "system.layers.mean_free_paths", max_width > 0 ? n : n["mean_free_paths"],
+            fmt("%g local mean free paths%s would make %.3g layers (Ly = %.4g lambda0 holds Ly/lambda0 mean free "
+                "paths in all): the count must be between 1 and 1e8",
+                w, max_width > 0 ? fmt(" and max_width %.4g lambda0", max_width / p.mean_free_path0()).c_str() : "",
+                layers, p.box_y / p.mean_free_path0()));
     return;
   }
   p.layers = static_cast<std::size_t>(layers);
   p.layers_mean_free_paths = w;
-  p.layers_after_tau0 = *after;
+  p.layers_max_width = max_width;
+  p.layers_after_tau0 = after_tau0;
 }
 
 // domain: homogeneous (default) or slab with box {y[, x]}, layers and bins (000 Sec. IV.A).

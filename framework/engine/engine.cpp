@@ -138,22 +138,30 @@ void Engine::sample_layer_profile() {
 // The end of the transient: edges at the quantiles I/M of the measured profile (linear within a
 // fine bin), so that every layer holds the same mean number of particles N/M. With the dilute
 // lambda(y) = 1/(sqrt(2) pi n(y) sigma^2) a layer's width in local mean free paths is
-// sqrt(2) pi sigma^2 N_I / A, the same N/M for all: Ly/(M lambda0) <= the target. Then frozen.
+// sqrt(2) pi sigma^2 N_I / A, the same N/M for all: Ly/(M lambda0) <= the target. With max_width L
+// each fine bin also weighs as if it held c = N w lambda0 / (bins L) particles more: a layer then
+// spans one unit of n(y)/(n-bar w lambda0) + 1/L, so it is at most w local mean free paths and at
+// most L wide (c = 0 without L: the same edges as before to the bit). Then frozen.
 void Engine::set_layers_from_profile() {
   sample_layer_profile();  // the state at the end of the transient is one sample (the only one of a short one)
   const std::size_t m = system_.cells, bins = layer_profile_.size();
   const double ly = system_.box[1], half = 0.5 * ly, width = ly / static_cast<double>(bins);
-  double total = 0;
-  for (const double c : layer_profile_) total += c;
+  double particles = 0;
+  for (const double c : layer_profile_) particles += c;
+  const double per_bin = pipeline_.layers_max_width > 0
+                             ? particles * pipeline_.layers_mean_free_paths * system_.mean_free_path0 /
+                                   (static_cast<double>(bins) * pipeline_.layers_max_width)
+                             : 0.0;
+  const double total = particles + per_bin * static_cast<double>(bins);
   std::vector<double> edges(m + 1);
   edges[0] = -half;
   edges[m] = half;
-  double below = 0;  // particles counted in bins before j
+  double below = 0;  // weight of the bins before j
   std::size_t j = 0;
   for (std::size_t I = 1; I < m; ++I) {
     const double target = total * static_cast<double>(I) / static_cast<double>(m);
-    while (j + 1 < bins && below + layer_profile_[j] < target) below += layer_profile_[j++];
-    const double in_bin = layer_profile_[j];
+    while (j + 1 < bins && below + (layer_profile_[j] + per_bin) < target) below += layer_profile_[j++] + per_bin;
+    const double in_bin = layer_profile_[j] + per_bin;
     const double f = in_bin > 0 ? std::clamp((target - below) / in_bin, 0.0, 1.0) : 0.5;
     edges[I] = -half + (static_cast<double>(j) + f) * width;
   }
@@ -186,12 +194,22 @@ void Engine::set_layers_from_profile() {
     narrow = std::min(narrow, layer_edges_[I + 1] - layer_edges_[I]);
     wide = std::max(wide, layer_edges_[I + 1] - layer_edges_[I]);
   }
+  // A layer holds total/m of the weight: at most that many particles (its width in local mean free
+  // paths: the particles' share of Ly/lambda0) and that many bins' worth of per_bin.
+  const double share = total / static_cast<double>(m);
+  const std::string bound =
+      per_bin > 0 ? fmt("each at most %.4g local mean free paths and %.4g lambda0 wide (targets %.4g and max_width "
+                        "%.4g lambda0)",
+                        share / particles * ly / system_.mean_free_path0,
+                        share / per_bin * width / system_.mean_free_path0, pipeline_.layers_mean_free_paths,
+                        pipeline_.layers_max_width / system_.mean_free_path0)
+                  : fmt("each %.4g local mean free paths (target %.4g)",
+                        ly / (static_cast<double>(m) * system_.mean_free_path0), pipeline_.layers_mean_free_paths);
   const std::string line =
       fmt("layers: set at t = %.4g tau0 from the density over t >= %.4g tau0 (%llu samples): %zu layers %.4g to %.4g "
-          "lambda0 wide, each %.4g local mean free paths (target %.4g)",
+          "lambda0 wide, %s",
           layers_set_time_tau0_, 0.5 * pipeline_.layers_after_tau0, static_cast<unsigned long long>(layer_profile_samples_),
-          m, narrow / system_.mean_free_path0, wide / system_.mean_free_path0,
-          ly / (static_cast<double>(m) * system_.mean_free_path0), pipeline_.layers_mean_free_paths);
+          m, narrow / system_.mean_free_path0, wide / system_.mean_free_path0, bound.c_str());
   summary_.push_back(line);
   if (system_.realization == 0) std::fprintf(stderr, "%s\n", line.c_str());
 }
@@ -979,6 +997,8 @@ CaseOutput Engine::output() {
     // they were set), and each one's mean width in local mean free paths since.
     out.system["layers_target_mean_free_paths"] = pipeline_.layers_mean_free_paths;
     out.system["layers_set_at_tau0"] = layers_set_ ? layers_set_time_tau0_ : std::nan("");
+    if (pipeline_.layers_max_width > 0)
+      out.system["layers_max_width_lambda0"] = pipeline_.layers_max_width / system_.mean_free_path0;
     ParticleDataset edges{"layer_edges", "lambda0",
                           "the edges of the collision layers along y (layers + 1 values from -Ly/2 to +Ly/2), set "
                           "at layers_set_at_tau0 from the transient's density profile (system.layers: "
