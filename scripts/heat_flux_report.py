@@ -135,6 +135,18 @@ def time_route_kappa(case, zeta_tau0, t_cut):
     return v.mean(), v.std(ddof=1) / np.sqrt(len(v)), len(v)
 
 
+def anchor_extrapolation(path):
+    """The alpha = 1 anchor run of many short realizations (heat_flux_anchor.h5): its cases, realizations,
+    eps*, kappa'/kappa0 with errors, and the weighted fit kappa'(0) + c eps*^2 (q_x is odd in eps*)."""
+    fa = h5py.File(path, "r")
+    ca = cases(fa)
+    eps = np.array([float(c.scalar("epsilon_star")[0]) for c in ca])
+    kv = np.array([c.steady("conductivity_over_kappa0")[0] for c in ca])
+    ke = np.array([c.steady("conductivity_over_kappa0")[1] for c in ca])
+    coef, cov, chi2 = weighted_fit(np.vstack([np.ones_like(eps), eps ** 2]).T, kv, ke)
+    return ca, int(fa.attrs["realizations"]), eps, kv, ke, coef, cov, chi2
+
+
 def student_t_coverage(x, dof):
     """P(|t| < x) for Student's t with dof degrees of freedom (numerical integral of the density)."""
     from math import gamma, pi, sqrt
@@ -452,14 +464,7 @@ def main():
     anchor_seed_outside = []  # (ε*, χ²/dof) of heat_flux's own error above the seed check's band
     anchor_path = os.path.join(d, "heat_flux_anchor.h5")
     if os.path.exists(anchor_path):
-        fa = h5py.File(anchor_path)
-        ca = cases(fa)
-        Ka = int(fa.attrs["realizations"])
-        eps = np.array([float(c.scalar("epsilon_star")[0]) for c in ca])
-        kv = np.array([c.steady("conductivity_over_kappa0")[0] for c in ca])
-        ke = np.array([c.steady("conductivity_over_kappa0")[1] for c in ca])
-        # q_x is odd in eps: kappa(eps) = kappa(0) + c eps^2 + O(eps^4); weighted least squares.
-        coef, cov, chi2 = weighted_fit(np.vstack([np.ones_like(eps), eps ** 2]).T, kv, ke)
+        ca, Ka, eps, kv, ke, coef, cov, chi2 = anchor_extrapolation(anchor_path)
         w("**The anchor against the field strength.** Linear response is the limit ε* → 0 (Eq. 3.9), and q_x")
         w(f"is odd in ε*, so κ′(ε*) = κ′(0) + c ε*² + O(ε*⁴). At α = 1, δt = 0.03τ, {Ka} realizations per ε*:")
         w("")
