@@ -76,8 +76,9 @@ def seed_check(group, quantities, fmt=lambda v, e: f"{v:.6g} ± {e:.2g}"):
         if not np.isfinite(chi):  # say how many realizations' own errors were NaN (the host's reason is in them)
             m = re.search(r"(\d+) left out", h5_text(group[error + "_seed_chi2_dof"].attrs.get("description", "")))
             chi_text = f"— ({m.group(1)} own errors NaN)" if m else "—"
+        weighted = val(error + "_seed_chi2_dof_weighted")
         rows.append([label, fmt(v, se), "—" if host else f"{val(error):.2g}", chi_text,
-                     f"{val(error + '_seed_chi2_dof_weighted'):.2f}", f"{np.sqrt(chi):.2f}" if chi >= 0 else "—"])
+                     f"{weighted:.2f}" if np.isfinite(weighted) else "—", f"{np.sqrt(chi):.2f}" if chi >= 0 else "—"])
         if chi > high:
             above.append(f"{label} {chi:.2f}")
     return rows, band, above
