@@ -119,10 +119,9 @@ def main():
     w("")
     sampling = report_figures.h5_text(f["cases/0/diagnostics/heat_flux"].attrs.get("sampling", ""))
     if sampling.startswith("bracketed"):
-        w("The heat flux is sampled on both sides of the collision stage (bracketed sampling, the default since SDK 6.1:")
-        w("" + sampling + "), so the sample is no longer taken at one end of the sawtooth that the force and the")
-        w("collisions draw each step. `configs/heat_flux_anchor_dt.yaml` measures what is left of the time step's effect")
-        w("at ε* = 0.05:")
+        w("The heat flux is sampled on both sides of the collision stage (bracketed sampling, `run.sampling`'s default")
+        w("since SDK 6.1), so the sample is no longer taken at one end of the sawtooth that the force and the collisions")
+        w("draw each step. `configs/heat_flux_anchor_dt.yaml` measures what is left of the time step's effect at ε* = 0.05:")
     else:
         w("The heat flux is sampled once per step, after the force (Eq. 4.1) and the thermostat (Eq. 4.2); the")
         w("collisions of the next step relax it. The sample sits at the top of a sawtooth, an O(δt) bias of about")
