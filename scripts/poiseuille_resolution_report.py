@@ -89,6 +89,15 @@ def centre_bins(c, name):
     return float(np.mean(v[i])), float(np.sqrt(np.sum(e[i] ** 2))) / len(i)
 
 
+def swept_cases():
+    """(Kn, variant) of every case configs/poiseuille_resolution_sweep.yaml makes (its sweep's keys), so that
+    the report names the cases a run left out."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs", "poiseuille_resolution_sweep.yaml")
+    with open(path) as fh:
+        keys = re.findall(r'^\s+"([0-9.]+) ([^"]+)":', fh.read(), re.M)
+    return [(float(k), v) for k, v in keys]
+
+
 def z(a, b):
     d, s = a[0] - b[0], math.hypot(a[1], b[1])
     return d / s if s > 0 else NAN
@@ -157,7 +166,7 @@ def main():
                     continue
                 rows.append([f"{kn:g}", v, layer_text(c), f"{centre_width(c):.2f}"] + [P.fmt(*value(c, q)) for q, _ in QUANTITIES])
         P.table(out, ["Kn", "variant", "layers", "centre [λ_loc]"] + [l for _, l in QUANTITIES], rows)
-        absent = [f"{kn:g} {v}" for kn in kns for v in VARIANTS if (kn, v) not in by]
+        absent = [f"{kn:g} {v}" for kn, v in swept_cases() if (round(kn, 6), v) not in by]
         if absent:
             w("Not in these runs (`scripts/validate-poiseuille-resolution` makes them): " + ", ".join(absent) + ".")
             w("")
