@@ -39,13 +39,13 @@ void expect_kill_and_resume_gives_the_same_bits(const std::string& yaml, const s
   const auto start = Clock::now();
   const ProcessResult ref = run_gdsmc(args("out_ref.h5", false), dir.path(), 300);
   ASSERT_EQ(ref.exit_code, 0) << ref.describe();
-  const double duration = std::chrono::duration<double>(Clock::now() - start).count();
+  double duration = std::chrono::duration<double>(Clock::now() - start).count();
   EXPECT_FALSE(fs::exists(dir / "out_ref.h5.checkpoint")) << "the checkpoint is removed once the output is written";
 
   std::mt19937_64 rng(std::random_device{}());
   std::ostringstream trace;
   trace << "uninterrupted run " << duration << " s; kills at";
-  int kills = 0, resumed_from_state = 0;
+  int kills = 0, resumed_from_state = 0, early = 0;
   bool done = false;
   for (int k = 0; k < 3 && !done; ++k) {
     // The first kill within the middle half of the run (so that some state has been saved), the
@@ -63,10 +63,21 @@ void expect_kill_and_resume_gives_the_same_bits(const std::string& yaml, const s
       p.send(SIGKILL);
       ++kills;
     }
+    const double ran = std::chrono::duration<double>(Clock::now() - t0).count();
     const ProcessResult r = p.wait(300);
     if (r.signal == SIGKILL) continue;
     ASSERT_EQ(r.exit_code, 0) << trace.str() << "\n" << r.describe();
-    done = true;  // it finished before the kill
+    if (kills == 0 && early < 5) {
+      // It finished before the first kill: the shared machine ran it faster than the uninterrupted
+      // run it was timed on. Time the kills on this run instead and start again from nothing.
+      trace << " (ended first, after " << ran << " s)";
+      duration = ran;
+      fs::remove(dir / "out.h5");
+      ++early;
+      --k;
+      continue;
+    }
+    done = true;  // it finished before a later kill
   }
   SCOPED_TRACE(trace.str());
   if (!done) {
