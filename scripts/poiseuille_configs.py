@@ -139,8 +139,8 @@ def resolution_axis(kns, widths=(0.2, 0.1)):
     the end of the rule's min_time, 4 t_r) at w = 0.2 and 0.1, w = 0.2 at half the time step, and
     w = 0.1 with twice the sampling bins (the wall gradients' fit spans wall_fit_bins bins: half as
     wide). The other variants sample on the rule's equal bins, so that between them only the collision
-    layers and the time step change. Without the bound W/M the dilute wall layers were up to 5 times
-    the equal ones (0.54 against 0.11 lambda0 at Kn = 0.05, e_n = 0.7, w = 0.2) and Q moved by 10-21
+    layers and the time step change. Without the bound W/M the widest dilute wall layers were 6-8 times
+    the equal ones (0.71 and 0.86 against 0.11 lambda0 at Kn = 0.05 and 0.03, e_n = 0.7, w = 0.2) and Q moved by 10-21
     standard errors between w = 0.2 and 0.1."""
     lines = []
     for kn in kns:
