@@ -168,7 +168,9 @@ def main():
         P.table(out, ["Kn", "variant", "layers", "centre [λ_loc]"] + [l for _, l in QUANTITIES], rows)
         absent = [f"{kn:g} {v}" for kn, v in swept_cases() if (round(kn, 6), v) not in by]
         if absent:
-            w("Not in these runs (`scripts/validate-poiseuille-resolution` makes them): " + ", ".join(absent) + ".")
+            missing_kn = ",".join(sorted({a.split(" ", 1)[0] for a in absent}, key=float))
+            w(f"Not in these runs (`scripts/validate-poiseuille-resolution --kn {missing_kn} {en:g}` makes them): "
+              + ", ".join(absent) + ".")
             w("")
 
         w("**Converged?** Differences in standard errors (the two errors in quadrature): layer width (w0.1 − w0.2), "
