@@ -89,13 +89,26 @@ def centre_bins(c, name):
     return float(np.mean(v[i])), float(np.sqrt(np.sum(e[i] ** 2))) / len(i)
 
 
-def swept_cases():
-    """(Kn, variant) of every case configs/poiseuille_resolution_sweep.yaml makes (its sweep's keys), so that
-    the report names the cases a run left out."""
+def swept_lines():
+    """(Kn, variant, line) of every case configs/poiseuille_resolution_sweep.yaml makes: its sweep's entries."""
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs", "poiseuille_resolution_sweep.yaml")
     with open(path) as fh:
-        keys = re.findall(r'^\s+"([0-9.]+) ([^"]+)":', fh.read(), re.M)
-    return [(float(k), v) for k, v in keys]
+        return [(float(m.group(1)), m.group(2), line.strip()) for line in fh
+                if (m := re.match(r'\s+"([0-9.]+) ([^"]+)":', line))]
+
+
+def swept_cases():
+    """(Kn, variant) of every case of the sweep, so that the report names the cases a run left out."""
+    return [(kn, v) for kn, v, _ in swept_lines()]
+
+
+def sweep_subset(kns):
+    """`sweep=...` for --set: the sweep's cases at the Kn of "0.03,0.05" (scripts/validate-poiseuille-resolution --kn)."""
+    wanted = {float(k) for k in kns.split(",")}
+    lines = [line for kn, _, line in swept_lines() if kn in wanted]
+    if not lines:
+        sys.exit(f"--kn {kns}: no such Kn in configs/poiseuille_resolution_sweep.yaml")
+    return "sweep={Kn_resolution: {" + ", ".join(lines) + "}}"
 
 
 def z(a, b):
