@@ -70,7 +70,7 @@ def kn_variant(kn, dt_cap, a_hat_of_kn=None, accommodation=1.0, stop_factor=22):
 
 
 def pipeline(name, comment, kn, alpha, a_hat, walls, particles, sweep=None, seed=4, dt_cap=0.02, stop_factor=22,
-             follow_temperature=False, accommodation=0.5, steady_sigmas=None):
+             follow_temperature=False, accommodation=0.5, steady_sigmas=None, wall_fit_reach=None):
     r = rule(kn, dt_cap, stop_factor=stop_factor)
     walls_text = {
         "diffuse": "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n",
@@ -96,7 +96,7 @@ forcings:
   - {{plugin: body_acceleration, acceleration: {{value: {acceleration(a_hat):.8g}, unit: reduced}}}}   # a_hat = {a_hat:g} (Eq. 17)
 boundaries:
 {walls_text}diagnostics:
-  - {{plugin: poiseuille_channel, steady_window: {r["window"]:g}, min_time: {r["min_time"]:g}, steady_tolerance: 0.002{f", steady_sigmas: {steady_sigmas:g}" if steady_sigmas else ""}}}
+  - {{plugin: poiseuille_channel, steady_window: {r["window"]:g}, min_time: {r["min_time"]:g}, steady_tolerance: 0.002{f", steady_sigmas: {steady_sigmas:g}" if steady_sigmas else ""}{f", wall_fit_reach: {wall_fit_reach:g}" if wall_fit_reach else ""}}}
   - energy_balance
 """
     if sweep:
@@ -138,7 +138,7 @@ def resolution_axis(kns, widths=(0.2, 0.1)):
     local mean free path (at most w local lambda and at most the rule's equal width W/M wide, frozen at
     the end of the rule's min_time, 4 t_r) at w = 0.2 and 0.1, w = 0.2 at half the time step, and
     w = 0.1 with twice the sampling bins (the wall gradients' fit spans wall_fit_bins bins: half as
-    wide). The other variants sample on the rule's equal bins, so that between them only the collision
+    wide; the fit over wall_fit_reach keeps its reach). The other variants sample on the rule's equal bins, so that between them only the collision
     layers and the time step change. Without the bound W/M the widest dilute wall layers were 6-8 times
     the equal ones (0.71 and 0.86 against 0.11 lambda0 at Kn = 0.05 and 0.03, e_n = 0.7, w = 0.2) and Q moved by 10-21
     standard errors between w = 0.2 and 0.1."""
@@ -227,8 +227,10 @@ def main():
             "# layers against layers sized to the local mean free path (w = 0.2 and 0.1 local lambda and at most the\n"
             "# equal layers' width, frozen at 4 t_r), w = 0.2 at half the time step and w = 0.1 with twice the sampling\n"
             "# bins. e_n is set per run (scripts/validate-poiseuille-resolution). The steady test allows 3 standard\n"
-            "# errors (the main sweep's 2 never passed one case whose window means scatter by 0.3 % with no trend).\n",
-            0.05, 0.7, 0.5, "diffuse", 50000, steady_sigmas=3,
+            "# errors (the main sweep's 2 never passed one case whose window means scatter by 0.3 % with no trend).\n"
+            "# The wall values are also fitted over one lambda0 from each wall (wall_fit_reach: 9 bins, 18 with twice the\n"
+            "# bins), so that the slip can be compared across the sampling bins.\n",
+            0.05, 0.7, 0.5, "diffuse", 50000, steady_sigmas=3, wall_fit_reach=1,
             sweep=resolution_axis([0.02, 0.03, 0.05])),
         "poiseuille_knudsen_minimum_sweep": pipeline(
             "poiseuille_knudsen_minimum_sweep", "# The Knudsen minimum of Q (Fig. 20a, a_hat = 0.5, diffuse walls) on a grid twice as fine as the\n"

@@ -25,7 +25,7 @@ VARIANTS = ["uniform", "w0.2", "w0.1", "w0.2 dt/2", "w0.1 bins x2"]
 # (key, label): scalars of poiseuille_channel; delta_T by the main report's estimator (Case.dT)
 QUANTITIES = [("N1_centre", "N₁(0)"), ("N2_centre", "N₂(0)"), ("delta_T", "ΔT"), ("rho_centre", "ρ(0)"),
               ("T_centre", "T(0)"), ("u_centre", "u(0)"), ("Q", "Q"), ("u_s", "u_s"), ("Kn_fw", "Kn_fw"),
-              ("zeta", "ζ")]
+              ("zeta", "ζ"), ("u_s_wall", "u_s, wall fit"), ("zeta_wall", "ζ, wall fit")]
 MONOTONE = [  # (key, label, what paper 004 says of it against Kn)
     ("N1_centre", "N₁(0)", "N₁(0) increases monotonically with Kn at any e_n (Fig. 15b)"),
     ("N2_centre", "N₂(0)", "N₂(0) decreases monotonically towards zero at e_n = 0.7 and is largest at Kn → 0 at e_n = 0.9 (Fig. 16b)"),
@@ -102,10 +102,15 @@ def swept_cases():
     return [(kn, v) for kn, v, _ in swept_lines()]
 
 
-def sweep_subset(kns):
-    """`sweep=...` for --set: the sweep's cases at the Kn of "0.03,0.05" (scripts/validate-poiseuille-resolution --kn)."""
-    wanted = {float(k) for k in kns.split(",")}
-    lines = [line for kn, _, line in swept_lines() if kn in wanted]
+def sweep_subset(kns, variants=""):
+    """`sweep=...` for --set: the sweep's cases at the Kn of "0.03,0.05" (all Kn if empty) and of the variants of
+    "w0.1,w0.1 bins x2" (all if empty) (scripts/validate-poiseuille-resolution --kn, --variants)."""
+    kn_set = {float(k) for k in kns.split(",")} if kns else None
+    var_set = set(variants.split(",")) if variants else None
+    unknown = sorted(var_set - set(VARIANTS)) if var_set else []
+    if unknown:
+        sys.exit(f"--variants: no variant {', '.join(unknown)} (valid: {', '.join(VARIANTS)})")
+    lines = [line for kn, v, line in swept_lines() if (kn_set is None or kn in kn_set) and (var_set is None or v in var_set)]
     if not lines:
         sys.exit(f"--kn {kns}: no such Kn in configs/poiseuille_resolution_sweep.yaml")
     return "sweep={Kn_resolution: {" + ", ".join(lines) + "}}"
@@ -142,6 +147,12 @@ def main():
     w("- `w0.2 dt/2`: w = 0.2 at half the time step;")
     w("- `w0.1 bins x2`: w = 0.1 with twice the sampling bins (the wall gradients are fitted over `wall_fit_bins` = 3 "
       "bins next to each wall: half the distance).")
+    w("")
+    w("u_s and ζ are the paper's: the wall-adjacent bins and a straight line over 3 bins (Eqs. 23, 25), so they move "
+      "with the bin width inside the Knudsen layer. `u_s, wall fit` and `ζ, wall fit` are `poiseuille_channel`'s "
+      "values at the wall itself (`wall_fit_reach: 1`: the quadratic in the distance from the wall over the bins "
+      "within one λ₀ of it, 9 bins, 18 with twice the bins); they depend on the reach, not on the bins (user guide, "
+      "\"Slip at the wall\"). A run made before `poiseuille_channel` 1.6 has no wall fit (—).")
     w("")
     w("The sampling bins are the rule's equal ones in every other variant, so the profiles and the wall quantities are "
       "sampled alike and only the collision layers and the time step change. The layers column gives their number "
@@ -187,8 +198,9 @@ def main():
             w("")
 
         w("**Converged?** Differences in standard errors (the two errors in quadrature): layer width (w0.1 − w0.2), "
-          "time step (w0.2 dt/2 − w0.2), sampling bins (w0.1 bins x2 − w0.1: the wall gradients' fit over half the "
-          "width), and the rule's equal layers against the finest (uniform − w0.1).")
+          "time step (w0.2 dt/2 − w0.2), sampling bins (w0.1 bins x2 − w0.1: the adjacent bins half as far from the wall and "
+          "the 3-bin gradient fit over half the width; the wall fit keeps its reach), and the rule's equal layers "
+          "against the finest (uniform − w0.1).")
         w("")
         rows, worst = [], {}
         for kn in kns:

@@ -5,6 +5,7 @@
 // Every tolerance is argued next to its check.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -31,6 +32,7 @@ struct Channel {
   double steady_tolerance = 0.002;
   std::uint64_t seed = 21;
   std::string pair_selection;  // run.pair_selection ("": the default)
+  double wall_fit_reach = 0;   // poiseuille_channel's wall_fit_reach in lambda0 (0: off)
 };
 
 std::string num(double v) {  // every digit: an a_hat of 0.1 must stay 0.1
@@ -60,7 +62,8 @@ std::string channel_yaml(const Channel& c) {
          "boundaries:\n" + walls(c) +
          "diagnostics:\n  - {plugin: poiseuille_channel, steady_window: " + std::to_string(c.window_tau0) +
          ", min_time: " + std::to_string(c.min_time_tau0) + ", steady_tolerance: " + num(c.steady_tolerance) +
-         (c.steady_sigmas >= 0 ? ", steady_sigmas: " + num(c.steady_sigmas) : std::string()) + "}\n"
+         (c.steady_sigmas >= 0 ? ", steady_sigmas: " + num(c.steady_sigmas) : std::string()) +
+         (c.wall_fit_reach > 0 ? ", wall_fit_reach: " + num(c.wall_fit_reach) : std::string()) + "}\n"
          "output: {file: out.h5}\n";
 }
 
@@ -234,6 +237,51 @@ TEST(Poiseuille, SteadyTestAcceptsAWindowWhoseChangeIsNoiseAndTheStateIsSteady) 
   c.steady_sigmas = 0;
   Ran tolerance_only(c);
   EXPECT_TRUE(std::isnan(tolerance_only.value("steady_from")));
+}
+
+// The slip at the wall must not depend on how finely the profile is sampled (issue 29 item 3, the
+// slip exponent of 004 Eq. 26 from converged wall bins). The sampling bins do not touch the
+// dynamics, so one run sampled on 90 and on 180 bins (Kn = 0.1, e_n = 0.9, a_hat = 0.5) is the
+// same trajectory twice (Q equal to the bit). The wall-adjacent bin's centre then moves from W/180
+// to W/360 from the wall: in the Knudsen layer u_x falls by ~u'_w x W/360 ~ 0.025 there, about 7
+// jackknife errors, so the paper's u_s and zeta move with the bins. The quadratic fit over the bins
+// within one lambda0 of each wall (9 and 18 bins) reads the same particles at the same distances, so
+// only the cut into bins differs: its u_s_wall, zeta_wall and T_s_wall must agree within one
+// jackknife error (a generous bound: they differ by ~0.1 error).
+TEST(Poiseuille, SlipAtTheWallFromTheFixedReachFitDoesNotMoveWithTheSamplingBins) {
+  Channel c;
+  c.kn = 0.1;
+  c.alpha = 0.9;
+  c.a_hat = 0.5;
+  c.layers = 90;
+  c.bins = 90;
+  c.wall_fit_reach = 1.0;
+  Ran coarse(c);
+  c.bins = 180;
+  Ran fine(c);
+  ASSERT_EQ(coarse.value("Q"), fine.value("Q")) << "the sampling bins changed the dynamics";
+  EXPECT_EQ(coarse.value("wall_fit_bins_used"), 9.0);
+  EXPECT_EQ(fine.value("wall_fit_bins_used"), 18.0);
+  const double moved = coarse.value("u_s") - fine.value("u_s");
+  EXPECT_GT(moved, 3.0 * coarse.error("u_s")) << "the adjacent bins' slip should fall as its bin nears the wall";
+  for (const char* q : {"u_s_wall", "zeta_wall", "T_s_wall", "du_dy_wall"})
+    EXPECT_NEAR(coarse.value(q), fine.value(q), std::max(coarse.error(q), fine.error(q))) << q;
+  // The wall lies below the adjacent bin on a profile that falls towards it.
+  EXPECT_LT(coarse.value("u_s_wall"), fine.value("u_s"));
+}
+
+// wall_fit_reach shorter than three bin centres is refused with what would be valid.
+TEST(Poiseuille, AWallFitReachOfFewerThanThreeBinsIsRefusedWithTheLeastThatWorks) {
+  TempDir dir;
+  Channel c;
+  c.kn = 0.1;
+  c.layers = 90;
+  c.wall_fit_reach = 0.2;  // bins of 0.111 lambda0: two centres within 0.2 lambda0
+  const auto yaml = dir.write("p.yaml", channel_yaml(c));
+  const ProcessResult r = run_gdsmc({"run", yaml.string(), "--quiet"}, dir.path(), 120);
+  EXPECT_NE(r.exit_code, 0);
+  for (const char* part : {"wall_fit_reach", "holds 2 bin", "needs 3", ">= 0.2778 lambda0", "system.bins", "p.yaml:"})
+    EXPECT_TRUE(contains(r.err, part)) << part << "\n" << r.err;
 }
 
 // A pipeline without walls is refused with the plugin's reason: the diagnostic needs a slab.

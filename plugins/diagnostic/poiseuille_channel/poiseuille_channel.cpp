@@ -34,8 +34,11 @@ enum Scalar : std::size_t {
   rho_centre, rho_fw, Kn_centre, Kn_fw, T_centre, T_max, y_T_max, delta_T, u_centre, u_s, du_dy_fw, zeta,
   T_s, dT_dy_fw, zeta_T, drho_dy_fw, p_centre, N1_centre, N2_centre, T2_centre, rho2_centre, chi, Q,
   momentum_balance_max, wall_momentum_ratio, power_acceleration, power_collisions, power_walls,
-  energy_balance_closure, power_from_flow_ratio, kScalar
+  energy_balance_closure, power_from_flow_ratio,
+  // Written only with wall_fit_reach > 0: the wall values of the fixed-reach quadratic fit.
+  u_s_wall, du_dy_wall, zeta_wall, T_s_wall, dT_dy_wall, zeta_T_wall, kScalar
 };
+constexpr std::size_t kFirstWallFit = u_s_wall;
 
 struct Column {
   const char* name;
@@ -78,6 +81,13 @@ constexpr Column kScalars[kScalar] = {
      "(power_acceleration + power_collisions + power_walls) / power_acceleration: dE/dt over the work, 0 when steady"},
     {"power_from_flow_ratio", "1",
      "m a sum_i <v_x,i> (the work rate from the sampled flow) over power_acceleration (1 up to O(a dt))"},
+    {"u_s_wall", "sqrt(2T_w/m)",
+     "slip velocity at the wall: u_x(+-W/2) of the quadratic fit over the bins within wall_fit_reach of each wall (004 Eq. 23)"},
+    {"du_dy_wall", "sqrt(2T_w/m)/W", "velocity gradient into the gas at the wall, the same fit's slope there (004 Fig. 11b)"},
+    {"zeta_wall", "W", "velocity slip length u_s_wall / du_dy_wall (004 Eq. 25)"},
+    {"T_s_wall", "T_w", "temperature slip at the wall T(+-W/2) - T_w from the same fit of T (004 Eq. 27)"},
+    {"dT_dy_wall", "T_w/W", "temperature gradient into the gas at the wall, the fit's slope there (004 Fig. 12c)"},
+    {"zeta_T_wall", "W", "temperature slip length T_s_wall / dT_dy_wall (004 Eq. 29)"},
 };
 
 // Profiles written as steady arrays (with errors), in this order.
@@ -105,7 +115,7 @@ constexpr std::size_t kMaxBatches = 64;
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.5.0";
+  static constexpr const char* version = "1.6.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -152,6 +162,13 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "  walls averaged: du_dy_fw [sqrt(2T_w/m)/W] (u'_w), dT_dy_fw [T_w/W] (T'_w), drho_dy_fw [rho_av/W]\n"
       "  (rho'_w, the Dufour term of Eq. 30); slip lengths\n"
       "  zeta [W] = u_s/u'_w (Eq. 25) and zeta_T [W] = T_s/T'_w (Eq. 29);\n"
+      "  with wall_fit_reach > 0, the same at the wall itself, independent of the bin width: a\n"
+      "  least-squares f = c0 + c1 s + c2 s^2 (s the distance from the wall, in W) over the bins whose\n"
+      "  centres lie within wall_fit_reach of each wall (at least 3, at most bins/2 - 1), c0 and c1 the\n"
+      "  two walls averaged: u_s_wall [sqrt(2T_w/m)], du_dy_wall [sqrt(2T_w/m)/W], zeta_wall [W],\n"
+      "  T_s_wall [T_w], dT_dy_wall [T_w/W], zeta_T_wall [W], and wall_fit_reach [W], wall_fit_bins_used\n"
+      "  [1]; the adjacent bins' values move with the bin width by about the gradient times half a bin,\n"
+      "  these by the fit's noise (the values still depend on the reach inside a Knudsen layer);\n"
       "  T_max [T_w]: the vertex of the least-squares parabola through the bins within max(2,\n"
       "  bins/15) of the largest bin of T (the largest bin if the vertex falls outside), y_T_max [W]\n"
       "  its |y|, delta_T [1] = (T_max - T(0))/T(0) (Eq. 22);\n"
@@ -167,7 +184,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "Parameters: steady_window (time, bare tau0; required), steady_tolerance (default 0.005),\n"
       "steady_sigmas (default 2), "
       "min_time (bare tau0, default 0), wall_temperature (bare T0, default 1), centre_fit (default\n"
-      "0.25), wall_fit_bins (default 3).";
+      "0.25), wall_fit_bins (default 3), wall_fit_reach (length, bare lambda0; default 0: off).";
 
   static std::vector<gdsmc::ParamSpec> parameters() {
     return {gdsmc::ParamSpec::real("steady_window", "window of the energy test of the steady state (bare: tau0)")
@@ -191,7 +208,12 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
             gdsmc::ParamSpec::real("centre_fit", "half-width of the curvature fit at the centre line, in W").range(0.05, 0.5).default_value(0.25),
             gdsmc::ParamSpec::integer("wall_fit_bins", "bins next to each wall in the gradient fit (at most bins/2 - 1 are used)")
                 .range(2, 50)
-                .default_value(3)};
+                .default_value(3),
+            gdsmc::ParamSpec::real("wall_fit_reach",
+                                   "distance from each wall of the quadratic fit that gives the wall values u_s_wall ... (bare: lambda0; 0: off)")
+                .at_least(0.0)
+                .unit(gdsmc::Dimension::length)
+                .default_value(0.0)};
   }
   explicit PoiseuilleChannel(const gdsmc::Params& p)
       : window_(p.real("steady_window")),
@@ -200,7 +222,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
         min_time_(p.real("min_time")),
         t_wall_(p.real("wall_temperature")),
         centre_fit_(p.real("centre_fit")),
-        wall_bins_(static_cast<std::size_t>(p.integer("wall_fit_bins"))) {}
+        wall_bins_(static_cast<std::size_t>(p.integer("wall_fit_bins"))),
+        wall_reach_(p.real("wall_fit_reach")) {}
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& quantities, gdsmc::OutputSink& out) override {
     // What it measures is a steady state: `gdsmc plot` draws the steady means of its series.
@@ -215,6 +238,22 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     bins_ = sys.bins;
     // The wall fits use at most the wall-side half of the bins (less the central one).
     wall_fit_ = std::min(wall_bins_, bins_ / 2 > 0 ? bins_ / 2 - 1 : 0);
+    // The fixed-reach fit: the bins whose centres lie within wall_fit_reach of the wall.
+    reach_bins_ = 0;
+    if (wall_reach_ > 0) {
+      const double bin = sys_.bin_width();
+      while (reach_bins_ + 1 < bins_ / 2 && (static_cast<double>(reach_bins_) + 0.5) * bin <= wall_reach_) ++reach_bins_;
+      if (reach_bins_ < 3) {
+        char why[512];
+        std::snprintf(why, sizeof why,
+                      "poiseuille_channel: wall_fit_reach = %.4g lambda0 holds %zu bin centre(s) next to each wall "
+                      "(bins %.4g lambda0 wide, %zu bins); the quadratic wall fit needs 3: give wall_fit_reach >= %.4g "
+                      "lambda0, more bins (system.bins), or 0 to switch it off",
+                      wall_reach_ / sys_.mean_free_path0, reach_bins_, bin / sys_.mean_free_path0, bins_,
+                      2.5 * bin / sys_.mean_free_path0);
+        throw std::runtime_error(why);
+      }
+    }
     batches_.resize(kMaxBatches);
     for (auto& b : batches_) b.begin(bins_, false);
     total_.begin(bins_, false);
@@ -342,7 +381,13 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       return doc + "; NaN: the value is undefined in some batch's complement (a gradient or fit without enough "
                    "finite bins there): run longer so that every batch fills every bin";
     };
+    if (reach_bins_ >= 3) {
+      out.scalar("wall_fit_reach", static_cast<double>(reach_bins_) / static_cast<double>(bins_), "W",
+                 "distance from the wall spanned by the bins of the quadratic wall fit (their outer edge)");
+      out.scalar("wall_fit_bins_used", static_cast<double>(reach_bins_), "1", "bins next to each wall in the quadratic wall fit");
+    }
     for (std::size_t s = 0; s < kScalar; ++s) {
+      if (s >= kFirstWallFit && reach_bins_ < 3) continue;  // wall_fit_reach off
       out.scalar(kScalars[s].name, whole.scalars[s], kScalars[s].unit, kScalars[s].doc);
       out.scalar(std::string(kScalars[s].name) + "_error", err.scalars[s], kScalars[s].unit,
                  error_doc(kScalars[s].name, whole.scalars[s], err.scalars[s]));
@@ -532,6 +577,27 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     return 0.5 * (slope(0, 1) - slope(bins_ - 1, -1));
   }
 
+  // {f, df/ds} at the wall (s the distance into the gas, in W) from the least-squares
+  // f = c0 + c1 s + c2 s^2 over the reach_bins_ bins next to each wall, the two walls averaged.
+  std::pair<double, double> wall_extrapolation(const double* f) const {
+    const auto n = static_cast<Eigen::Index>(reach_bins_);
+    const double h = 1.0 / static_cast<double>(bins_);
+    auto fit = [&](bool upper) {
+      Eigen::MatrixXd A(n, 3);
+      Eigen::VectorXd rhs(n);
+      for (Eigen::Index r = 0; r < n; ++r) {
+        const double s = (static_cast<double>(r) + 0.5) * h;
+        A(r, 0) = 1.0;
+        A(r, 1) = s;
+        A(r, 2) = s * s;
+        rhs(r) = f[upper ? bins_ - 1 - static_cast<std::size_t>(r) : static_cast<std::size_t>(r)];
+      }
+      return Eigen::Vector3d(A.colPivHouseholderQr().solve(rhs));
+    };
+    const Eigen::Vector3d lo = fit(false), hi = fit(true);
+    return {0.5 * (lo(0) + hi(0)), 0.5 * (lo(1) + hi(1))};
+  }
+
   // Every profile and scalar from one set of sums (the whole window, or the window less a batch).
   Result evaluate(const gdsmc::BinSums& s, const double* x) const {
     Result r;
@@ -634,6 +700,16 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     v[dT_dy_fw] = wall_gradient(T);
     v[zeta_T] = v[T_s] / v[dT_dy_fw];
     v[drho_dy_fw] = wall_gradient(P(pRho));
+    if (reach_bins_ >= 3) {
+      const auto [u_w, du_w] = wall_extrapolation(P(pUx));
+      const auto [T_w, dT_w] = wall_extrapolation(T);
+      v[u_s_wall] = u_w;
+      v[du_dy_wall] = du_w;
+      v[zeta_wall] = u_w / du_w;
+      v[T_s_wall] = T_w - 1.0;
+      v[dT_dy_wall] = dT_w;
+      v[zeta_T_wall] = (T_w - 1.0) / dT_w;
+    }
     const double nsum = samples * static_cast<double>(sys_.particles);
     v[Q] = x[eSumVx] / nsum / (ur * a_hat());
     double worst = 0;
@@ -672,6 +748,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
 
   double window_, tolerance_, sigmas_, min_time_, t_wall_, centre_fit_;
   std::size_t wall_bins_, wall_fit_ = 0;
+  double wall_reach_;           // wall_fit_reach (reduced length; 0: off)
+  std::size_t reach_bins_ = 0;  // bins of the quadratic wall fit
   gdsmc::SystemInfo sys_;
   std::size_t bins_ = 0, filled_ = 0, batch_records_ = 1, records_in_batch_ = 0;
   std::vector<gdsmc::BinSums> batches_;  // kMaxBatches per-bin sums
