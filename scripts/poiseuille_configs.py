@@ -233,10 +233,12 @@ def main():
             0.05, 0.7, 0.5, "diffuse", 50000, steady_sigmas=3, wall_fit_reach=1,
             sweep=resolution_axis([0.02, 0.03, 0.05])),
         "poiseuille_knudsen_minimum_sweep": pipeline(
-            "poiseuille_knudsen_minimum_sweep", "# The Knudsen minimum of Q (Fig. 20a, a_hat = 0.5, diffuse walls) on a grid twice as fine as the\n"
-            "# main sweep's around it (issue 29 item 3); realizations are set per run (scripts/validate-poiseuille-resolution).\n",
+            "poiseuille_knudsen_minimum_sweep", "# The Knudsen minimum of Q (Fig. 20a, a_hat = 0.5, diffuse walls) on grids twice and four times as fine\n"
+            "# as the main sweep's around it (0.7, 1.4, 3; then 0.85, 1.2, 1.7, 2.4 between), so that the report can show\n"
+            "# whether the grid still moves it (issue 29 item 3); realizations are set per run\n"
+            "# (scripts/validate-poiseuille-resolution).\n",
             1.0, 0.9, 0.5, "diffuse", 50000,
-            sweep="  collision.alpha: [0.7, 0.9, 0.99, 1.0]\n" + kn_axis([0.5, 0.7, 1, 1.4, 2, 3, 5, 10])),
+            sweep="  collision.alpha: [0.7, 0.9, 0.99, 1.0]\n" + kn_axis([0.5, 0.7, 0.85, 1, 1.2, 1.4, 1.7, 2, 2.4, 3, 5, 10])),
         "poiseuille_specular": pipeline(
             "poiseuille_specular", "# Specular walls (accommodation 0) have no steady state: collisions and specular reflections\n"
             "# conserve x momentum, so the mean streamwise velocity grows as a t and Q (Eq. 40) as Kn t/tau0.\n"

@@ -619,20 +619,49 @@ def profile_rows(c, ys):
     return [int(np.argmin(np.abs(y - t) + far)) for t in ys]
 
 
+def parabola_minimum(k, v):
+    """(Kn_min, Q_min) of the parabola in log Kn through the smallest Q and its two neighbours; NaN when
+    the smallest Q is at an end of the grid."""
+    i = int(np.nanargmin(v))
+    if i == 0 or i == len(v) - 1:
+        return NAN, NAN
+    x = np.log(k[i - 1:i + 2]); c = np.polyfit(x, v[i - 1:i + 2], 2)
+    xv = -c[1] / (2 * c[0])
+    return math.exp(xv), np.polyval(c, xv)
+
+
+def knudsen_minima(k, v, e, grids):
+    """The Knudsen minimum on nested grids of one set of runs (each a boolean mask over k): per grid
+    ((Kn_min, error), (Q_min, error)), and per neighbouring pair of grids the difference of ln Kn_min
+    over its error. The errors come from NMC joint redraws of Q within its errors, so that the grids'
+    shared points count once in a difference."""
+    base = [parabola_minimum(k[g], v[g]) for g in grids]
+    draws = []
+    for _ in range(NMC):
+        vv = v + e * RNG.standard_normal(len(v))
+        draws.append([parabola_minimum(k[g], vv[g]) for g in grids])
+    d = np.array(draws)  # NMC x grids x 2
+    out = []
+    for j, (km, qm) in enumerate(base):
+        ok = np.isfinite(d[:, j, 0])
+        out.append(((km, km * np.std(np.log(d[ok, j, 0]), ddof=1)), (qm, np.std(d[ok, j, 1], ddof=1)))
+                   if np.isfinite(km) and ok.sum() > 2 else ((NAN, NAN), (NAN, NAN)))
+    steps = []
+    for j in range(len(grids) - 1):
+        ok = np.isfinite(d[:, j, 0]) & np.isfinite(d[:, j + 1, 0])
+        diff = np.log(d[ok, j, 0]) - np.log(d[ok, j + 1, 0])
+        sd = np.std(diff, ddof=1) if ok.sum() > 2 else NAN
+        steps.append((math.log(base[j][0]) - math.log(base[j + 1][0])) / sd if sd > 0 else NAN)
+    return out, steps
+
+
 def knudsen_minimum(k, v, e):
     """(Kn_min, error), (Q_min, error): a parabola in log Kn through the smallest Q and its two
     neighbours; errors from NMC redraws of Q within its errors; NaN when the smallest Q is at an end."""
-    def one(vv):
-        i = int(np.nanargmin(vv))
-        if i == 0 or i == len(vv) - 1:
-            return NAN, NAN
-        x = np.log(k[i - 1:i + 2]); c = np.polyfit(x, vv[i - 1:i + 2], 2)
-        xv = -c[1] / (2 * c[0])
-        return math.exp(xv), np.polyval(c, xv)
-    r = one(v)
+    r = parabola_minimum(k, v)
     if not np.isfinite(r[0]):
         return (NAN, NAN), (NAN, NAN)
-    d = np.array([one(v + e * RNG.standard_normal(len(v))) for _ in range(NMC)])
+    d = np.array([parabola_minimum(k, v + e * RNG.standard_normal(len(v))) for _ in range(NMC)])
     d = d[np.isfinite(d[:, 0])]
     return (r[0], r[0] * np.std(np.log(d[:, 0]), ddof=1)), (r[1], np.std(d[:, 1], ddof=1))
 
