@@ -30,6 +30,72 @@ def fit(eps, k, e, powers):
     return weighted_fit(np.vstack([eps ** (2 * j) for j in powers]).T, k, e)
 
 
+def long_runs(path):
+    """configs/heat_flux_anchor.yaml's output: (table rows, eps*, kappa'/kappa0 and its error per eps* (the
+    realizations combined by their weights), the run's time step in tau)."""
+    f = h5py.File(path, "r")
+    run0 = f["cases/0/run"].attrs
+    anchor_dt = round(float(run0["final_time_tau0"]) / float(run0["steps"]), 6)  # tau (tau0 = tau: T stays T0)
+    rows, eps, kv, ke = [], [], [], []
+    for key in sorted(f["cases"].keys(), key=int):
+        hf = f["cases"][key]["diagnostics/heat_flux"]
+        e_star = float(hf["epsilon_star"][()])
+        per = []
+        for r in sorted(hf["realizations"].keys(), key=int):
+            g = hf["realizations"][r]
+            t = np.array(g["time"][:])
+            x = np.array(g["conductivity_over_kappa0"][:])[t >= AFTER]
+            per.append(batch_mean(x) + (t[-1],))
+        m = np.array([p[0] for p in per])
+        s = np.array([p[1] for p in per])
+        wgt = 1 / s ** 2
+        mean, err = float((m * wgt).sum() / wgt.sum()), float(1 / np.sqrt(wgt.sum()))
+        eps.append(e_star)
+        kv.append(mean)
+        ke.append(err)
+        rows.append([f"{e_star:g}", f"{per[0][2]:.0f}"] + [f"{p[0]:.4f} ± {p[1]:.4f}" for p in per] +
+                    [f"{mean:.4f} ± {err:.4f}", f"{(mean - ELASTIC_KAPPA) / err:+.1f}"])
+    return rows, np.array(eps), np.array(kv), np.array(ke), anchor_dt
+
+
+def time_step_runs(dt_path):
+    """configs/heat_flux_anchor_dt.yaml's output: dt, kappa'/kappa0 and its error per dt, and the straight line
+    in dt (coefficients, covariance, chi2)."""
+    fd = h5py.File(dt_path, "r")
+    dts, dk, de = [], [], []
+    for key in sorted(fd["cases"].keys(), key=int):
+        g = fd["cases"][key]
+        hf = g["diagnostics/heat_flux"]
+        t = np.array(hf["time"][:])
+        m, e = batch_mean(np.array(hf["conductivity_over_kappa0"][:])[t >= AFTER])
+        dts.append(float(g.attrs["sweep.dt"]))
+        dk.append(m)
+        de.append(e)
+    dts, dk, de = np.array(dts), np.array(dk), np.array(de)
+    c, cov, chi = weighted_fit(np.vstack([np.ones_like(dts), dts]).T, dk, de)
+    return dts, dk, de, c, cov, chi
+
+
+def both_limits(k0, k0e, slope, slope_e, anchor_dt):
+    """kappa'(0) of the eps* fit at the long runs' dt, moved to dt -> 0 by the dt scan's slope: (value, error)."""
+    return k0 - slope * anchor_dt, float(np.hypot(k0e, slope_e * anchor_dt))
+
+
+def anchor(d):
+    """What heat-flux.md quotes of these runs, from OUTDIR d (None without them): kappa'(0)/kappa0 at eps* -> 0
+    and dt -> 0 with its error, the dt slope (per tau) with its error, the eps*^2 coefficient c, and the runs."""
+    path, dt_path = os.path.join(d, "heat_flux_anchor_long.h5"), os.path.join(d, "heat_flux_anchor_dt.h5")
+    if not (os.path.exists(path) and os.path.exists(dt_path)):
+        return None
+    _, eps, kv, ke, anchor_dt = long_runs(path)
+    c2, cov2, _ = fit(eps, kv, ke, (0, 1))
+    _, _, _, c, cov, _ = time_step_runs(dt_path)
+    slope, slope_e = float(c[1]), float(np.sqrt(cov[1, 1]))
+    value, error = both_limits(float(c2[0]), float(np.sqrt(cov2[0, 0])), slope, slope_e, anchor_dt)
+    return {"value": value, "error": error, "slope": slope, "slope_error": slope_e, "c": float(c2[1]),
+            "runs": runs_line(path, dt_path)}
+
+
 def main():
     d = sys.argv[1]
     path = os.path.join(d, "heat_flux_anchor_long.h5")
@@ -53,30 +119,9 @@ def main():
         w("*(no output: run `scripts/validate-heat-flux`)*")
         print("\n".join(out))
         return
-    f = h5py.File(path, "r")
     sec = os.path.join(d, "anchor_long.seconds")
-    run0 = f["cases/0/run"].attrs
-    anchor_dt = round(float(run0["final_time_tau0"]) / float(run0["steps"]), 6)  # tau (tau0 = tau: T stays T0)
-    rows, eps, kv, ke = [], [], [], []
-    for key in sorted(f["cases"].keys(), key=int):
-        hf = f["cases"][key]["diagnostics/heat_flux"]
-        e_star = float(hf["epsilon_star"][()])
-        per = []
-        for r in sorted(hf["realizations"].keys(), key=int):
-            g = hf["realizations"][r]
-            t = np.array(g["time"][:])
-            x = np.array(g["conductivity_over_kappa0"][:])[t >= AFTER]
-            per.append(batch_mean(x) + (t[-1],))
-        m = np.array([p[0] for p in per])
-        s = np.array([p[1] for p in per])
-        wgt = 1 / s ** 2
-        mean, err = float((m * wgt).sum() / wgt.sum()), float(1 / np.sqrt(wgt.sum()))
-        eps.append(e_star)
-        kv.append(mean)
-        ke.append(err)
-        rows.append([f"{e_star:g}", f"{per[0][2]:.0f}"] + [f"{p[0]:.4f} ± {p[1]:.4f}" for p in per] +
-                    [f"{mean:.4f} ± {err:.4f}", f"{(mean - ELASTIC_KAPPA) / err:+.1f}"])
-    eps, kv, ke = np.array(eps), np.array(kv), np.array(ke)
+    rows, eps, kv, ke, anchor_dt = long_runs(path)
+    f = h5py.File(path, "r")
     nr = len(rows[0]) - 4
     w("| ε* | run length [τ] | " + " | ".join(f"realization {r}" for r in range(nr)) + " | combined | (κ′ − 1.025218)/σ |")
     w("|" + "---|" * (nr + 4))
@@ -84,7 +129,7 @@ def main():
         w("| " + " | ".join(r) + " |")
     w("")
     c2, cov2, chi2 = fit(eps, kv, ke, (0, 1))
-    k0, k0e = c2[0], np.sqrt(cov2[0, 0])
+    k0, k0e = c2[0], float(np.sqrt(cov2[0, 0]))
     w(f"**Linear response (fit κ′(0) + c ε*², all four ε*):** κ′(0)/κ₀ = {k0:.4f} ± {k0e:.4f}, "
       f"{(k0 - ELASTIC_KAPPA) / k0e:+.1f} standard errors from {ELASTIC_KAPPA}; c = {c2[1]:.2f} ± {np.sqrt(cov2[1, 1]):.2f}; "
       f"χ² = {chi2:.2f} for {len(eps) - 2} degrees of freedom.")
@@ -131,18 +176,7 @@ def main():
     if not os.path.exists(dt_path):
         w("*(heat_flux_anchor_dt.h5 not available: run `scripts/validate-heat-flux`)*")
     else:
-        fd = h5py.File(dt_path, "r")
-        dts, dk, de = [], [], []
-        for key in sorted(fd["cases"].keys(), key=int):
-            g = fd["cases"][key]
-            hf = g["diagnostics/heat_flux"]
-            t = np.array(hf["time"][:])
-            m, e = batch_mean(np.array(hf["conductivity_over_kappa0"][:])[t >= AFTER])
-            dts.append(float(g.attrs["sweep.dt"]))
-            dk.append(m)
-            de.append(e)
-        dts, dk, de = np.array(dts), np.array(dk), np.array(de)
-        c, cov, chi = weighted_fit(np.vstack([np.ones_like(dts), dts]).T, dk, de)
+        dts, dk, de, c, cov, chi = time_step_runs(dt_path)
         w("| δt [τ] | κ′/κ₀ at ε* = 0.05 |")
         w("|---|---|")
         for a, b, e in zip(dts, dk, de):
@@ -152,8 +186,7 @@ def main():
         w(f"Straight line in δt: κ′/κ₀ = {c[0]:.4f} ± {np.sqrt(cov[0, 0]):.4f} at δt → 0, slope {slope:.3f} ± {slope_e:.3f} per τ "
           f"(χ² = {chi:.2f} for {len(dts) - 2} degrees of freedom).")
         w("")
-        corrected = k0 - slope * anchor_dt
-        ce = float(np.hypot(k0e, slope_e * anchor_dt))
+        corrected, ce = both_limits(k0, k0e, slope, slope_e, anchor_dt)
         w(f"**Both limits.** Taking the same relative bias at every ε* (it is a property of the sampling cycle, not of the")
         w(f"field), the long runs above (δt = {anchor_dt:g}τ) give κ′(0)/κ₀ = {k0:.4f} − {slope * anchor_dt:.4f} = **{corrected:.4f} ± {ce:.4f}** "
           f"at ε* → 0 and δt → 0: {(corrected - ELASTIC_KAPPA) / ce:+.1f} errors from {ELASTIC_KAPPA}.")

@@ -21,11 +21,6 @@ from report_figures import band, band_upper, paper_hline, paper_points, paper_vl
 
 ELASTIC_KAPPA = 1.025218  # converged Sonine kappa/kappa0 at alpha = 1 (001, ref. 37)
 PAPER_BETA6 = {1.0: 0.87, 0.3: 0.66}  # 001 Sec. IV: share of b'_1 carried by c_x^2 <= 6
-# docs/validation/heat-flux-anchor.md (long runs of 2026-11-23, not rerun by this report): kappa'(0)/kappa0
-# extrapolated to eps* -> 0 and dt -> 0, the dt slope (kappa'/kappa0 per tau of dt) and the eps*^2 coefficient.
-ANCHOR_LONG = (1.0237, 0.0016)
-ANCHOR_DT_SLOPE = 0.322
-ANCHOR_C = 6.53
 FIGDIR = "heat-flux"  # under DOCDIR
 STEADY_FROM = 10.0  # t/tau: the averaging window starts here (average_after of the configs)
 FIG2_ALPHAS = (1.0, 0.3)  # the panels of Fig. 2
@@ -700,28 +695,35 @@ def main():
          else ": **more than 3 errors apart somewhere** — not a confirmation."))
     w("  Like κ′, κ falls below its first-Sonine value for")
     w("  α ≲ 0.7, and μ with it — the behaviour Brey et al. found with Green–Kubo (001, ref. 11).")
-    w("- **The elastic anchor** is measured by long runs in docs/validation/heat-flux-anchor.md, extrapolated to")
-    w("  ε* → 0 (the O(ε*²) response) and δt → 0 (the O(δt) bias of sampling q_x after the force and the")
-    w(f"  thermostat, +{ANCHOR_DT_SLOPE * 0.01 * 100:.1f} % per 0.01τ): κ′(0)/κ₀ = {ANCHOR_LONG[0]} ± {ANCHOR_LONG[1]} "
-      f"against {ELASTIC_KAPPA} ({(ANCHOR_LONG[0] - ELASTIC_KAPPA) / ANCHOR_LONG[1]:+.1f} errors).")
-    # The runs of this report sample before and after the collision stage (bracketed, the default since SDK 6.1),
-    # which removes the O(δt) bias of sampling after the step that the long runs' slope measures.
-    slope = 0.0 if anchor_bracketed else ANCHOR_DT_SLOPE
-    if anchor_bracketed:
-        w("  The runs of this report sample bracketed (before and after the collision stage), which removes that")
-        w("  O(δt) bias (docs/validation/sampling.md), so only the O(ε*²) response is expected on top.")
-    if anchor:
-        k1, e1 = anchor
-        exp1 = ANCHOR_LONG[0] + ANCHOR_C * 0.025 ** 2 + slope * 0.003
-        w("  The α = 1 row above (short runs, 25τ averaged from 10τ, ε* = 0.025, δt = 0.003τ) should carry "
-          + ("the O(ε*²) response," if anchor_bracketed else "both effects,"))
-        w(f"  +{100 * ANCHOR_C * 0.025 ** 2:.1f} %" + ("" if anchor_bracketed else f" and +{100 * slope * 0.003:.1f} %") +
-          f": {exp1:.4f}; it is {fmt(k1, e1, 4)}, {(k1 - exp1) / np.hypot(e1, ANCHOR_LONG[1]):+.1f} errors from that.")
-    if anchor_fit:
-        k0, k0e = anchor_fit
-        exp0 = ANCHOR_LONG[0] + slope * 0.03
-        w(f"  The ε* fit above (δt = 0.03τ) should carry +{100 * slope * 0.03:.1f} %: {exp0:.4f}; it is "
-          f"{fmt(k0, k0e, 4)}, {(k0 - exp0) / np.hypot(k0e, ANCHOR_LONG[1]):+.1f} errors from that.")
+    # The long runs of heat-flux-anchor.md, read from this directory (scripts/validate-heat-flux makes them first).
+    import heat_flux_anchor_report
+    long = heat_flux_anchor_report.anchor(d)
+    if long is None:
+        w("- **The elastic anchor** by long runs (docs/validation/heat-flux-anchor.md): heat_flux_anchor_long.h5 and")
+        w("  heat_flux_anchor_dt.h5 are not in this directory, so the rows above are not compared with it.")
+    else:
+        L, Le, slope = long["value"], long["error"], long["slope"]
+        w("- **The elastic anchor** is measured by long runs in docs/validation/heat-flux-anchor.md ("
+          + long["runs"] + "), extrapolated to")
+        w(f"  ε* → 0 (the O(ε*²) response, c = {long['c']:.2f}) and δt → 0 (what is left of the time step, "
+          f"{slope:+.3f} ± {long['slope_error']:.3f} per τ): κ′(0)/κ₀ = {L:.4f} ± {Le:.4f}")
+        w(f"  against {ELASTIC_KAPPA} ({(L - ELASTIC_KAPPA) / Le:+.1f} errors).")
+        if anchor_bracketed:
+            w("  The runs of this report sample bracketed (before and after the collision stage), as the long runs do,")
+            w("  so the long runs' c ε*² and δt slope carry over:")
+            if anchor:
+                k1, e1 = anchor
+                exp1 = L + long["c"] * 0.025 ** 2 + slope * 0.003
+                w(f"  the α = 1 row above (short runs, 25τ averaged from 10τ, ε* = 0.025, δt = 0.003τ) should be {exp1:.4f};")
+                w(f"  it is {fmt(k1, e1, 4)}, {(k1 - exp1) / np.hypot(e1, Le):+.1f} errors from that.")
+            if anchor_fit:
+                k0, k0e = anchor_fit
+                exp0 = L + slope * 0.03
+                w(f"  The ε* fit above (δt = 0.03τ) should be {exp0:.4f}; it is {fmt(k0, k0e, 4)}, "
+                  f"{(k0 - exp0) / np.hypot(k0e, Le):+.1f} errors from that.")
+        else:
+            w("  The runs of this report sample after the step and the long runs bracketed, so their δt effects differ")
+            w("  and the rows above are not compared with the long runs (rerun both with one `run.sampling`).")
     w("  On 2026-11-23 (gdsmc 0.3.1, by hand, not rerun here) short runs sat above long runs at equal ε* and δt")
     w("  (+0.7 ± 0.25 % at ε* = 0.05, δt = 0.01τ; N = 2·10⁵ against 2·10⁴ alone gives +0.2 ± 0.2 %), and that")
     w("  run of this report had 1.046 ± 0.004 in the α = 1 row and 1.0363 ± 0.0029 from the ε* fit. Open: whether")

@@ -17,6 +17,7 @@ import math
 import re
 import subprocess
 
+SIGNED = re.compile(r"^[-+−]\d[\d.]*$")
 VALUE = re.compile(r"^\s*\*{0,2}([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)\s*±\s*(\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)\*{0,2}")
 
 
@@ -39,7 +40,9 @@ def cells(text):
         if all(set(c) <= set("-: ") for c in row):
             continue
         parsed = [VALUE.match(c) for c in row]
-        label = " / ".join(c for c, m in zip(row, parsed) if not m and c)
+        # The row's name: its cells that are neither values nor signed numbers (a signed number is a
+        # derived column, such as a difference in standard errors, which changes with the values).
+        label = " / ".join(c for c, m in zip(row, parsed) if not m and c and not SIGNED.match(c))
         for k, m in enumerate(parsed):
             if m and k < len(header):
                 key = (section + (" — " + caption if caption else ""), header[k], label)
