@@ -166,9 +166,10 @@ def main():
     w("`configs/heat_flux_anchor_dt.yaml` shortened to 1000 τ per time step (N = 2·10⁴, ε* = 0.05, α = 1), each")
     w("time step with both rules. The after-step sample of q_x follows the force and the thermostat and precedes")
     w("the next step's collisions, so it sits at the top of the sawtooth: κ′ too large by about ν_q δt/2")
-    w("(`docs/validation/heat-flux-anchor.md` measured a slope of +0.32 ± 0.10 per τ from after-step samples at")
-    w("δt = 0.003–0.03 τ over 5000 τ each, and extrapolated κ′/κ₀ = 1.0402 ± 0.0018 at δt → 0). Two time steps of")
-    w("1000 τ cannot resolve a slope of that size in κ′ itself; the difference of the two rules on the same runs can.")
+    w("(the long runs of `docs/validation/heat-flux-anchor.md`, δt = 0.003–0.03 τ over 5000 τ each, measured a slope")
+    w("of +0.32 ± 0.10 per τ sampled after the step on 2026-11-23, and +0.08 ± 0.11 sampled bracketed on 2026-11-27).")
+    w("Two time steps of 1000 τ cannot resolve a slope of that size in κ′ itself; the difference of the two rules on")
+    w("the same runs can.")
     w("")
     if not os.path.exists(hf):
         w("*(no output: run `scripts/validate-sampling`)*")
