@@ -34,7 +34,7 @@ enum Scalar : std::size_t {
   rho_centre, rho_fw, Kn_centre, Kn_fw, T_centre, T_max, y_T_max, delta_T, u_centre, u_s, du_dy_fw, zeta,
   T_s, dT_dy_fw, zeta_T, drho_dy_fw, p_centre, N1_centre, N2_centre, T2_centre, rho2_centre, chi, Q,
   momentum_balance_max, wall_momentum_ratio, power_acceleration, power_collisions, power_walls,
-  energy_balance_closure, power_from_flow_ratio,
+  energy_balance_closure, power_from_flow_ratio, centre_peak_width, rho2_peak, T2_peak, N1_burnett, N2_burnett,
   // Written only with wall_fit_reach > 0: the wall values of the fixed-reach quadratic fit.
   u_s_wall, du_dy_wall, zeta_wall, T_s_wall, dT_dy_wall, zeta_T_wall, kScalar
 };
@@ -81,6 +81,15 @@ constexpr Column kScalars[kScalar] = {
      "(power_acceleration + power_collisions + power_walls) / power_acceleration: dE/dt over the work, 0 when steady"},
     {"power_from_flow_ratio", "1",
      "m a sum_i <v_x,i> (the work rate from the sampled flow) over power_acceleration (1 up to O(a dt))"},
+    {"centre_peak_width", "W",
+     "full width at half maximum of the density peak at the centre line, to a bin (its error: a bin / sqrt(6)); NaN where "
+     "rho is not concave there or never falls to half"},
+    {"rho2_peak", "1",
+     "curvature rho''(0)/rho(0) against y/W over the peak's own centre, |y| <= max(centre_peak_width/4, 3.5 bins)"},
+    {"T2_peak", "1", "curvature T''(0)/T(0) against y/W over the same window as rho2_peak"},
+    {"N1_burnett", "1",
+     "Burnett N1(0) = Kn_0^2 (delta1 T''(0) + delta2 rho''(0)/rho(0)) with the peak's curvatures and Kn_0 = Kn/rho(0) there (004 Eq. 36)"},
+    {"N2_burnett", "1", "Burnett N2(0) = -N1(0) (004 Eq. 38)"},
     {"u_s_wall", "sqrt(2T_w/m)",
      "slip velocity at the wall: u_x(+-W/2) of the quadratic fit over the bins within wall_fit_reach of each wall (004 Eq. 23)"},
     {"du_dy_wall", "sqrt(2T_w/m)/W", "velocity gradient into the gas at the wall, the same fit's slope there (004 Fig. 11b)"},
@@ -115,7 +124,7 @@ constexpr std::size_t kMaxBatches = 64;
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.6.0";
+  static constexpr const char* version = "1.7.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -155,6 +164,12 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       "  f = c0 + c2 y^2 + c4 y^4 (Eigen) over the bins with |y| <= centre_fit W, f''(0)/f(0) = 2 c2/c0\n"
       "  (unreliable where the centre is a cusp, as for e_n <= 0.6 at Kn = 0.05); chi [1] = delta1\n"
       "  T''(0) + delta2 rho''(0)/rho(0), delta1 = -0.04, delta2 = 0.214 (Eqs. 37, 39);\n"
+      "  where the centre is a density peak (a clustered channel), the same on the peak's own scale:\n"
+      "  centre_peak_width [W] (its full width at half maximum), rho2_peak, T2_peak [1] (the even fit\n"
+      "  over |y| <= max(centre_peak_width/4, 3.5 bins), fixed by the whole window for the jackknife),\n"
+      "  N1_burnett [1] = Kn_0^2 (delta1 T2_peak + delta2 rho2_peak), Kn_0 = Kn/rho(0) of that fit\n"
+      "  (Eq. 36), N2_burnett = -N1_burnett (Eq. 38); NaN where rho is not concave at the centre\n"
+      "  (rho2_centre >= 0) or never falls to half its centre value;\n"
       "  near-wall values from the wall-adjacent bins, as the paper (so they depend on the bin width,\n"
       "  004 Sec. III.D.1): rho_fw [rho_av] (Eq. 20), Kn_fw [1] (Eq. 24), u_s [sqrt(2T_w/m)] (slip,\n"
       "  Eq. 23), T_s [T_w] (T_fw - T_w, Eq. 27); gradients into the gas by a straight-line fit over the\n"
@@ -364,11 +379,15 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
         work_.copy_from(total_);
         work_.subtract(batches_[k]);
         for (std::size_t j = 0; j < kExtra; ++j) work[j] = total[j] - extras_[k * kExtra + j];
-        jack.push_back(evaluate(work_, work.data()));
+        jack.push_back(evaluate(work_, work.data(), whole.peak_half_width));
       }
       jackknife(jack, whole.scalars, err.scalars, [](const Result& r) -> const std::vector<double>& { return r.scalars; });
       jackknife(jack, whole.profiles, err.profiles, [](const Result& r) -> const std::vector<double>& { return r.profiles; });
     }
+    // The peak's width is fixed by the whole window (the jackknife fits over the same bins): its error
+    // is the resolution of its two edges, a bin width / sqrt(6).
+    if (std::isfinite(whole.scalars[centre_peak_width]))
+      err.scalars[centre_peak_width] = 1.0 / (static_cast<double>(bins_) * std::sqrt(6.0));
     // A NaN error says why (issue 29: no NaN error without its reason and the remedy).
     const auto error_doc = [&](const std::string& what, double value, double error) {
       std::string doc = "jackknife error over the batches of " + what + " (times the square root of the delete-one values' integrated autocorrelation time)";
@@ -390,7 +409,9 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       if (s >= kFirstWallFit && reach_bins_ < 3) continue;  // wall_fit_reach off
       out.scalar(kScalars[s].name, whole.scalars[s], kScalars[s].unit, kScalars[s].doc);
       out.scalar(std::string(kScalars[s].name) + "_error", err.scalars[s], kScalars[s].unit,
-                 error_doc(kScalars[s].name, whole.scalars[s], err.scalars[s]));
+                 s == centre_peak_width && std::isfinite(err.scalars[s])
+                     ? "the resolution of the peak's two edges, a bin width / sqrt(6) (the width is fixed by the whole window)"
+                     : error_doc(kScalars[s].name, whole.scalars[s], err.scalars[s]));
     }
     double chi2 = 0;
     std::size_t terms = 0;
@@ -487,6 +508,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   struct Result {
     std::vector<double> scalars;   // kScalar
     std::vector<double> profiles;  // kProfile x bins
+    double peak_half_width = 0;    // the centre peak's half width at half maximum [W] (0: no peak)
   };
 
   double u_ref() const { return std::sqrt(2.0 * t_wall_ / sys_.mass); }
@@ -515,11 +537,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     }
   }
 
-  // Least-squares f = c0 + c2 y^2 + c4 y^4 over |y| <= centre_fit (y in W): returns {f(0), f''(0)}.
-  std::pair<double, double> centre_fit(const double* f) const {
+  // Least-squares f = c0 + c2 y^2 + c4 y^4 over |y| <= half_width (y in W): returns {f(0), f''(0)}.
+  std::pair<double, double> centre_fit(const double* f, double half_width) const {
     std::vector<std::size_t> rows;
     for (std::size_t b = 0; b < bins_; ++b)
-      if (std::fabs(bins_from_centre(b)) / static_cast<double>(bins_) <= centre_fit_ && std::isfinite(f[b]))
+      if (std::fabs(bins_from_centre(b)) / static_cast<double>(bins_) <= half_width && std::isfinite(f[b]))
         rows.push_back(b);
     if (rows.size() < 3) {  // too few bins: the mean of the two central bins, no curvature
       return {0.5 * (f[(bins_ - 1) / 2] + f[bins_ / 2]), std::nan("")};
@@ -535,6 +557,19 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     }
     const Eigen::Vector3d c = A.colPivHouseholderQr().solve(rhs);
     return {c(0), 2.0 * c(1)};
+  }
+
+  // Half width at half maximum [W] of the density peak at the centre line of a symmetrised profile
+  // that is concave there (rho''(0) < 0 by the wide even fit): the bins from the centre outwards
+  // while rho stays above half its centre value; 0 where it is not concave or never falls to half.
+  double centre_peak_half_width(const double* rho, bool concave) const {
+    const std::size_t c = bins_ / 2;  // the centre bin (odd bins) or the first right of the centre
+    const double top = 0.5 * (rho[(bins_ - 1) / 2] + rho[c]);
+    if (!concave || !(top > 0)) return 0;
+    std::size_t k = c;
+    while (k + 1 < bins_ && rho[k + 1] > 0.5 * top) ++k;
+    if (k + 1 >= bins_) return 0;  // never half as dense: no peak
+    return (static_cast<double>(k) + 1.0 - 0.5 * static_cast<double>(bins_)) / static_cast<double>(bins_);
   }
 
   // y / (bin width) of bin b's centre, exact (b - (bins - 1)/2), so that a window |y| <= h takes a
@@ -599,7 +634,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   // Every profile and scalar from one set of sums (the whole window, or the window less a batch).
-  Result evaluate(const gdsmc::BinSums& s, const double* x) const {
+  // peak_half_width: the centre peak's half width at half maximum in W (0: none), or < 0 to find it.
+  Result evaluate(const gdsmc::BinSums& s, const double* x, double peak_half_width = -1) const {
     Result r;
     r.scalars.assign(kScalar, std::nan(""));
     r.profiles.assign(kProfile * bins_, std::nan(""));
@@ -645,8 +681,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     // follow the sharp density peak of strongly inelastic gases at small Kn (a fit over |y| <= W/4
     // flattens it by half), smooth enough not to carry one bin's noise; curvatures: the wide even
     // fit, normalised by its own f(0).
-    const auto [rho0_fit, rho2] = centre_fit(P(pRho));
-    const auto [T0_fit, T2] = centre_fit(P(pT));
+    const auto [rho0_fit, rho2] = centre_fit(P(pRho), centre_fit_);
+    const auto [T0_fit, T2] = centre_fit(P(pT), centre_fit_);
     const double rho0 = local_centre(P(pRho)), T0 = local_centre(P(pT));
     v[rho_centre] = rho0;
     v[rho2_centre] = rho2 / rho0_fit;
@@ -657,6 +693,21 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     v[N1_centre] = local_centre(P(pN1));
     v[N2_centre] = local_centre(P(pN2));
     v[chi] = kDelta1 * v[T2_centre] + kDelta2 * v[rho2_centre];
+    // The centre on the density peak's own scale (a clustered channel's sheet is far narrower than
+    // centre_fit): the window is fixed by the whole window's peak, so the jackknife fits alike.
+    const double peak = peak_half_width >= 0 ? peak_half_width : centre_peak_half_width(P(pRho), v[rho2_centre] < 0);
+    r.peak_half_width = peak;
+    if (peak > 0) {
+      v[centre_peak_width] = 2.0 * peak;
+      const double window = std::max(0.5 * peak, 3.5 / static_cast<double>(bins_));  // FWHM/4 each side
+      const auto [rho0_peak, rho2p] = centre_fit(P(pRho), window);
+      const auto [T0_peak, T2p] = centre_fit(P(pT), window);
+      v[rho2_peak] = rho2p / rho0_peak;
+      v[T2_peak] = T2p / T0_peak;
+      const double kn0 = kn / rho0_peak;
+      v[N1_burnett] = kn0 * kn0 * (kDelta1 * v[T2_peak] + kDelta2 * v[rho2_peak]);  // 004 Eq. 36
+      v[N2_burnett] = -v[N1_burnett];                                                 // 004 Eq. 38
+    }
     v[rho_fw] = P(pRho)[0];  // symmetrised: the mean of both wall-adjacent bins
     v[Kn_centre] = kn / rho0;
     v[Kn_fw] = kn / v[rho_fw];
