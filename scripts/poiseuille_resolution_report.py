@@ -253,14 +253,21 @@ def main():
         w("")
 
         w("**Against Kn.** Paper 004: " + "; ".join(e for _, _, e in MONOTONE) + ". Each step between neighbouring Kn, "
-          "in its standard errors (monotonic: every step beyond 3σ and of one sign; no: steps beyond 3σ of both signs):")
+          "in its standard errors (monotonic: every step beyond 3σ and of one sign; no: steps beyond 3σ of both signs). "
+          "`centre bins`: the two bins at the centre line; `Burnett`: Eq. 36 (N₂: Eq. 38) with the curvatures and Kn₀ "
+          "of the density peak's own centre (`poiseuille_channel`'s `N1_burnett`; — in runs before its 1.7), the "
+          "paper's account of the sign of N₁(0) and N₂(0) at small Kn:")
         w("")
         rows = []
         for q, label, expect in MONOTONE:
             profile = {"N1_centre": "N1", "N2_centre": "N2", "delta_T": "delta_T"}[q]
-            for v in ("uniform", "w0.1", "w0.1 bins x2", "w0.1 bins x2, centre bins"):
+            # The Burnett prediction of Eq. 36 (38 for N2) on the density peak's own scale (poiseuille_channel 1.7).
+            burnett = {"N1_centre": "N1_burnett", "N2_centre": "N2_burnett"}.get(q)
+            for v in ("uniform", "w0.1", "w0.1 bins x2", "w0.1 bins x2, centre bins") + (("w0.1 bins x2, Burnett",) if burnett else ()):
                 if v.endswith("centre bins"):
                     vals = [centre_bins(by[(kn, "w0.1 bins x2")], profile) if (kn, "w0.1 bins x2") in by else (NAN, NAN) for kn in kns]
+                elif v.endswith("Burnett"):
+                    vals = [value(by[(kn, "w0.1 bins x2")], burnett) if (kn, "w0.1 bins x2") in by else (NAN, NAN) for kn in kns]
                 else:
                     vals = [value(by[(kn, v)], q) if (kn, v) in by else (NAN, NAN) for kn in kns]
                 finite = [(k, x) for k, x in zip(kns, vals) if np.isfinite(x[0])]
