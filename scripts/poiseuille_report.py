@@ -620,9 +620,14 @@ def profile_rows(c, ys):
 
 
 def parabola_minimum(k, v):
-    """(Kn_min, Q_min) of the parabola in log Kn through the smallest Q and its two neighbours; NaN when
-    the smallest Q is at an end of the grid."""
-    i = int(np.nanargmin(v))
+    """(Kn_min, Q_min) of the parabola in log Kn through the smallest Q and its two neighbours among the
+    finite Q (a case whose realizations' mean is NaN drops out of the grid); NaN when the smallest Q is
+    at an end of the grid."""
+    finite = np.isfinite(v)
+    k, v = k[finite], v[finite]
+    if len(v) < 3:
+        return NAN, NAN
+    i = int(np.argmin(v))
     if i == 0 or i == len(v) - 1:
         return NAN, NAN
     x = np.log(k[i - 1:i + 2]); c = np.polyfit(x, v[i - 1:i + 2], 2)
