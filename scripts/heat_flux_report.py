@@ -695,7 +695,8 @@ def main():
          else ": **more than 3 errors apart somewhere** — not a confirmation."))
     w("  Like κ′, κ falls below its first-Sonine value for")
     w("  α ≲ 0.7, and μ with it — the behaviour Brey et al. found with Green–Kubo (001, ref. 11).")
-    # The long runs of heat-flux-anchor.md, read from this directory (scripts/validate-heat-flux makes them first).
+    # The long runs of heat-flux-anchor.md, read from this directory (scripts/validate-heat-flux makes them first);
+    # imported here, not at the top, because heat_flux_anchor_report imports this module.
     import heat_flux_anchor_report
     long = heat_flux_anchor_report.anchor(d)
     if long is None:

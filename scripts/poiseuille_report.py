@@ -661,14 +661,8 @@ def knudsen_minima(k, v, e, grids):
 
 
 def knudsen_minimum(k, v, e):
-    """(Kn_min, error), (Q_min, error): a parabola in log Kn through the smallest Q and its two
-    neighbours; errors from NMC redraws of Q within its errors; NaN when the smallest Q is at an end."""
-    r = parabola_minimum(k, v)
-    if not np.isfinite(r[0]):
-        return (NAN, NAN), (NAN, NAN)
-    d = np.array([parabola_minimum(k, v + e * RNG.standard_normal(len(v))) for _ in range(NMC)])
-    d = d[np.isfinite(d[:, 0])]
-    return (r[0], r[0] * np.std(np.log(d[:, 0]), ddof=1)), (r[1], np.std(d[:, 1], ddof=1))
+    """(Kn_min, error), (Q_min, error) on one grid: knudsen_minima with every point."""
+    return knudsen_minima(k, v, e, [np.ones(len(k), bool)])[0][0]
 
 
 def slip_power_law(cs):

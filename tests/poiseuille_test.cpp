@@ -67,6 +67,19 @@ std::string channel_yaml(const Channel& c) {
          "output: {file: out.h5}\n";
 }
 
+// Paper 004's clustered channel (Kn = 0.05, e_n = 0.7, a_hat = 0.5, the rule's 180 layers and
+// dt = 0.02 tau0) with 4000 particles: small enough for a test, clustered all the same.
+Channel small_clustered_channel() {
+  Channel c;
+  c.kn = 0.05;
+  c.alpha = 0.7;
+  c.a_hat = 0.5;
+  c.particles = 4000;
+  c.layers = 180;
+  c.dt_tau0 = 0.02;
+  return c;
+}
+
 struct Ran {
   TempDir dir;
   h5::File file;
@@ -191,13 +204,7 @@ TEST(Poiseuille, InelasticChannelReachesASteadyEnergyAndItsEnergyBalanceCloses) 
 TEST(Poiseuille, ASmallClusteredChannelAcceptsMostOfItsCandidatesByDefault) {
   double accepted[2], missed[2];
   for (int k = 0; k < 2; ++k) {
-    Channel c;
-    c.kn = 0.05;
-    c.alpha = 0.7;
-    c.a_hat = 0.5;
-    c.particles = 4000;
-    c.layers = 180;
-    c.dt_tau0 = 0.02;
+    Channel c = small_clustered_channel();
     c.stop_tau0 = 100;
     c.pair_selection = k == 0 ? "" : "uniform";
     Ran run(c);
@@ -279,13 +286,7 @@ TEST(Poiseuille, SlipAtTheWallFromTheFixedReachFitDoesNotMoveWithTheSamplingBins
 // -0.017 +- 0.002 and N1_centre -0.04 +- 0.01 in a trial run, 8 and 4 errors from zero), and Eq. 38 makes
 // N2_burnett its negative exactly.
 TEST(Poiseuille, AClusteredChannelsCentreIsMeasuredOnTheDensityPeaksOwnScale) {
-  Channel c;
-  c.kn = 0.05;
-  c.alpha = 0.7;
-  c.a_hat = 0.5;
-  c.particles = 4000;
-  c.layers = 180;
-  c.dt_tau0 = 0.02;
+  Channel c = small_clustered_channel();
   c.stop_tau0 = 1200;
   c.window_tau0 = 144;
   c.min_time_tau0 = 288;

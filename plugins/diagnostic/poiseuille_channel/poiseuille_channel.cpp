@@ -594,42 +594,36 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     return Eigen::Vector2d(normal.ldlt().solve(Eigen::Vector2d(f0, f2)))(0);
   }
 
+  // Least-squares c_0 + c_1 x + ... + c_degree x^degree through the n bins next to one wall (from
+  // y_min, or from y_max when upper), x = x_of(b, r) for bin b, the r-th from that wall.
+  template <class X>
+  Eigen::VectorXd wall_polynomial(const double* f, std::size_t n, int degree, bool upper, X x_of) const {
+    Eigen::MatrixXd A(static_cast<Eigen::Index>(n), degree + 1);
+    Eigen::VectorXd rhs(static_cast<Eigen::Index>(n));
+    for (std::size_t r = 0; r < n; ++r) {
+      const std::size_t b = upper ? bins_ - 1 - r : r;
+      const double x = x_of(b, r);
+      double power = 1.0;
+      for (int j = 0; j <= degree; ++j, power *= x) A(static_cast<Eigen::Index>(r), j) = power;
+      rhs(static_cast<Eigen::Index>(r)) = f[b];
+    }
+    return A.colPivHouseholderQr().solve(rhs);
+  }
+
   // Slope d f / d(y/W) into the gas, the two walls averaged: straight lines through the
   // wall_fit_bins bins next to each wall.
   double wall_gradient(const double* f) const {
     if (wall_fit_ < 2) return std::nan("");  // fewer than 6 bins
-    auto slope = [&](std::size_t first, int step) {
-      Eigen::MatrixXd A(static_cast<Eigen::Index>(wall_fit_), 2);
-      Eigen::VectorXd rhs(static_cast<Eigen::Index>(wall_fit_));
-      for (std::size_t r = 0; r < wall_fit_; ++r) {
-        const std::size_t b = static_cast<std::size_t>(static_cast<long>(first) + step * static_cast<long>(r));
-        A(static_cast<Eigen::Index>(r), 0) = 1.0;
-        A(static_cast<Eigen::Index>(r), 1) = sys_.bin_centre(b) / sys_.box[1];
-        rhs(static_cast<Eigen::Index>(r)) = f[b];
-      }
-      return Eigen::Vector2d(A.colPivHouseholderQr().solve(rhs))(1);
-    };
-    return 0.5 * (slope(0, 1) - slope(bins_ - 1, -1));
+    const auto y = [&](std::size_t b, std::size_t) { return sys_.bin_centre(b) / sys_.box[1]; };
+    return 0.5 * (wall_polynomial(f, wall_fit_, 1, false, y)(1) - wall_polynomial(f, wall_fit_, 1, true, y)(1));
   }
 
   // {f, df/ds} at the wall (s the distance into the gas, in W) from the least-squares
   // f = c0 + c1 s + c2 s^2 over the reach_bins_ bins next to each wall, the two walls averaged.
   std::pair<double, double> wall_extrapolation(const double* f) const {
-    const auto n = static_cast<Eigen::Index>(reach_bins_);
     const double h = 1.0 / static_cast<double>(bins_);
-    auto fit = [&](bool upper) {
-      Eigen::MatrixXd A(n, 3);
-      Eigen::VectorXd rhs(n);
-      for (Eigen::Index r = 0; r < n; ++r) {
-        const double s = (static_cast<double>(r) + 0.5) * h;
-        A(r, 0) = 1.0;
-        A(r, 1) = s;
-        A(r, 2) = s * s;
-        rhs(r) = f[upper ? bins_ - 1 - static_cast<std::size_t>(r) : static_cast<std::size_t>(r)];
-      }
-      return Eigen::Vector3d(A.colPivHouseholderQr().solve(rhs));
-    };
-    const Eigen::Vector3d lo = fit(false), hi = fit(true);
+    const auto s = [&](std::size_t, std::size_t r) { return (static_cast<double>(r) + 0.5) * h; };
+    const Eigen::VectorXd lo = wall_polynomial(f, reach_bins_, 2, false, s), hi = wall_polynomial(f, reach_bins_, 2, true, s);
     return {0.5 * (lo(0) + hi(0)), 0.5 * (lo(1) + hi(1))};
   }
 
