@@ -122,6 +122,22 @@ def sweep_subset(kns, variants=""):
     return "sweep={Kn_resolution: {" + ", ".join(lines) + "}}"
 
 
+SLIP_RESTITUTIONS = [0.9, 0.95, 0.99, 0.995, 0.999, 1.0]  # e_n >= 0.9 of the main and bimodality sweeps
+SLIP_KNUDSEN = [0.02, 0.03, 0.05, 0.1]  # their Kn with Kn_fw <= 0.1 (poiseuille.md section 6)
+
+
+def slip_sweep():
+    """`sweep=...` for --set on configs/poiseuille_sweep.yaml: the main and bimodality sweeps' cases of the slip
+    power law (e_n >= 0.9, Kn <= 0.1), their Kn entries as the sweep writes them (validate-poiseuille-resolution --slip)."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs", "poiseuille_sweep.yaml")
+    with open(path) as fh:
+        lines = [line.strip() for line in fh if (m := re.match(r'\s+"([0-9.]+)":', line)) and float(m.group(1)) in SLIP_KNUDSEN]
+    if len(lines) != len(SLIP_KNUDSEN):
+        sys.exit(f"configs/poiseuille_sweep.yaml: expected the Kn {SLIP_KNUDSEN} in its sweep, found {len(lines)} of them")
+    alphas = ", ".join(f"{a:g}" for a in SLIP_RESTITUTIONS)
+    return f"sweep={{collision.alpha: [{alphas}], Kn: {{" + ", ".join(lines) + "}}"
+
+
 def z(a, b):
     d, s = a[0] - b[0], math.hypot(a[1], b[1])
     return d / s if s > 0 else NAN
