@@ -665,10 +665,11 @@ def knudsen_minimum(k, v, e):
     return knudsen_minima(k, v, e, [np.ones(len(k), bool)])[0][0]
 
 
-def slip_power_law(cs):
-    """ζ = Kn_fw^δ / φ (Eq. 26) by weighted least squares in logs over the cases with Kn_fw ≤ 0.1:
-    (δ, its error, φ, χ²/dof, points), or None with fewer than 3 points."""
-    x = np.array([c.s("Kn_fw")[0] for c in cs]); z = np.array([c.s("zeta") for c in cs]).reshape(-1, 2)
+def slip_power_law(cs, key="zeta"):
+    """ζ = Kn_fw^δ / φ (Eq. 26) by weighted least squares in logs over the cases with Kn_fw ≤ 0.1, ζ from the scalar
+    `key` (zeta: the paper's 3-bin slope; zeta_wall: the wall fit): (δ, its error, φ, χ²/dof, points), or None with
+    fewer than 3 points."""
+    x = np.array([c.s("Kn_fw")[0] for c in cs]); z = np.array([c.s(key) for c in cs]).reshape(-1, 2)
     m = (x <= 0.1) & np.isfinite(z[:, 0]) & (z[:, 0] > 0) & (z[:, 1] > 0)
     if m.sum() < 3:
         return None
@@ -678,6 +679,19 @@ def slip_power_law(cs):
     cov = np.linalg.inv(A.T @ A)
     chi2 = float(np.sum(((Y - (coef[0] * X + coef[1])) / S) ** 2))
     return coef[0], math.sqrt(cov[0, 0]), math.exp(-coef[1]), chi2 / max(1, m.sum() - 2), int(m.sum())
+
+
+def slip_power_law_groups(cases, ens):
+    """(label, cases) of the slip power law's fits: all e_n ≥ 0.9 together, then each e_n ≥ 0.9 of `ens` present."""
+    return [("all e_n ≥ 0.9", [c for c in cases if c.en >= 0.9])] + \
+        [(f"e_n = {en:g}", pick(cases, en=en)) for en in ens if en >= 0.9 and pick(cases, en=en)]
+
+
+def slip_power_law_cells(r):
+    """A fit of slip_power_law as table cells: δ, δ's error scaled by √(χ²/dof) when above 1, φ, χ²/dof, points."""
+    if r is None:
+        return ["too few points", "", "", "", ""]
+    return [fmt(r[0], r[1]), fmt(r[1] * math.sqrt(max(1.0, r[3])), d=4), fmt(r[2]), fmt(r[3], d=2), r[4]]
 
 
 def intro(w):
@@ -1066,12 +1080,9 @@ def main():
         table(out, ["e_n", "Kn", "Kn_fw", "u_s", "u′_w", "ζ", "T_s", "T′_w", "ζ_T"], rows)
 
         rows = []
-        groups = [("all e_n ≥ 0.9", [c for c in main05 if c.en >= 0.9])] + \
-                 [(f"e_n = {en:g}", pick(main05, en=en)) for en in ENS if en >= 0.9 and pick(main05, en=en)]
-        for lbl, cs in groups:
+        for lbl, cs in slip_power_law_groups(main05, ENS):
             r = slip_power_law(cs)
-            rows.append([lbl] + ([fmt(r[0], r[1]), fmt(r[1] * math.sqrt(max(1.0, r[3])), d=4), fmt(r[2]), fmt(r[3], d=2), r[4]]
-                                 if r else ["too few points", "", "", "", ""]))
+            rows.append([lbl] + slip_power_law_cells(r))
             if r and lbl.startswith("all"):
                 se = r[1] * math.sqrt(max(1.0, r[3]))
                 FINDINGS.append(f"Slip-length power law ζ = Kn_fw^δ/φ over Kn_fw ≤ 0.1, e_n ≥ 0.9: δ = {fmt(r[0], r[1])} "

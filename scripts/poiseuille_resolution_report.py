@@ -38,6 +38,7 @@ SEED_QUANTITIES = [q for q in P.SEED_QUANTITIES if q[0] != "energy_balance_closu
     ("N1_centre", "N₁(0)"), ("N2_centre", "N₂(0)"), ("Kn_fw", "Kn_fw"), ("zeta", "ζ"), ("u_s_wall", "u_s, wall fit"),
     ("zeta_wall", "ζ, wall fit")]
 FINDINGS = []
+BINS_CHANGE = {}  # (e_n, Kn): {quantity: (w0.1 bins x2 - w0.1) in standard errors}, filled by main's convergence table
 
 
 def value(c, key):
@@ -144,27 +145,88 @@ def z(a, b):
 
 
 def seeds_section(out, path):
-    """The jackknife errors of one small-Kn case against the scatter of its realizations (`--seeds`), as gdsmc's
-    seed check wrote them (<error>_seed_chi2_dof, the band in seed_chi2_band_95)."""
+    """The jackknife errors of small-Kn cases against the scatter of their realizations (`--seeds`), as gdsmc's
+    seed check wrote them (<error>_seed_chi2_dof, the band in seed_chi2_band_95); with two variants of one case (the
+    time step halved), their realization means compared in the errors of the scatter."""
     w = out.append
     f = h5py.File(path, "r")
-    c = P.Case(os.path.basename(path), f["cases"]["0"], restitution(f))
-    k = int(c.g["run"].attrs.get("realizations", 0)) if "run" in c.g else 0
-    rows, band, above = report_figures.seed_check(c.d, [(label, q, q + "_error") for q, label in SEED_QUANTITIES], P.fmt)
-    w(f"## Error bars at Kn = {c.kn:g} (e_n = {c.en:g}, {variant(c)}) against the seed scatter")
+    cases = [P.Case(os.path.basename(path), f["cases"][k], restitution(f)) for k in sorted(f["cases"].keys(), key=int)]
+    for c in cases:
+        k = int(c.g["run"].attrs.get("realizations", 0)) if "run" in c.g else 0
+        rows, band, above = report_figures.seed_check(c.d, [(label, q, q + "_error") for q, label in SEED_QUANTITIES], P.fmt)
+        w(f"## Error bars at Kn = {c.kn:g} (e_n = {c.en:g}, {variant(c)}) against the seed scatter")
+        w("")
+        w(f"The case `{variant(c)}` at Kn = {c.kn:g} of the tables above, {k} realizations (`--seeds`); {runs_line(path)}. Each "
+          "quotes its own jackknife error; gdsmc checks them against the realizations' scatter (χ²/dof of the values about "
+          f"their mean over the mean squared error: 1 when the errors hold, 95 % band {band}). sd/error = √(χ²/dof) is the "
+          "factor by which one run's error understates (> 1) or overstates (< 1) the scatter: the differences in standard "
+          "errors above are to be divided by it. poiseuille.md section 12 does the same for the short channel at Kn = 0.5.")
+        w("")
+        P.table(out, report_figures.SEED_CHECK_HEADER, rows)
+        w("gdsmc's summary line: " + report_figures.h5_text(c.d.attrs.get("seed_check", "")) + ".")
+        w("")
+        FINDINGS.append(f"Error bars at Kn = {c.kn:g}, e_n = {c.en:g} ({variant(c)}, {k} realizations, band {band}): "
+                        + (("the jackknife errors understate the seed scatter of " + ", ".join(above)) if above
+                           else "every quantity's jackknife error holds against the seed scatter"))
+    by = {variant(c): c for c in cases}
+    if "w0.2" in by and "w0.2 dt/2" in by:
+        a, b = by["w0.2 dt/2"], by["w0.2"]
+        zs = [(label, value(a, q), value(b, q), z(value(a, q), value(b, q))) for q, label in SEED_QUANTITIES]
+        w(f"**The time step against the seed scatter** (Kn = {a.kn:g}, e_n = {a.en:g}): the realizations' means of `w0.2 dt/2` "
+          "and `w0.2`, each with the error of its own realizations' scatter, and their difference in those errors. The "
+          "convergence table above compares one realization of each in their jackknife errors.")
+        w("")
+        P.table(out, ["quantity", "w0.2 dt/2", "w0.2", "difference [σ]"],
+                [[label, P.fmt(*x), P.fmt(*y), f"{d:+.1f}" if np.isfinite(d) else "—"] for label, x, y, d in zs])
+        big = [f"{label} {d:+.1f}σ" for label, _, _, d in zs if np.isfinite(d) and abs(d) > 3]
+        FINDINGS.append(f"Time step at Kn = {a.kn:g}, e_n = {a.en:g} over the realizations: "
+                        + (("dt/2 − dt beyond 3σ of the scatter in " + ", ".join(big)) if big
+                           else "dt/2 and dt agree within 3σ of the scatter in every quantity")
+                        + " (largest " + ", ".join(f"{label} {d:+.1f}σ" for label, _, _, d in
+                                                   sorted((t for t in zs if np.isfinite(t[3])), key=lambda t: -abs(t[3]))[:3]) + ")")
+
+
+def slip_section(out, path):
+    """Eq. 26's exponent from the wall fit (`--slip`): the main and bimodality sweeps' cases with e_n >= 0.9 and Kn <= 0.1,
+    rerun with wall_fit_reach 1 lambda0, fitted with the paper's 3-bin zeta and with the wall fit's, side by side."""
+    w = out.append
+    f = h5py.File(path, "r")
+    cases = sorted((P.Case("slip_wall_fit", f["cases"][k], NAN) for k in f["cases"].keys()), key=lambda c: (-c.en, c.kn))
+    ens = sorted({c.en for c in cases}, reverse=True)
+    w("## The slip power law from the wall fit (Eq. 26)")
     w("")
-    w(f"The case `{variant(c)}` at Kn = {c.kn:g} of the tables above, {k} realizations (`--seeds`); {runs_line(path)}. Each "
-      "quotes its own jackknife error; gdsmc checks them against the realizations' scatter (χ²/dof of the values about "
-      f"their mean over the mean squared error: 1 when the errors hold, 95 % band {band}). sd/error = √(χ²/dof) is the "
-      "factor by which one run's error understates (> 1) or overstates (< 1) the scatter: the differences in standard "
-      "errors above are to be divided by it. poiseuille.md section 12 does the same for the short channel at Kn = 0.5.")
+    w("The main and bimodality sweeps' cases with e_n ≥ 0.9 and Kn ≤ 0.1 (â = 0.5, diffuse walls, the rule's equal layers and "
+      "bins, 5·10⁴ particles), rerun by `scripts/validate-poiseuille-resolution --slip` with `poiseuille_channel`'s wall fit "
+      "over one λ₀ (`wall_fit_reach: 1`). The cases share the sweep's seed, so each is the trajectory of the same case in "
+      "`scripts/validate-poiseuille`, and ζ (the paper's: the wall-adjacent bin's u_s over a straight line through 3 bins, "
+      "Eqs. 23, 25) is poiseuille.md's. ζ, wall fit = u_s/u′ at the wall itself from the quadratic over the bins within "
+      "λ₀ of it. Both are divided by W; Kn_fw is the same in both fits.")
     w("")
-    P.table(out, report_figures.SEED_CHECK_HEADER, rows)
-    w("gdsmc's summary line: " + report_figures.h5_text(c.d.attrs.get("seed_check", "")) + ".")
+    rows = [[f"{c.en:g}", f"{c.kn:g}"] + [P.fmt(*c.s(q)) for q in ("Kn_fw", "u_s", "du_dy_fw", "zeta", "u_s_wall", "du_dy_wall", "zeta_wall")]
+            for c in cases]
+    P.table(out, ["e_n", "Kn", "Kn_fw", "u_s", "u′_w", "ζ", "u_s, wall fit", "u′, wall fit", "ζ, wall fit"], rows)
+    if BINS_CHANGE:
+        w("Converged in the bins: twice the sampling bins move ζ by "
+          + ", ".join(f"{d['zeta']:+.1f}σ" for d in BINS_CHANGE.values()) + " and the wall fit's ζ by "
+          + ", ".join(f"{d['zeta_wall']:+.1f}σ" for d in BINS_CHANGE.values()) + " ("
+          + ", ".join(f"e_n = {en:g}, Kn = {kn:g}" for en, kn in BINS_CHANGE) + "; the resolution tables above).")
+        w("")
+    rows, fits = [], {}
+    for lbl, cs in P.slip_power_law_groups(cases, ens):
+        fits[lbl] = (P.slip_power_law(cs), P.slip_power_law(cs, "zeta_wall"))
+        rows.append([lbl] + P.slip_power_law_cells(fits[lbl][0]) + P.slip_power_law_cells(fits[lbl][1]))
+    w("Power-law fits ζ = Kn_fw^δ / φ (weighted least squares in logs over Kn_fw ≤ 0.1, δ's error from the fit covariance, "
+      "and scaled by √(χ²/dof) where that is above 1); the paper: δ ≈ 0.96:")
     w("")
-    FINDINGS.append(f"Error bars at Kn = {c.kn:g}, e_n = {c.en:g} ({variant(c)}, {k} realizations, band {band}): "
-                    + (("the jackknife errors understate the seed scatter of " + ", ".join(above)) if above
-                       else "every quantity's jackknife error holds against the seed scatter"))
+    P.table(out, ["cases", "δ (3 bins)", "× √(χ²/dof)", "φ", "χ²/dof", "points",
+                  "δ (wall fit)", "× √(χ²/dof)", "φ", "χ²/dof", "points"], rows)
+    for lbl, (r3, rw) in fits.items():
+        if lbl.startswith("all") and r3 and rw:
+            s3, sw = (r[1] * math.sqrt(max(1.0, r[3])) for r in (r3, rw))
+            FINDINGS.append(f"Slip power law (Eq. 26), e_n ≥ 0.9, Kn_fw ≤ 0.1: δ = {P.fmt(rw[0], sw)} from the wall fit "
+                            f"(χ²/dof {rw[3]:.1f}, {rw[4]} points; {(rw[0] - 0.96) / sw:+.1f}σ from the paper's 0.96) against "
+                            f"{P.fmt(r3[0], s3)} from the paper's 3-bin slope (χ²/dof {r3[3]:.1f}; {(r3[0] - 0.96) / s3:+.1f}σ); "
+                            f"errors scaled by √(χ²/dof)")
 
 
 def main():
@@ -174,7 +236,8 @@ def main():
     paths = sorted(glob.glob(os.path.join(outdir, "resolution_en*.h5")))  # one per e_n, or more (cases added later)
     kpath = os.path.join(outdir, "knudsen_minimum.h5")
     seed_paths = sorted(glob.glob(os.path.join(outdir, "seeds_kn*.h5")))
-    all_paths = paths + seed_paths + ([kpath] if os.path.exists(kpath) else [])
+    slip_paths = [p for p in [os.path.join(outdir, "slip_wall_fit.h5")] if os.path.exists(p)]
+    all_paths = paths + seed_paths + slip_paths + ([kpath] if os.path.exists(kpath) else [])
     w("# Validation: paper 004's small-Kn channels resolved, and the Knudsen minimum on finer grids")
     w("")
     w("Every path named in this document is in the source tree. Issue 29 item 3. Generated by "
@@ -257,6 +320,8 @@ def main():
                 if ca is None or cb is None:
                     continue
                 zs = [z(value(ca, q), value(cb, q)) for q, _ in QUANTITIES]
+                if label == "sampling bins":
+                    BINS_CHANGE[(en, kn)] = dict(zip((q for q, _ in QUANTITIES), zs))
                 rows.append([f"{kn:g}", label] + [f"{x:+.1f}" if np.isfinite(x) else "—" for x in zs])
                 worst.setdefault(label, []).extend((abs(x), f"{l} at Kn = {kn:g}", x) for x, (_, l) in zip(zs, QUANTITIES) if np.isfinite(x))
         P.table(out, ["Kn", "change"] + [l for _, l in QUANTITIES], rows)
@@ -362,6 +427,10 @@ def main():
 
     for path in seed_paths:
         seeds_section(out, path)
+
+    slip_path = os.path.join(outdir, "slip_wall_fit.h5")
+    if os.path.exists(slip_path):
+        slip_section(out, slip_path)
 
     if os.path.exists(kpath):
         f = h5py.File(kpath, "r")
