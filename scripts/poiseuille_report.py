@@ -41,8 +41,13 @@ RUNS = [  # name, what, default e_n (when not a sweep axis)
 ]
 # The seed-check runs by their stop (τ0; t_r = 4 τ0 at Kn = 0.5), section 12.
 SEED_RUNS = [("seeds", 88), ("seeds_176", 176), ("seeds_264", 264)]
-RNG = np.random.default_rng(20170222)
 NMC = 200
+
+
+def redraws():
+    """A fresh generator for one Monte Carlo error: each estimate draws the same numbers whatever the report
+    computed before it, so an error does not move when cases are added to a report."""
+    return np.random.default_rng(20170222)
 FINDINGS = []
 
 
@@ -137,8 +142,9 @@ class Case:
                 n = len(T)
                 e = np.where(np.isfinite(e), e, 0.0)
                 ds, ys = [], []
+                rng = redraws()
                 for _ in range(NMC):
-                    z = RNG.standard_normal(n)
+                    z = rng.standard_normal(n)
                     z = 0.5 * (z + z[::-1]) * math.sqrt(2)  # mirror bins share a draw (symmetrised profile)
                     if n % 2:
                         z[n // 2] /= math.sqrt(2)
@@ -542,8 +548,9 @@ def sval(c, q):
         # error: 100 redraws with the per-bin errors (mirror bins share a draw: symmetrised profile)
         e = np.where(np.isfinite(e), e, 0.0)
         draws = []
+        rng = redraws()
         for _ in range(100):
-            z = RNG.standard_normal(n)
+            z = rng.standard_normal(n)
             z = 0.5 * (z + z[::-1]) * math.sqrt(2)
             draws.append(local_centre(v + e * z))
         err = float(np.std(draws, ddof=1))
@@ -604,7 +611,8 @@ def crossing_mc(k, v, e, up=True):
     c0 = crossing(k, v, up)
     if not np.isfinite(c0):
         return NAN, NAN
-    draws = [crossing(k, v + np.nan_to_num(e) * RNG.standard_normal(len(v)), up) for _ in range(NMC)]
+    rng = redraws()
+    draws = [crossing(k, v + np.nan_to_num(e) * rng.standard_normal(len(v)), up) for _ in range(NMC)]
     draws = np.log(np.array(draws)[np.isfinite(draws)])
     return c0, (c0 * float(np.std(draws, ddof=1)) if len(draws) > 2 else NAN)
 
@@ -642,8 +650,9 @@ def knudsen_minima(k, v, e, grids):
     shared points count once in a difference."""
     base = [parabola_minimum(k[g], v[g]) for g in grids]
     draws = []
+    rng = redraws()
     for _ in range(NMC):
-        vv = v + e * RNG.standard_normal(len(v))
+        vv = v + e * rng.standard_normal(len(v))
         draws.append([parabola_minimum(k[g], vv[g]) for g in grids])
     d = np.array(draws)  # NMC x grids x 2
     out = []
@@ -1048,7 +1057,8 @@ def main():
                 rr = [r.real for r in np.roots(c) if abs(r.imag) < 1e-12 and r.real < k[m].min()]
                 return max(rr) if rr else NAN
             r0 = root(v[m])
-            draws = np.array([root(v[m] + e[m] * RNG.standard_normal(m.sum())) for _ in range(NMC)])
+            rng = redraws()
+            draws = np.array([root(v[m] + e[m] * rng.standard_normal(m.sum())) for _ in range(NMC)])
             fin = draws[np.isfinite(draws)]
             rows.append([f"{en:g}", fmt(r0, np.std(fin, ddof=1) if len(fin) > 2 else NAN),
                          f"{100 * len(fin) / NMC:.0f} %"])
