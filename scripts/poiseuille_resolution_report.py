@@ -456,7 +456,7 @@ def main():
         w(f"Kn " + ", ".join(f"{k:g}" for k in kns) + f", {K} realizations per case (Q's error from their scatter). "
           "Kn_min: the parabola in log Kn through the smallest Q and its two neighbours (poiseuille_report.py), on "
           + "; ".join(f"{name} ({len(g)})" for name, g in grids) + ". The grids share their points, so a difference between "
-          "two of them is in its own standard error, from joint redraws of every Q within its error: the grid has stopped "
+          f"two of them is in its own standard error, from {P.NMC_MINIMUM} joint redraws of every Q within its error: the grid has stopped "
           "moving the minimum where the finest two agree.")
         w("")
         rows = []
