@@ -437,9 +437,8 @@ def main():
     for path in seed_paths:
         seeds_section(out, path)
 
-    slip_path = os.path.join(outdir, "slip_wall_fit.h5")
-    if os.path.exists(slip_path):
-        slip_section(out, slip_path)
+    for path in slip_paths:
+        slip_section(out, path)
 
     if os.path.exists(kpath):
         f = h5py.File(kpath, "r")
