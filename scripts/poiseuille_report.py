@@ -51,6 +51,8 @@ def redraws():
     """A fresh generator for one Monte Carlo error: each estimate draws the same numbers whatever the report
     computed before it, so an error does not move when cases are added to a report."""
     return np.random.default_rng(20170222)
+
+
 FINDINGS = []
 
 

@@ -173,7 +173,8 @@ def seeds_section(out, path):
     by = {variant(c): c for c in cases}
     if "w0.2" in by and "w0.2 dt/2" in by:
         a, b = by["w0.2 dt/2"], by["w0.2"]
-        zs = [(label, value(a, q), value(b, q), z(value(a, q), value(b, q))) for q, label in SEED_QUANTITIES]
+        pairs = [(label, value(a, q), value(b, q)) for q, label in SEED_QUANTITIES]
+        zs = [(label, x, y, z(x, y)) for label, x, y in pairs]
         w(f"**The time step against the seed scatter** (Kn = {a.kn:g}, e_n = {a.en:g}): the realizations' means of `w0.2 dt/2` "
           "and `w0.2`, each with the error of its own realizations' scatter, and their difference in those errors. The "
           "convergence table above compares one realization of each in their jackknife errors.")
