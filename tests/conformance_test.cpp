@@ -121,6 +121,11 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
        "checkpoint",
        {"conformance_forgetful", "resumed differs from the run uninterrupted", "running_mean_temperature",
         "save_state must write every member"}},
+      // A diagnostic that declares it reads only the kinetic energy of ctx.moments and reads T too.
+      {"conformance_undeclared_moments",
+       "diagnostic.moments_read",
+       {"conformance_undeclared_moments", "declares that it reads kinetic_energy", "series 'temperature'",
+        "declare every part"}},
       // A white-noise thermostat declaring half its heating rate.
       {"conformance_white_noise_half",
        "forcing.expected_energy",

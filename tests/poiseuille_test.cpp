@@ -33,6 +33,7 @@ struct Channel {
   std::uint64_t seed = 21;
   std::string pair_selection;  // run.pair_selection ("": the default)
   double wall_fit_reach = 0;   // poiseuille_channel's wall_fit_reach in lambda0 (0: off)
+  std::string more_diagnostics;  // pipeline lines after poiseuille_channel's ("  - temperature\n")
 };
 
 std::string num(double v) {  // every digit: an a_hat of 0.1 must stay 0.1
@@ -63,8 +64,8 @@ std::string channel_yaml(const Channel& c) {
          "diagnostics:\n  - {plugin: poiseuille_channel, steady_window: " + std::to_string(c.window_tau0) +
          ", min_time: " + std::to_string(c.min_time_tau0) + ", steady_tolerance: " + num(c.steady_tolerance) +
          (c.steady_sigmas >= 0 ? ", steady_sigmas: " + num(c.steady_sigmas) : std::string()) +
-         (c.wall_fit_reach > 0 ? ", wall_fit_reach: " + num(c.wall_fit_reach) : std::string()) + "}\n"
-         "output: {file: out.h5}\n";
+         (c.wall_fit_reach > 0 ? ", wall_fit_reach: " + num(c.wall_fit_reach) : std::string()) + "}\n" +
+         c.more_diagnostics + "output: {file: out.h5}\n";
 }
 
 // Paper 004's clustered channel (Kn = 0.05, e_n = 0.7, a_hat = 0.5, the rule's 180 layers and
@@ -215,6 +216,32 @@ TEST(Poiseuille, ASmallClusteredChannelAcceptsMostOfItsCandidatesByDefault) {
   EXPECT_GT(accepted[0], 0.6) << "the default (weighted pairs)";
   EXPECT_LT(missed[0], 1e-12) << "weighted pairs miss nothing but round-off";
   EXPECT_LT(accepted[1], 0.3) << "uniform: the case is not a clustered one if one majorant serves it";
+}
+
+// The host measures only the parts of the sampled moments that the run's diagnostics read
+// (MomentsRead): poiseuille_channel and energy_balance read the kinetic energy alone, so their
+// runs skip the peculiar moments' pass. Beside a diagnostic that reads every part (temperature)
+// the host measures them all, and every dataset of the two declaring diagnostics must be the same
+// to the bit: what the host skips changes nothing of what they compute.
+TEST(Poiseuille, DiagnosticsThatReadOnlyTheEnergyGiveTheSameBitsWhateverElseIsMeasured) {
+  std::vector<std::string> names;
+  std::vector<std::vector<std::string>> bytes(2);
+  for (int k = 0; k < 2; ++k) {
+    Channel c = small_clustered_channel();
+    c.stop_tau0 = 30;
+    c.window_tau0 = 2;
+    c.min_time_tau0 = 4;
+    c.more_diagnostics = k == 0 ? "  - energy_balance\n" : "  - energy_balance\n  - temperature\n";
+    Ran run(c);
+    if (k == 0)
+      for (const auto& n : h5::datasets(run.file.id()))
+        if (n.rfind("/diagnostics/poiseuille_channel/", 0) == 0 || n.rfind("/diagnostics/energy_balance/", 0) == 0)
+          names.push_back(n);
+    for (const auto& n : names) bytes[k].push_back(h5::content_bytes(run.file.id(), n));
+    if (k == 1) ASSERT_TRUE(h5::is_dataset(run.file.id(), "/diagnostics/temperature/temperature"));
+  }
+  ASSERT_GE(names.size(), 20u);
+  for (std::size_t j = 0; j < names.size(); ++j) EXPECT_EQ(bytes[0][j], bytes[1][j]) << names[j];
 }
 
 // The steady test must not mistake noise for a transient. Maxwell walls of accommodation 0.5 at

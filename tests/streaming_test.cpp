@@ -288,4 +288,34 @@ TEST(CellGrid, OnePassSampledMomentsAroundAConservedMeanAreTheTwoPassMoments) {
   EXPECT_EQ(off.kinetic_energy, two.kinetic_energy);
 }
 
+// The sampled moments of a slab with only some MomentsPart asked for: those asked for have the bits
+// of the full measurement (the same passes in the same order), the others are NaN (the cell means'
+// pointer null), so that a diagnostic that reads a part it did not declare shows it.
+TEST(CellGrid, SampledMomentsKeepThePartsAskedForToTheBitAndLeaveTheOthersNaN) {
+  Slab s(10000, 5);
+  s.grid.assign_and_sort(s.y.data(), s.cell.data(), s.y.size());
+  SampledMoments all, energy, means, none;
+  s.grid.sampled_moments(s.span, 1e-3, all);
+  ASSERT_NE(all.cell_mean_velocity, nullptr);
+  const std::vector<double> cell_means(all.cell_mean_velocity, all.cell_mean_velocity + 3 * s.grid.count());
+  s.grid.sampled_moments(s.span, 1e-3, energy, nullptr, nullptr, moments_energy);
+  s.grid.sampled_moments(s.span, 1e-3, means, nullptr, nullptr, moments_means);
+  s.grid.sampled_moments(s.span, 1e-3, none, nullptr, nullptr, 0);
+  ASSERT_TRUE(std::isfinite(all.local.temperature) && std::isfinite(all.local.sixth));
+  EXPECT_EQ(energy.kinetic_energy, all.kinetic_energy);
+  EXPECT_EQ(energy.cell_mean_velocity, nullptr);
+  for (const SampledMoments* m : {&energy, &means, &none}) {
+    EXPECT_EQ(m->local.count, 10000u);
+    EXPECT_EQ(m->number_density, 1e-3);
+    EXPECT_TRUE(std::isnan(m->local.temperature) && std::isnan(m->local.fourth) && std::isnan(m->local.sixth));
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) EXPECT_TRUE(std::isnan(m->local.second[a][b]));
+  }
+  EXPECT_TRUE(std::isnan(means.kinetic_energy) && std::isnan(none.kinetic_energy));
+  EXPECT_TRUE(std::isnan(energy.local.mean[0]) && std::isnan(none.local.mean[2]));
+  ASSERT_NE(means.cell_mean_velocity, nullptr);
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(means.local.mean[a], all.local.mean[a]);
+  for (std::size_t k = 0; k < cell_means.size(); ++k) EXPECT_EQ(means.cell_mean_velocity[k], cell_means[k]) << k;
+}
+
 }  // namespace

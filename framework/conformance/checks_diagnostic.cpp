@@ -13,9 +13,10 @@ struct DiagnosticRun {
 // Feed a fresh diagnostic a fixed sequence of states (optionally with the particles permuted)
 // the way the engine does: begin, sample every state, record every other one, finish.
 // The diagnostic's streams come from `streams` (the harness's factory, or another seed's), its
-// shared moments from the host's CellGrid::sampled_moments, as in the engine.
+// shared moments from the host's CellGrid::sampled_moments, as in the engine (the MomentsPart `parts`).
 DiagnosticRun run_diagnostic(Harness& h, const std::vector<Snapshot>& states, const std::vector<StepContext>& ctxs,
-                             const std::vector<std::uint32_t>* perm, const StreamFactory& streams) {
+                             const std::vector<std::uint32_t>* perm, const StreamFactory& streams,
+                             std::uint32_t parts = moments_all) {
   DiagnosticRun r;
   r.out = std::make_unique<DiagnosticOutput>(h.use->instance_name, &r.summary);
   r.out->set_bins(bin_centres_lambda0(h.sys));  // as the engine does
@@ -26,7 +27,7 @@ DiagnosticRun run_diagnostic(Harness& h, const std::vector<Snapshot>& states, co
   for (std::size_t k = 0; k < states.size(); ++k) {
     h.restore(states[k], perm);
     h.ctx = ctxs[k];
-    h.sample_moments();
+    h.sample_moments(parts);
     h.plugin_streams_for(StreamPurpose::diagnostic, &streams);
     d->sample(h.ctx, h.span());
     h.ctx.moments = nullptr;
@@ -159,6 +160,32 @@ Result check_diagnostic_order(const Subject& s) {
   return pass(fmt("stochastic diagnostic (its output depends on its random stream): permuting the %zu particles changes "
                   "the output by %.3g (rms relative), no more than another random stream does (%.3g)", n, by_order,
                   by_seed));
+}
+
+// A diagnostic that declares the parts of the sampled moments it reads (MomentsRead) gives the same
+// output, bit for bit, when the host measures only those parts (the others NaN) as when it measures all.
+Result check_diagnostic_moments_read(const Subject& s) {
+  auto d = diagnostic_states(s, 500);
+  const auto object = d.h->fresh_subject();
+  const auto* read = static_cast<const MomentsRead*>(object->extension(moments_read_id));
+  if (!read) return pass("offers no moments_read extension: the host measures every part of the sampled moments for it");
+  const std::uint32_t parts = read->parts & moments_all;
+  auto names = [](std::uint32_t bits) {
+    std::vector<std::string> n;
+    if (bits & moments_means) n.push_back("means (local.mean, cell_mean_velocity)");
+    if (bits & moments_energy) n.push_back("kinetic_energy");
+    if (bits & moments_peculiar) n.push_back("peculiar moments (local.second, temperature, fourth, sixth)");
+    return n.empty() ? std::string("none") : join(n, ", ");
+  };
+  const StreamFactory same = d.h->factory;
+  const DiagnosticRun all = run_diagnostic(*d.h, d.states, d.ctxs, nullptr, same);
+  const DiagnosticRun declared = run_diagnostic(*d.h, d.states, d.ctxs, nullptr, same, parts);
+  const std::string diff = compare_outputs(*all.out, *declared.out, 0, 0);
+  if (!diff.empty())
+    return fail("it declares that it reads " + names(parts) + " of ctx.moments, but with only those measured (" +
+                names(moments_all & ~parts) + " NaN) its output changes: " + diff +
+                "; declare every part its sample reads (MomentsRead, plugin.hpp)");
+  return pass("reads " + names(parts) + " of ctx.moments: with only those measured its output is the same to the bit");
 }
 
 }  // namespace gdsmc::host::conformance

@@ -68,9 +68,10 @@ struct Harness {
   ParticleSpan span() { return particles.span(); }
   // The per-cell and global moments of the current state (StepContext::cells / global).
   void update_moments() { grid.cell_moments(span(), sys.number_density, cells, global); }
-  // The shared sampled moments (StepContext::moments) of the current state.
-  void sample_moments() {
-    grid.sampled_moments(span(), sys.number_density, moments);
+  // The shared sampled moments (StepContext::moments) of the current state: the MomentsPart
+  // `parts`, the others NaN, as the engine measures them.
+  void sample_moments(std::uint32_t parts = moments_all) {
+    grid.sampled_moments(span(), sys.number_density, moments, nullptr, nullptr, parts);
     ctx.moments = &moments;
   }
   // Key the streams to ctx.step and hand the plugin of `purpose` its streams through ctx.streams.

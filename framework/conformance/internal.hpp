@@ -178,6 +178,7 @@ Result check_initial_state(const Subject& s);
 Result check_diagnostic_output(const Subject& s);
 double rms_relative_difference(const DiagnosticOutput& a, const DiagnosticOutput& b);
 Result check_diagnostic_order(const Subject& s);
+Result check_diagnostic_moments_read(const Subject& s);
 
 
 }  // namespace gdsmc::host::conformance

@@ -53,7 +53,9 @@ Checks (by kind):
                types: opposite plane, v_x changed by exactly -+aL)
   initial      initial.state (finite state, positive temperature)
   diagnostic   diagnostic.output (one value per series per record, units given),
-               diagnostic.particle_order (values do not depend on the particle order)
+               diagnostic.particle_order (values do not depend on the particle order),
+               diagnostic.moments_read (with only the parts of ctx.moments it declares,
+               the same output to the bit)
 
 Options:
   --params FILE.yaml   parameter values for the plugin (a mapping name: value, units as in a
@@ -117,7 +119,8 @@ std::vector<Check> checks_for(PluginKind kind) {
     case PluginKind::initial_state: c.push_back({"initial.state", check_initial_state}); break;
     case PluginKind::diagnostic:
       c.insert(c.end(), {{"diagnostic.output", check_diagnostic_output},
-                         {"diagnostic.particle_order", check_diagnostic_order}});
+                         {"diagnostic.particle_order", check_diagnostic_order},
+                         {"diagnostic.moments_read", check_diagnostic_moments_read}});
       break;
   }
   return c;

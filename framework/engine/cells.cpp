@@ -374,12 +374,30 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
 }
 
 void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool,
-                               const double* conserved_mean) const {
+                               const double* conserved_mean, std::uint32_t parts) const {
   out = SampledMoments{};
   out.number_density = mean_density;
   VelocityMoments& m = out.local;
   m.count = p.count;
   if (p.count == 0) return;
+  measure_moments(p, out, pool, conserved_mean, parts);
+  // The parts not asked for: NaN, so that a diagnostic that reads one it did not declare shows it.
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!(parts & moments_means)) {
+    m.mean[0] = m.mean[1] = m.mean[2] = nan;
+    out.cell_mean_velocity = nullptr;
+  }
+  if (!(parts & moments_energy)) out.kinetic_energy = nan;
+  if (!(parts & moments_peculiar)) {
+    for (auto& row : m.second) row[0] = row[1] = row[2] = nan;
+    m.temperature = m.fourth = m.sixth = nan;
+  }
+}
+
+void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkPool* pool, const double* conserved_mean,
+                               std::uint32_t parts) const {
+  if (parts == 0) return;
+  VelocityMoments& m = out.local;
   const std::size_t pieces = piece_count();
   pieces_.resize(pieces);
   auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
@@ -422,6 +440,7 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
   for (int a = 0; a < 3; ++a) m.mean[a] = g[a] * inv;
   out.kinetic_energy = 0.5 * v2;  // 004 Eq. A1 (m = 1)
   out.cell_mean_velocity = u;
+  if (!(parts & moments_peculiar)) return;
   // Pass 2: moments of the local peculiar velocities V = v - u_I.
   run(pieces, [&](std::size_t k) {
     std::size_t c, b, e;

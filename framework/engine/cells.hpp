@@ -133,8 +133,10 @@ class CellGrid {
   // mean (computed fresh here), cumulants, pressure tensor, kinetic energy. Two passes (the means,
   // then the peculiar sums), or, in a homogeneous system given `conserved_mean` (a mean velocity
   // the caller knows has not moved since it was measured), one pass around it, checked below.
+  // Only the MomentsPart `parts` asked for are kept, the others NaN (cell_mean_velocity nullptr):
+  // without moments_peculiar the second pass is not made, without any part neither is.
   void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool = nullptr,
-                       const double* conserved_mean = nullptr) const;
+                       const double* conserved_mean = nullptr, std::uint32_t parts = moments_all) const;
   // How far the mean may have moved from `conserved_mean`, as |u - u'|^2 / (3 T), before the one
   // pass is discarded for two: the fourth and sixth moments around u' differ from those around u
   // by a relative O(|u - u'| / sqrt(T)), here at most ~1e-10.
@@ -175,6 +177,9 @@ class CellGrid {
                            Run&& run) const;
   template <class Run>
   bool one_pass_moments(const ParticleSpan& p, const double* conserved_mean, SampledMoments& out, Run&& run) const;
+  // sampled_moments' passes: every part with moments_peculiar, the means and energy without it.
+  void measure_moments(const ParticleSpan& p, SampledMoments& out, WorkPool* pool, const double* conserved_mean,
+                       std::uint32_t parts) const;
   // The particles of piece k: [begin, end) of members(cell) (or of every particle), and its cell.
   void piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
   // piece_range, and the piece's sums set to zero for a pass to fill.

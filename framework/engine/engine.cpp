@@ -443,6 +443,9 @@ void Engine::begin_diagnostics() {
     for (std::size_t k = 0; k < slots_.size(); ++k)
       if (slots_[k].use->instance_name == p.stop_steady->group) steady_slot_ = static_cast<int>(k);
   const std::vector<double> centres = bin_centres_lambda0(system_);
+  // The parts of the sampled moments that some diagnostic reads (MomentsRead); the host's own use
+  // of them (update_moments) when only the collisions change the velocities.
+  moments_parts_ = moments_follow_collisions_ ? static_cast<std::uint32_t>(moments_all) : 0u;
   outputs_.reserve(slots_.size());
   for (auto& slot : slots_) {
     outputs_.emplace_back(slot.use->instance_name, &summary_);
@@ -455,6 +458,8 @@ void Engine::begin_diagnostics() {
       // the step is exact at t + dt and the one before it is the state at t: the sample is taken alone.
       slot.bracketed = p.sampling_bracketed && !moments_follow_collisions_ &&
                        slot.object->extension(bracketed_sampling_id) != nullptr;
+      const auto* read = static_cast<const MomentsRead*>(slot.object->extension(moments_read_id));
+      moments_parts_ |= read ? read->parts : static_cast<std::uint32_t>(moments_all);
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(*slot.use) + ": " + e.what());
     }
@@ -492,7 +497,7 @@ void Engine::update_moments() {
 
 void Engine::measure_sampled_moments() {
   grid_.sampled_moments(store_.span(), system_.number_density, sampled_, &pool_,
-                        moments_follow_collisions_ ? global_.mean_velocity : nullptr);
+                        moments_follow_collisions_ ? global_.mean_velocity : nullptr, moments_parts_);
   sampled_step_ = ctx_.step;
 }
 

@@ -214,6 +214,7 @@ class Engine {
   CellMoments global_;
   SampledMoments sampled_;
   std::uint64_t sampled_step_ = static_cast<std::uint64_t>(-1);  // the step sampled_ was measured at
+  std::uint32_t moments_parts_ = moments_all;  // the MomentsPart bits sampled_ measures (begin_diagnostics)
   // A homogeneous system without forcings: only collisions change velocities, so between passes
   // the mean stays and T follows their declared energy (update_moments).
   bool moments_follow_collisions_ = false;

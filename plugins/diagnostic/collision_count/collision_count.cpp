@@ -6,7 +6,7 @@ namespace {
 class CollisionCount final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "collision_count";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Collisions per particle s(t), acceptance ratio, majorant exceedances";
   static constexpr const char* documentation =
       "s(t) = (accepted collisions up to t) / N is the internal clock of paper 000 (text after\n"
@@ -25,6 +25,8 @@ class CollisionCount final : public gdsmc::Diagnostic {
     exc_ = out.series("majorant_exceeded", "1", "candidates whose rate exceeded the majorant, since the start");
   }
   void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan&) override {}
+  // Reads none of the host's sampled moments (MomentsRead): the step context's counts only.
+  const void* extension(const char* id) const override { return gdsmc::offer_moments_read<0>(id); }
   void record(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
     const auto collisions = static_cast<double>(ctx.collisions), candidates = static_cast<double>(ctx.candidates);
     out.append(n_, collisions);

@@ -14,7 +14,7 @@ namespace {
 class EnergyBalance final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "energy_balance";
-  static constexpr const char* version = "1.1.1";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Kinetic energy E(t) per particle and its balance E - E0 = sum of the energy ledger [T0]";
   static constexpr const char* documentation =
@@ -97,6 +97,8 @@ class EnergyBalance final : public gdsmc::Diagnostic {
     in.read("last_e", last_e_);
     window_.load(in);
   }
+  // Reads only the kinetic energy of the host's sampled moments (MomentsRead).
+  const void* extension(const char* id) const override { return gdsmc::offer_moments_read<gdsmc::moments_energy>(id); }
 
  private:
   static double ledger_total(const gdsmc::StepContext& ctx) {

@@ -124,7 +124,7 @@ constexpr std::size_t kMaxBatches = 64;
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.7.0";
+  static constexpr const char* version = "1.8.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation =
@@ -500,7 +500,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Reads only the kinetic energy of the host's sampled moments (MomentsRead).
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_energy>(id);
+  }
  private:
   struct Ledger {
     double time = 0, wall_momentum = 0, wall_energy = 0, collisions = 0, forcings = 0;

@@ -41,7 +41,7 @@ constexpr ProfileColumn kColumns[kProf] = {
 class Profiles final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "profiles";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary =
       "Profiles along y per sampling bin: n, u, T, P_ij, q_x, q_y, N1, N2, Kn (window averages)";
   static constexpr const char* documentation =
@@ -93,7 +93,11 @@ class Profiles final : public gdsmc::Diagnostic {
   void load_state(gdsmc::StateReader& in) override { acc_.load(in, "acc"); }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Reads nothing of the host's sampled moments (MomentsRead).
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<0>(id);
+  }
  private:
   // The record-time formulas of the documentation, from one bin's moments over the window.
   void compute_bin(const gdsmc::BinMoments& m, std::size_t b) {

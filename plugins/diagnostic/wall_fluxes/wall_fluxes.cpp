@@ -12,7 +12,7 @@ namespace {
 class WallFluxes final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "wall_fluxes";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Hit rate, momentum flux and energy flux given to the gas by each boundary, per unit area and time";
   static constexpr const char* documentation =
@@ -101,6 +101,8 @@ class WallFluxes final : public gdsmc::Diagnostic {
     in.read("current_time", current_time_);
     in.read("checked", checked_);
   }
+  // Reads none of the host's sampled moments (MomentsRead): the boundary tallies only.
+  const void* extension(const char* id) const override { return gdsmc::offer_moments_read<0>(id); }
 
  private:
   // The two walls' tallies as three arrays (hits, momentum x/y/z, energy), y_min first.

@@ -119,6 +119,15 @@ struct SampledMoments {
   double kinetic_energy = 0;       // E = (m/2) sum_i v_i^2, laboratory velocities (004 Eq. A1)
 };
 
+// The parts of SampledMoments (SDK 6.2): the host measures those that some diagnostic reads
+// (MomentsRead, plugin.hpp) and leaves the others NaN.
+enum MomentsPart : std::uint32_t {
+  moments_means = 1u << 0,     // local.mean and cell_mean_velocity (local.count, number_density: always)
+  moments_energy = 1u << 1,    // kinetic_energy
+  moments_peculiar = 1u << 2,  // local.second, local.temperature, local.fourth, local.sixth (a2(), a3())
+  moments_all = moments_means | moments_energy | moments_peculiar,
+};
+
 // What one boundary (y_min or y_max) has exchanged with the gas since the start of the run: the
 // host tallies every interaction from the particle's velocity before and after it.
 struct BoundaryTally {

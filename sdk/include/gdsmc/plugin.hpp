@@ -94,6 +94,30 @@ inline const void* offer_bracketed_sampling(const char* id) {
 // (histogram counts, particle samples): 1/2 for each sample of a bracketed pair, 1 for a lone one.
 inline double bracket_weight(const StepContext& ctx) { return ctx.sample_phase == SamplePhase::after_step ? 1.0 : 0.5; }
 
+// Extension "gdsmc.diagnostic.moments_read" (SDK 6.2): the parts of StepContext::moments that a
+// diagnostic's sample reads. The host measures a part only when some diagnostic of the run reads
+// it (a diagnostic that does not offer this extension reads every part): the peculiar moments are
+// a second pass over every particle, about 5 ns a particle, at every sample. A part nobody reads
+// is left NaN (cell_mean_velocity nullptr). `gdsmc conformance` (check diagnostic.moments_read)
+// runs the diagnostic on the parts it declares and on all of them and asks for the same output.
+// A diagnostic that reads only the kinetic energy offers it with
+//   const void* extension(const char* id) const override {
+//     if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;  // if it offers that too
+//     return gdsmc::offer_moments_read<gdsmc::moments_energy>(id);
+//   }
+inline constexpr const char moments_read_id[] = "gdsmc.diagnostic.moments_read";
+struct MomentsRead {
+  std::uint32_t version = 1;
+  std::uint32_t parts = moments_all;  // MomentsPart bits
+};
+template <std::uint32_t Parts>
+inline constexpr MomentsRead moments_read{1, Parts};
+template <std::uint32_t Parts>
+inline const void* offer_moments_read(const char* id) {
+  static_assert((Parts & ~static_cast<std::uint32_t>(moments_all)) == 0, "Parts: MomentsPart bits");
+  return std::string_view(id) == moments_read_id ? &moments_read<Parts> : nullptr;
+}
+
 // The form of a collision rule's kernel B(g, s) (rate per unit solid angle, in units of
 // sigma^2 x speed), which tells the host how to draw candidates for it (000 Eqs. 4.13, 4.23):
 //   hard_sphere: B = scale Theta(g.s)(g.s); the host draws P sigma^2 pi W dt / V candidates with
