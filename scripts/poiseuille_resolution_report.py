@@ -173,7 +173,9 @@ def seeds_section(out, path):
     by = {variant(c): c for c in cases}
     if "w0.2" in by and "w0.2 dt/2" in by:
         a, b = by["w0.2 dt/2"], by["w0.2"]
-        pairs = [(label, value(a, q), value(b, q)) for q, label in SEED_QUANTITIES]
+        def scatter_mean(c, q):  # the realizations' mean and the error of their scatter, as the tables above
+            return c.s(q)[0], float(c.d[q + "_stderr"][()])
+        pairs = [(label, scatter_mean(a, q), scatter_mean(b, q)) for q, label in SEED_QUANTITIES]
         zs = [(label, x, y, z(x, y)) for label, x, y in pairs]
         w(f"**The time step against the seed scatter** (Kn = {a.kn:g}, e_n = {a.en:g}): the realizations' means of `w0.2 dt/2` "
           "and `w0.2`, each with the error of its own realizations' scatter, and their difference in those errors. The "
