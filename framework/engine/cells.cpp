@@ -212,6 +212,30 @@ std::size_t CellGrid::piece_count() const {
   return slab_ ? layers_ : std::max<std::size_t>(1, (total_ + kMomentBlock - 1) / kMomentBlock);
 }
 
+// Pieces pair[0] and pair[1] (count of them: 1 or 2), add(sums[k], i) over piece k's particles i in
+// their order, the two pieces' additions side by side: each piece keeps its own order (the same bits
+// as one piece after the other), and their chains of dependent additions overlap.
+template <class Sums, class Add>
+void CellGrid::side_by_side(const std::size_t (&pair)[2], std::size_t count, Sums (&sums)[2], Add&& add) const {
+  std::size_t c[2], b[2] = {0, 0}, e[2] = {0, 0};
+  const std::uint32_t* mem[2] = {nullptr, nullptr};
+  for (std::size_t k = 0; k < count; ++k) {
+    piece_range(pair[k], c[k], b[k], e[k]);
+    mem[k] = members(c[k]);
+  }
+  const auto index = [&](std::size_t k, std::size_t q) { return mem[k] ? mem[k][q] : static_cast<std::uint32_t>(q); };
+  Sums s0 = sums[0], s1 = sums[1];  // locals: in registers through the loop
+  const std::size_t n0 = e[0] - b[0], n1 = e[1] - b[1], common = std::min(n0, n1);
+  for (std::size_t q = 0; q < common; ++q) {
+    add(s0, index(0, b[0] + q));
+    add(s1, index(1, b[1] + q));
+  }
+  for (std::size_t q = common; q < n0; ++q) add(s0, index(0, b[0] + q));
+  for (std::size_t q = common; q < n1; ++q) add(s1, index(1, b[1] + q));
+  sums[0] = s0;
+  sums[1] = s1;
+}
+
 CellGrid::PieceSums& CellGrid::open_piece(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const {
   piece_range(k, cell, begin, end);
   return pieces_[k] = PieceSums{};
@@ -347,38 +371,44 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
     homogeneous_moments(p, mean_density, cells[0], global, run);
     return;
   }
-  // Every layer on its own (a piece of the pool): its mean, then its temperature and largest
-  // peculiar speed, while its particles are in cache.
+  // Two layers at a time (a piece of the pool, side_by_side): their means, then their temperatures
+  // and largest peculiar speeds, while their particles are in cache.
   speed_max_.resize(layers_);
-  run(layers_, [&](std::size_t c) {
-    const std::uint32_t* m = members(c);
-    const std::uint32_t n = members_count(c);
-    CellMoments& cm = cells[c];
-    cm = CellMoments{};
-    cm.count = n;
-    cm.number_density = n / cell_volume(c);  // n_I = N_I / (A delta y), Eq. 4.4
-    double* s = pieces_[c].s;
-    s[0] = s[1] = s[2] = 0;
-    speed_max_[c] = 0;
-    if (n == 0) return;
-    for (std::uint32_t k = 0; k < n; ++k) {
-      s[0] += p.vx[m[k]];
-      s[1] += p.vy[m[k]];
-      s[2] += p.vz[m[k]];
+  run((layers_ + 1) / 2, [&](std::size_t j) {
+    const std::size_t pair[2] = {2 * j, std::min(2 * j + 1, layers_ - 1)};
+    const std::size_t count = pair[1] == pair[0] ? 1 : 2;
+    struct Mean { double x = 0, y = 0, z = 0; } mean[2];
+    side_by_side(pair, count, mean, [&](Mean& m, std::uint32_t i) {
+      m.x += p.vx[i];
+      m.y += p.vy[i];
+      m.z += p.vz[i];
+    });
+    struct Peculiar { double ux = 0, uy = 0, uz = 0, c2 = 0, c2_max = 0; } peculiar[2];
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t c = pair[k];
+      const std::uint32_t n = members_count(c);
+      CellMoments& cm = cells[c];
+      cm = CellMoments{};
+      cm.count = n;
+      cm.number_density = n / cell_volume(c);  // n_I = N_I / (A delta y), Eq. 4.4
+      double* s = pieces_[c].s;
+      s[0] = mean[k].x, s[1] = mean[k].y, s[2] = mean[k].z;
+      if (n)
+        for (int a = 0; a < 3; ++a) cm.mean_velocity[a] = s[a] / n;  // u_I, Eq. 4.5
+      peculiar[k].ux = cm.mean_velocity[0], peculiar[k].uy = cm.mean_velocity[1], peculiar[k].uz = cm.mean_velocity[2];
     }
-    for (int a = 0; a < 3; ++a) cm.mean_velocity[a] = s[a] / n;  // u_I, Eq. 4.5
-    if (n < 2) return;
-    const double* u = cm.mean_velocity;
-    double c2 = 0, c2_max = 0;
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const std::uint32_t i = m[k];
-      const double cx = p.vx[i] - u[0], cy = p.vy[i] - u[1], cz = p.vz[i] - u[2];
+    side_by_side(pair, count, peculiar, [&](Peculiar& q, std::uint32_t i) {
+      const double cx = p.vx[i] - q.ux, cy = p.vy[i] - q.uy, cz = p.vz[i] - q.uz;
       const double ci2 = cx * cx + cy * cy + cz * cz;
-      c2 += ci2;
-      c2_max = std::max(c2_max, ci2);
+      q.c2 += ci2;
+      q.c2_max = std::max(q.c2_max, ci2);
+    });
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t c = pair[k];
+      const std::uint32_t n = members_count(c);
+      speed_max_[c] = n < 2 ? 0.0 : std::sqrt(peculiar[k].c2_max);
+      if (n >= 2) cells[c].temperature = peculiar[k].c2 / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
     }
-    cm.temperature = c2 / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
-    speed_max_[c] = std::sqrt(c2_max);
   });
   // The whole system, in layer order.
   double gsum[3] = {0, 0, 0}, weighted_t = 0;
@@ -423,22 +453,24 @@ void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkP
   pieces_.resize(pieces);
   auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
   if (!slab_ && conserved_mean && one_pass_moments(p, conserved_mean, out, run)) return;
-  // Pass 1: the mean of every cell and of everyone, and the kinetic energy.
-  run(pieces, [&](std::size_t k) {
-    std::size_t c, b, e;
-    PieceSums& ps = open_piece(k, c, b, e);
-    const std::uint32_t* mem = members(c);
-    // The sums in locals: kept in ps, which a store could alias, each addition waited for the
-    // store of the previous one.
-    double sx = ps.s[0], sy = ps.s[1], sz = ps.s[2], v2 = ps.v2;
-    for (std::size_t q = b; q < e; ++q) {
-      const std::uint32_t i = mem ? mem[q] : static_cast<std::uint32_t>(q);
-      sx += p.vx[i];
-      sy += p.vy[i];
-      sz += p.vz[i];
-      v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+  // Pass 1: the mean of every cell and of everyone, and the kinetic energy; two pieces at a time
+  // (side_by_side). The sums in locals: kept in pieces_, which a store could alias, each addition
+  // waited for the store of the previous one.
+  run((pieces + 1) / 2, [&](std::size_t j) {
+    const std::size_t pair[2] = {2 * j, std::min(2 * j + 1, pieces - 1)};
+    const std::size_t count = pair[1] == pair[0] ? 1 : 2;
+    struct Sums { double x = 0, y = 0, z = 0, v2 = 0; } sums[2];
+    side_by_side(pair, count, sums, [&](Sums& s, std::uint32_t i) {
+      s.x += p.vx[i];
+      s.y += p.vy[i];
+      s.z += p.vz[i];
+      s.v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+    });
+    for (std::size_t k = 0; k < count; ++k) {
+      std::size_t c, b, e;
+      PieceSums& ps = open_piece(pair[k], c, b, e);
+      ps.s[0] = sums[k].x, ps.s[1] = sums[k].y, ps.s[2] = sums[k].z, ps.v2 = sums[k].v2;
     }
-    ps.s[0] = sx, ps.s[1] = sy, ps.s[2] = sz, ps.v2 = v2;
   });
   double* u = scratch_mean_.data();
   std::fill(u, u + 3 * layers_, 0.0);

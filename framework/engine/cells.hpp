@@ -182,6 +182,9 @@ class CellGrid {
                        std::uint32_t parts) const;
   // The particles of piece k: [begin, end) of members(cell) (or of every particle), and its cell.
   void piece_range(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
+  // Sums over two pieces side by side, each in its own order (cells.cpp).
+  template <class Sums, class Add>
+  void side_by_side(const std::size_t (&pair)[2], std::size_t count, Sums (&sums)[2], Add&& add) const;
   // piece_range, and the piece's sums set to zero for a pass to fill.
   PieceSums& open_piece(std::size_t k, std::size_t& cell, std::size_t& begin, std::size_t& end) const;
 };
