@@ -454,8 +454,8 @@ void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkP
   auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
   if (!slab_ && conserved_mean && one_pass_moments(p, conserved_mean, out, run)) return;
   // Pass 1: the mean of every cell and of everyone, and the kinetic energy; two pieces at a time
-  // (side_by_side). The sums in locals: kept in pieces_, which a store could alias, each addition
-  // waited for the store of the previous one.
+  // (side_by_side), their sums in locals (summed in pieces_, which a store could alias, each
+  // addition would wait for the store of the previous one).
   run((pieces + 1) / 2, [&](std::size_t j) {
     const std::size_t pair[2] = {2 * j, std::min(2 * j + 1, pieces - 1)};
     const std::size_t count = pair[1] == pair[0] ? 1 : 2;
