@@ -232,12 +232,12 @@ void BM_SlabEngineStep(benchmark::State& state) {
   SlabRun* run = cached_or_skip<SlabRun>(state, "slab_engine");
   if (!run) return;
   const std::uint64_t c0 = run->engine->context().collisions;
-  using Stage = host::Engine::Stage;
-  const host::Engine::StageSeconds before = run->engine->stage_seconds();
+  using Stage = host::Stage;
+  const host::StageSeconds before = run->engine->stage_seconds();
   for (auto _ : state) run->engine->step();
   // Where a step's time goes (Engine::stage_seconds), in ms per step: what limits the figure.
   for (Stage s : {Stage::flight, Stage::sort, Stage::reorder, Stage::collisions, Stage::moments})
-    state.counters[std::string(host::Engine::stage_name(s)) + "_ms"] =
+    state.counters[std::string(host::stage_name(s)) + "_ms"] =
         1e3 * (run->engine->stage_seconds(s) - before[static_cast<std::size_t>(s)]) / static_cast<double>(state.iterations());
   const double n = static_cast<double>(run->engine->system().particles);
   state.counters["moves/s"] = benchmark::Counter(n * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);

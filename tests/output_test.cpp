@@ -299,9 +299,9 @@ TEST(Output, StageSecondsSayWhereTheStepsWent) {
   const gdsmc::host::Pipeline pipeline = load_yaml(dir2, pipeline_yaml(kDiagnostics));  // the engine keeps a reference
   gdsmc::host::Engine homogeneous(pipeline);
   homogeneous.run();
-  using Stage = gdsmc::host::Engine::Stage;
+  using Stage = gdsmc::host::Stage;
   for (Stage s : {Stage::flight, Stage::sort, Stage::reorder, Stage::forcings})
-    EXPECT_EQ(homogeneous.stage_seconds(s), 0.0) << gdsmc::host::Engine::stage_name(s);
+    EXPECT_EQ(homogeneous.stage_seconds(s), 0.0) << gdsmc::host::stage_name(s);
   EXPECT_GT(homogeneous.stage_seconds(Stage::collisions), 0.0);
   EXPECT_LE(homogeneous.stage_seconds(Stage::collisions) + homogeneous.stage_seconds(Stage::moments) +
                 homogeneous.stage_seconds(Stage::diagnostics),

@@ -151,15 +151,15 @@ void print_run(hid_t root) {
             number("collisions_per_particle") + " collisions per particle, " + number("collisions") + " collisions");
   field(several ? "wall time (all " + realizations + " realizations)" : "wall time", number("wall_seconds") + " s");
   // Where the steps' time went (/run/stage_seconds.*; files from before them have none).
-  Engine::StageSeconds stages{};
+  StageSeconds stages{};
   bool any = false;
-  for (std::size_t k = 0; k < Engine::kStages; ++k) {
-    const std::string text = attribute(run, Engine::stage_attribute(static_cast<Engine::Stage>(k)));
+  for (std::size_t k = 0; k < kStages; ++k) {
+    const std::string text = attribute(run, stage_attribute(static_cast<Stage>(k)));
     if (text.empty()) continue;
     stages[k] = std::strtod(text.c_str(), nullptr);
     any = true;
   }
-  if (any) field("steps' time [s]", Engine::stage_times_text(stages));
+  if (any) field("steps' time [s]", stage_times_text(stages));
 }
 
 struct Entry {

@@ -105,7 +105,7 @@ void parse_layers(Checker& c, const YAML::Node& n, Pipeline& p) {
     max_width = l ? *l : -1.0;
   }
   if (!(w > 0) || after_tau0 < 0 || !(p.box_y > 0) || max_width < 0) return;
-  // Ly/(w lambda0) local-mean-free-path units and Ly/L length units in all (Engine::set_layers_from_profile).
+  // Ly/(w lambda0) local-mean-free-path units and Ly/L length units in all (AdaptiveLayers::edges_from_profile).
   const double units = p.box_y / (w * p.mean_free_path0()) + (max_width > 0 ? p.box_y / max_width : 0.0);
   const double layers = std::ceil(units * (1.0 - 1e-12));
   if (!(layers >= 1 && layers <= 100000000)) {

@@ -46,11 +46,9 @@ std::vector<DiagnosticOutput> Engine::check_setup(const Pipeline& p) {
 }
 
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
-    : pipeline_(p), pool_(run_threads(p, threads)), streams_(p.seed, realization) {
-  run_name_ = thread_run_name();
-  build_sites();
+    : pipeline_(p), pool_(run_threads(p, threads)), sites_(p, &ctx_.step), streams_(p.seed, realization) {
   system_ = p.system_info(p.particles, realization);
-  open_layers();
+  layers_.open(p, system_);
   build_objects();
   std::vector<AttributeSpec> attributes;
   for (std::size_t k = 0; k < objects_.size(); ++k) {
@@ -63,14 +61,18 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   ctx_.quantities = &board_;
   ctx_.body_acceleration = acceleration_;
   check_boundaries();
-  open_ledger();
+  {
+    std::vector<std::string> forcings;
+    for (const auto& u : p.forcings) forcings.push_back(u.instance_name);
+    ledger_.open(forcings, system_.geometry == Geometry::slab);
+  }
   const std::size_t cells = system_.cells;
   collisions_.reset(cells);
   collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
   collisions_.set_pair_selection(p.pair_selection == 0   ? PairSelection::uniform
                                  : p.pair_selection == 1 ? PairSelection::weighted
                                                          : PairSelection::automatic);
-  collisions_.set_tally_count(tallies_total_.size());
+  collisions_.set_tally_count(collision_tallies_.size());
   collisions_.set_subpopulation(p.subpopulation);
   collisions_.set_pool(&pool_);
   cells_.assign(cells, CellMoments{});
@@ -80,7 +82,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   if (setup != Setup::objects_only) {
     if (system_.geometry == Geometry::slab) {
       grid_.slab(system_.particles, cells, system_.box[1], system_.cross_section());
-      if (adaptive_layers()) grid_.set_edges(layer_edges_);
+      if (layers_.enabled()) grid_.set_edges(layers_.edges());
     } else {
       grid_.homogeneous(system_.particles, system_.volume);
     }
@@ -90,203 +92,37 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   ctx_.cells = cells_.data();
   ctx_.cell_count = cells_.size();
   ctx_.global = &global_;
-  ctx_.boundaries = tallies_.data();
+  ctx_.boundaries = walls_.data();
   ctx_.boundary_count = system_.geometry == Geometry::slab ? 2 : 0;
   ctx_.energy_ledger = ledger_.data();
   ctx_.energy_ledger_size = ledger_.size();
-  ctx_.collision_tallies = tallies_total_.empty() ? nullptr : tallies_total_.data();
-  ctx_.collision_tally_count = tallies_total_.size();
+  ctx_.collision_tallies = collision_tallies_.data();
+  ctx_.collision_tally_count = collision_tallies_.size();
   begin_diagnostics();
   report_layout(attributes, outputs_);  // what the memory estimate counts (validate)
   if (setup == Setup::full) sample_and_record(true);  // the initial state is the first record of every diagnostic
   if (setup == Setup::restore) load(*state);
 }
 
-// Layers sized to the local mean free path: until the transient ends, the pipeline's count of
-// equal widths, but given as edges from the start, so that a plugin sees in begin() that this
-// run's layers are not uniform (SystemInfo::layer_edges non-null) and can refuse it there.
-void Engine::open_layers() {
-  if (!adaptive_layers() || system_.geometry != Geometry::slab) return;
-  const std::size_t m = system_.cells;
-  const double ly = system_.box[1], half = 0.5 * ly;
-  layer_edges_.resize(m + 1);
-  for (std::size_t I = 0; I <= m; ++I) layer_edges_[I] = -half + ly * static_cast<double>(I) / static_cast<double>(m);
-  layer_edges_[0] = -half;
-  layer_edges_[m] = half;
-  system_.layer_edges = layer_edges_.data();
-  // The profile's fine bins: 64 per layer (the densest layer is then still a few bins wide where
-  // the density is up to ~16 times its mean), within [1024, 2^22].
-  layer_profile_.assign(std::clamp<std::size_t>(64 * m, 1024, std::size_t{1} << 22), 0.0);
-  layer_count_sums_.assign(m, 0.0);
-}
-
-// One sample of the density profile: every particle's y into the fine bins.
-void Engine::sample_layer_profile() {
-  const ParticleSpan p = store_.span();
-  const double half = 0.5 * system_.box[1];
-  const double scale = static_cast<double>(layer_profile_.size()) / system_.box[1];
-  const std::size_t last = layer_profile_.size() - 1;
-  double* const h = layer_profile_.data();
-  for (std::size_t i = 0; i < p.count; ++i) {
-    const double f = (p.y[i] + half) * scale;
-    const std::size_t b = f > 0 ? std::min(static_cast<std::size_t>(f), last) : 0;
-    h[b] += 1.0;
-  }
-  ++layer_profile_samples_;
-}
-
-// The end of the transient: edges at the quantiles I/M of the measured profile (linear within a
-// fine bin), so that every layer holds the same mean number of particles N/M. With the dilute
-// lambda(y) = 1/(sqrt(2) pi n(y) sigma^2) a layer's width in local mean free paths is
-// sqrt(2) pi sigma^2 N_I / A, the same N/M for all: Ly/(M lambda0) <= the target. With max_width L
-// each fine bin also weighs as if it held c = N w lambda0 / (bins L) particles more: a layer then
-// spans one unit of n(y)/(n-bar w lambda0) + 1/L, so it is at most w local mean free paths and at
-// most L wide (c = 0 without L: the same edges as before to the bit). Then frozen.
+// The end of the transient: the edges from the density profile, and then frozen.
 void Engine::set_layers_from_profile() {
-  sample_layer_profile();  // the state at the end of the transient is one sample (the only one of a short one)
-  const std::size_t m = system_.cells, bins = layer_profile_.size();
-  const double ly = system_.box[1], half = 0.5 * ly, width = ly / static_cast<double>(bins);
-  double particles = 0;
-  for (const double c : layer_profile_) particles += c;
-  const double per_bin = pipeline_.layers_max_width > 0
-                             ? particles * pipeline_.layers_mean_free_paths * system_.mean_free_path0 /
-                                   (static_cast<double>(bins) * pipeline_.layers_max_width)
-                             : 0.0;
-  const double total = particles + per_bin * static_cast<double>(bins);
-  std::vector<double> edges(m + 1);
-  edges[0] = -half;
-  edges[m] = half;
-  double below = 0;  // weight of the bins before j
-  std::size_t j = 0;
-  for (std::size_t I = 1; I < m; ++I) {
-    const double target = total * static_cast<double>(I) / static_cast<double>(m);
-    while (j + 1 < bins && below + (layer_profile_[j] + per_bin) < target) below += layer_profile_[j++] + per_bin;
-    const double in_bin = layer_profile_[j] + per_bin;
-    const double f = in_bin > 0 ? std::clamp((target - below) / in_bin, 0.0, 1.0) : 0.5;
-    edges[I] = -half + (static_cast<double>(j) + f) * width;
-  }
-  // Strictly increasing, and inside the slab, whatever the rounding.
-  for (std::size_t I = 1; I < m; ++I) {
-    if (!(edges[I] > edges[I - 1])) edges[I] = std::nextafter(edges[I - 1], half);
-  }
-  for (std::size_t I = m - 1; I >= 1; --I) {
-    if (!(edges[I] < edges[I + 1])) edges[I] = std::nextafter(edges[I + 1], -half);
-  }
+  layers_.sample_profile(store_.span());  // the state at the end of the transient is one sample (the only one of a short one)
+  std::vector<double> edges = layers_.edges_from_profile();
   try {
     grid_.set_edges(edges);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(now_text() + ": system.layers: the layers sized from the density profile cannot be used: " +
                              e.what());
   }
-  layer_edges_ = std::move(edges);
-  system_.layer_edges = layer_edges_.data();
-  layers_set_ = true;
-  layers_set_time_tau0_ = ctx_.time_in_tau0();
-  layer_profile_.assign(layer_profile_.size(), 0.0);
+  const std::string line = layers_.adopt(std::move(edges), ctx_.time_in_tau0());
   // Every particle into its new layer, storage in the new layer order, and the new layers' moments
   // and majorants now (forcings and diagnostics read ctx.cells before the next moment update).
   reorder_by_layer();
   grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
   collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
   sampled_step_ = static_cast<std::uint64_t>(-1);
-  double narrow = ly, wide = 0;
-  for (std::size_t I = 0; I < m; ++I) {
-    narrow = std::min(narrow, layer_edges_[I + 1] - layer_edges_[I]);
-    wide = std::max(wide, layer_edges_[I + 1] - layer_edges_[I]);
-  }
-  // A layer holds total/m of the weight: at most that many particles (its width in local mean free
-  // paths: the particles' share of Ly/lambda0) and that many bins' worth of per_bin.
-  const double share = total / static_cast<double>(m);
-  const std::string bound =
-      per_bin > 0 ? fmt("each at most %.4g local mean free paths and %.4g lambda0 wide (targets %.4g and max_width "
-                        "%.4g lambda0)",
-                        share / particles * ly / system_.mean_free_path0,
-                        share / per_bin * width / system_.mean_free_path0, pipeline_.layers_mean_free_paths,
-                        pipeline_.layers_max_width / system_.mean_free_path0)
-                  : fmt("each %.4g local mean free paths (target %.4g)",
-                        ly / (static_cast<double>(m) * system_.mean_free_path0), pipeline_.layers_mean_free_paths);
-  const std::string line =
-      fmt("layers: set at t = %.4g tau0 from the density over t >= %.4g tau0 (%llu samples): %zu layers %.4g to %.4g "
-          "lambda0 wide, %s",
-          layers_set_time_tau0_, 0.5 * pipeline_.layers_after_tau0, static_cast<unsigned long long>(layer_profile_samples_),
-          m, narrow / system_.mean_free_path0, wide / system_.mean_free_path0, bound.c_str());
   summary_.push_back(line);
   if (system_.realization == 0) std::fprintf(stderr, "%s\n", line.c_str());
-}
-
-// After the edges are set, at every moment update: each layer's count, for its mean width in local
-// mean free paths at the end.
-void Engine::tally_layer_widths() {
-  for (std::size_t I = 0; I < cells_.size(); ++I) layer_count_sums_[I] += static_cast<double>(cells_[I].count);
-  ++layer_count_samples_;
-}
-
-// delta y_I / lambda_I = sqrt(2) pi sigma^2 n_I delta y_I = N_I / (n-bar A lambda0), N_I the mean
-// count since the edges were set (NaN before).
-double Engine::layer_width_local(std::size_t I) const {
-  if (!layers_set_ || layer_count_samples_ == 0) return std::nan("");
-  const double mean_count = layer_count_sums_[I] / static_cast<double>(layer_count_samples_);
-  return mean_count / (system_.number_density * system_.cross_section() * system_.mean_free_path0);
-}
-
-std::string Engine::layer_widths_text() const {
-  if (!layers_set_)
-    return fmt("layers: the run ended at t = %.4g tau0, before system.layers.after = %.4g tau0: the layers stayed "
-               "equal",
-               ctx_.time_in_tau0(), pipeline_.layers_after_tau0);
-  double lo = INFINITY, hi = 0;
-  for (std::size_t I = 0; I < system_.cells; ++I) {
-    const double w = layer_width_local(I);
-    lo = std::min(lo, w);
-    hi = std::max(hi, w);
-  }
-  return fmt("layers: %zu, set at t = %.4g tau0; widths in local mean free paths (mean densities over %llu moment "
-             "updates since): %.3g to %.3g (target %.4g)",
-             system_.cells, layers_set_time_tau0_, static_cast<unsigned long long>(layer_count_samples_), lo, hi,
-             pipeline_.layers_mean_free_paths);
-}
-
-namespace {
-const char* role_of(PluginKind kind) {
-  switch (kind) {
-    case PluginKind::collision_rule: return "collision rule";
-    case PluginKind::forcing: return "forcing";
-    case PluginKind::boundary: return "boundary";
-    case PluginKind::initial_state: return "initial state";
-    case PluginKind::diagnostic: return "diagnostic";
-  }
-  return "plugin";
-}
-}  // namespace
-
-// One site per plugin entry, for the fatal-signal handler: every text it points to is built here,
-// once (site_texts_ is sized first, so that no string moves after a site points into it).
-void Engine::build_sites() {
-  const Pipeline& p = pipeline_;
-  std::vector<const PluginUse*> uses{&p.initial_state, &p.collision};
-  for (const auto& u : p.forcings) uses.push_back(&u);
-  for (std::size_t s = 0; s < p.boundaries.size() && s < 2; ++s) uses.push_back(&p.boundaries[s]);
-  for (const auto& u : p.diagnostics) uses.push_back(&u);
-  site_texts_.reserve(uses.size());
-  sites_.reserve(uses.size());
-  for (const PluginUse* u : uses) {
-    site_texts_.push_back(u->path + ", " + u->where.str());
-    PluginCallSite site;
-    site.plugin = u->plugin ? u->plugin->descriptor->name.c_str() : "?";
-    site.role = u->plugin ? role_of(u->plugin->descriptor->kind) : "plugin";
-    site.where = site_texts_.back().c_str();
-    site.step = &ctx_.step;
-    site.run = run_name_.c_str();
-    sites_.push_back(site);
-    site_uses_.push_back(u);
-  }
-}
-
-const PluginCallSite& Engine::site_of(const PluginUse& use) const {
-  for (std::size_t k = 0; k < site_uses_.size(); ++k)
-    if (site_uses_[k] == &use) return sites_[k];
-  static const PluginCallSite unknown{};
-  return unknown;
 }
 
 void Engine::build_objects() {
@@ -331,14 +167,12 @@ void Engine::begin_collision_rule() {
   try {
     PluginCall call(site_of(u), "begin");
     collision_->begin(system_, board_);
-    tally_names_ = collision_->tallies();
+    collision_tallies_.open(collision_->tallies());
   } catch (const ParameterError& e) {
     throw std::runtime_error(where_text(u) + ": parameter '" + e.parameter() + "': " + e.what());
   } catch (const std::exception& e) {
     throw std::runtime_error(where_text(u) + ": " + e.what());
   }
-  tallies_total_.resize(tally_names_.size());
-  for (std::size_t k = 0; k < tally_names_.size(); ++k) tallies_total_[k].name = tally_names_[k].c_str();
 }
 
 // Both y planes of a slab: transferring boundaries (periodic, Lees-Edwards) come in identical
@@ -369,18 +203,6 @@ void Engine::check_boundaries() {
                                 "boundaries.y_max (plugin '" + high.plugin->descriptor->name + "', " + high.where.str() + ")"};
   mover_.emplace(system_.box, acceleration_,
                  std::array<Mover::Side, 2>{Mover::Side{boundaries_[0], names[0]}, Mover::Side{boundaries_[1], names[1]}});
-}
-
-// The energy ledger: collisions, every forcing (by its instance name), each y boundary.
-void Engine::open_ledger() {
-  ledger_names_.push_back("collisions");
-  for (const auto& u : pipeline_.forcings) ledger_names_.push_back(u.instance_name);
-  if (system_.geometry == Geometry::slab) {
-    ledger_names_.push_back("y_min");
-    ledger_names_.push_back("y_max");
-  }
-  ledger_.resize(ledger_names_.size());
-  for (std::size_t k = 0; k < ledger_.size(); ++k) ledger_[k].stage = ledger_names_[k].c_str();
 }
 
 // Particles (full setup only) and the attributes, then every object publishes its quantities.
@@ -543,7 +365,7 @@ void Engine::step() {
   ctx_.in_average_window =
       (pipeline_.average_after_collisions_per_particle && s.collisions_per_particle() >= *pipeline_.average_after_collisions_per_particle) ||
       (pipeline_.average_after_time_tau0 && s.time_in_tau0() >= *pipeline_.average_after_time_tau0);
-  lap_start_ = std::chrono::steady_clock::now();
+  clock_.start();
   if (!forcings_before_.empty()) {
     apply_forcings(forcings_before_);
     lap(Stage::forcings);
@@ -565,43 +387,23 @@ void Engine::step() {
   }
   ctx_.time += dt;
   ++ctx_.step;
-  if (adaptive_layers() && !layers_set_) {
+  if (layers_.enabled() && !layers_.set()) {
     const double t = ctx_.time_in_tau0();
-    if (t >= pipeline_.layers_after_tau0) {
+    if (layers_.due(t)) {
       set_layers_from_profile();  // with this step's positions, and new moments for the new layers
       lap(Stage::reorder);
-    } else if (t >= 0.5 * pipeline_.layers_after_tau0 && ctx_.step % pipeline_.moments_every == 0) {
-      sample_layer_profile();
+    } else if (layers_.profiling(t) && ctx_.step % pipeline_.moments_every == 0) {
+      layers_.sample_profile(store_.span());
       lap(Stage::moments);
     }
   }
   if (ctx_.step % pipeline_.moments_every == 0) {
     update_moments();
-    if (layers_set_) tally_layer_widths();
+    if (layers_.set()) layers_.tally(cells_.data());
     lap(Stage::moments);
   }
   sample_and_record(false);
   lap(Stage::diagnostics);
-}
-
-const char* Engine::stage_name(Stage s) {
-  static const char* const names[] = {"forcings", "flight", "sort", "reorder", "collisions", "moments", "diagnostics"};
-  return names[static_cast<int>(s)];
-}
-
-std::string Engine::stage_times_text(const StageSeconds& seconds) {
-  std::vector<std::size_t> order;
-  double total = 0;
-  for (std::size_t k = 0; k < kStages; ++k) {
-    total += seconds[k];
-    if (seconds[k] > 0) order.push_back(k);
-  }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return seconds[a] > seconds[b]; });
-  std::string text = fmt("%.3g", total);
-  for (std::size_t i = 0; i < order.size(); ++i)
-    text += std::string(i == 0 ? " = " : ", ") + stage_name(static_cast<Stage>(order[i])) + " " +
-            fmt("%.3g", seconds[order[i]]) + fmt(" (%.0f %%)", 100.0 * seconds[order[i]] / total);
-  return text;
 }
 
 void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings) {
@@ -617,13 +419,13 @@ void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>
     if (!std::isfinite(added))
       throw std::runtime_error(where_text(pipeline_.forcings[index]) + " returned a non-finite energy (" +
                                fmt("%g", added) + ") from apply() at step " + std::to_string(ctx_.step) +
-                               fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
+                               fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (sites_.run_name().empty() ? ")" : ", " + sites_.run_name() + ")") +
                                ": the forcing produced invalid velocities");
     if (const std::size_t i = first_non_finite_velocity(span); i < span.count)
       throw std::runtime_error(where_text(pipeline_.forcings[index]) + " wrote a non-finite velocity" +
                                fmt(" (%g, %g, %g) for particle %u", span.vx[i], span.vy[i], span.vz[i], span.id[i]) +
                                " in apply() at step " + std::to_string(ctx_.step) +
-                               fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
+                               fmt(" (t = %.6g tau0", ctx_.time_in_tau0()) + (sites_.run_name().empty() ? ")" : ", " + sites_.run_name() + ")") +
                                "; the run is stopped (a forcing must leave finite velocities)");
     // A forcing that multiplies the gas's thermal energy within one step (a shear rate of 1e6 /
     // tau0 at dt = 0.01 tau0: 3e7 times) makes every later step and diagnostic absurd (a theory
@@ -635,11 +437,11 @@ void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>
           fmt(" added %.3g times the gas's thermal energy (3/2 N T = %.3g) in one step", added / thermal, thermal) +
           " at step " + std::to_string(ctx_.step) +
           fmt(" (t = %.6g tau0, dt = %.3g tau0", ctx_.time_in_tau0(), ctx_.dt / system_.time_unit0) +
-          (run_name_.empty() ? ")" : ", " + run_name_ + ")") +
+          (sites_.run_name().empty() ? ")" : ", " + sites_.run_name() + ")") +
           fmt(": more than %.0f times is absurd for one step (the step cannot resolve its heating); use a smaller "
               "run.time_step or a gentler forcing",
               kMaxForcingEnergyPerStep));
-    ledger_[1 + index].energy += added;
+    ledger_.add_forcing(index, added);
   }
   ctx_.streams = nullptr;
 }
@@ -666,13 +468,10 @@ void Engine::stream(double dt) {
       lap(Stage::reorder);
     }
     for (int s = 0; s < 2; ++s) {
-      BoundaryTally& t = tallies_[s];
-      t.hits += tally.sides[s].hits;
-      for (int a = 0; a < 3; ++a) t.momentum[a] += tally.sides[s].momentum[a];
-      t.energy += tally.sides[s].energy;
-      ledger_[ledger_.size() - 2 + s].energy += tally.sides[s].energy;
+      walls_.add(s, tally.sides[s]);
+      ledger_.add_wall(s, tally.sides[s].energy);
     }
-    if (!accelerations_.empty()) ledger_[1 + accelerations_[0]].energy += tally.acceleration_energy;
+    if (!accelerations_.empty()) ledger_.add_forcing(accelerations_[0], tally.acceleration_energy);
   } else if (g2 > 0) {
     // Blocks of the moment pieces' size, their energies added in block order.
     const std::size_t block = CellGrid::kMomentBlock, blocks = (span.count + block - 1) / block;
@@ -689,7 +488,7 @@ void Engine::stream(double dt) {
     });
     double energy = 0;
     for (const double e : kick_energy_) energy += e;
-    ledger_[1 + accelerations_[0]].energy += energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count);
+    ledger_.add_forcing(accelerations_[0], energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count));
     lap(Stage::flight);
   }
 }
@@ -738,8 +537,8 @@ void Engine::collide(double dt) {
   ctx_.majorant_exceeded += t.majorant_exceeded;
   missed_collisions_ += t.missed;
   ctx_.collision_energy_change += t.energy_change;
-  ledger_[0].energy = ctx_.collision_energy_change;
-  for (std::size_t k = 0; k < tallies_total_.size(); ++k) tallies_total_[k].value += t.tallies[k];
+  ledger_.set_collisions(ctx_.collision_energy_change);
+  collision_tallies_.add(t.tallies);
 }
 
 // A non-finite velocity or energy found after a stage: named after the plugin that produced it.
@@ -750,7 +549,7 @@ void Engine::collide(double dt) {
 void Engine::non_finite(const std::string& energy) const {
   const std::string at = fmt(" at step %llu (t = %.6g tau0", static_cast<unsigned long long>(ctx_.step),
                              ctx_.time_in_tau0()) +
-                         (run_name_.empty() ? ")" : ", " + run_name_ + ")");
+                         (sites_.run_name().empty() ? ")" : ", " + sites_.run_name() + ")");
   if (checked_collision_.wrote_non_finite()) {
     const CheckedCollisionRule::Bad b = checked_collision_.first_bad();
     throw std::runtime_error(
@@ -933,7 +732,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
     }
   }
   sample_and_record(true);
-  if (adaptive_layers()) summary_.push_back(layer_widths_text());
+  if (layers_.enabled()) summary_.push_back(layers_.widths_text(ctx_.time_in_tau0()));
   for (std::size_t k = 0; k < slots_.size(); ++k) {
     try {
       PluginCall call(*slots_[k].site, "finish");
@@ -942,7 +741,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
       throw std::runtime_error(where_text(*slots_[k].use) + " failed at the end of the run: " + e.what());
     }
   }
-  finish_energy_balance();
+  summary_.push_back(energy_balance_text());
   collisions_.set_interrupt(nullptr);
   finished_ = true;
   wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();
@@ -955,19 +754,11 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
 }
 
 // The run's energy balance per particle in units of T0: E - E0 against the sum of what every
-// stage declared or the host tallied; the residual is round-off for plugins that tell the truth.
-void Engine::finish_energy_balance() {
+// stage declared or the host tallied.
+std::string Engine::energy_balance_text() {
   grid_.sampled_moments(store_.span(), system_.number_density, sampled_, &pool_);
   const double per = 1.0 / (static_cast<double>(system_.particles) * system_.initial_temperature);
-  double added = 0;
-  std::string parts;
-  for (const auto& e : ledger_) {
-    added += e.energy;
-    parts += std::string(parts.empty() ? "" : ", ") + e.stage + " " + fmt("%.6g", e.energy * per);
-  }
-  const double change = sampled_.kinetic_energy - initial_energy_;
-  summary_.push_back("energy per particle [T0]: E - E0 = " + fmt("%.6g", change * per) + " = " + parts +
-                     " (residual " + fmt("%.2g", (change - added) * per) + ")");
+  return "energy per particle [T0]: " + ledger_.balance_text(sampled_.kinetic_energy - initial_energy_, per);
 }
 
 CaseOutput Engine::output() {
@@ -997,38 +788,9 @@ CaseOutput Engine::output() {
              {"kinetic_energy_final", sampled_.kinetic_energy},
              {"wall_seconds", wall_seconds_},
              {"reached_steady_state", steady_ ? 1.0 : 0.0}};
-  if (adaptive_layers()) {
-    // The layers' edges as the rest of the run used them (equal widths if the run ended before
-    // they were set), and each one's mean width in local mean free paths since.
-    out.system["layers_target_mean_free_paths"] = pipeline_.layers_mean_free_paths;
-    out.system["layers_set_at_tau0"] = layers_set_ ? layers_set_time_tau0_ : std::nan("");
-    if (pipeline_.layers_max_width > 0)
-      out.system["layers_max_width_lambda0"] = pipeline_.layers_max_width / system_.mean_free_path0;
-    ParticleDataset edges{"layer_edges", "lambda0",
-                          "the edges of the collision layers along y (layers + 1 values from -Ly/2 to +Ly/2), set "
-                          "at layers_set_at_tau0 from the transient's density profile (system.layers: "
-                          "{mean_free_paths, after}; equal widths before)",
-                          1, {}, ""};
-    for (const double e : layer_edges_) edges.data.push_back(e / system_.mean_free_path0);
-    out.system_arrays.push_back(std::move(edges));
-    ParticleDataset widths{"layer_width_local_mean_free_paths", "1",
-                           "each layer's width over its local mean free path, delta y_I / lambda_I with lambda_I = "
-                           "1/(sqrt(2) pi n_I sigma^2) and n_I its mean density over the moment updates after the "
-                           "edges were set (NaN if they never were)",
-                           1, {}, ""};
-    for (std::size_t I = 0; I < system_.cells; ++I) widths.data.push_back(layer_width_local(I));
-    out.system_arrays.push_back(std::move(widths));
-  }
-  for (const auto& e : ledger_) out.run[std::string("energy_added.") + e.stage] = e.energy;
-  for (std::size_t s = 0; s < ctx_.boundary_count; ++s) {
-    const std::string side = s == 0 ? "y_min" : "y_max";
-    const BoundaryTally& t = tallies_[s];
-    out.run["boundary." + side + ".hits"] = static_cast<double>(t.hits);
-    out.run["boundary." + side + ".momentum_x"] = t.momentum[0];
-    out.run["boundary." + side + ".momentum_y"] = t.momentum[1];
-    out.run["boundary." + side + ".momentum_z"] = t.momentum[2];
-    out.run["boundary." + side + ".energy"] = t.energy;
-  }
+  layers_.write(out);
+  ledger_.write(out.run);
+  if (system_.geometry == Geometry::slab) walls_.write(out.run);
   out.plugins = plugin_provenance(pipeline_);
   out.diagnostics = outputs_;
   if (pipeline_.output_particles) out.particles = particle_datasets(store_.span(), system_);

@@ -3,7 +3,6 @@
 #pragma once
 #include <array>
 #include <atomic>
-#include <chrono>
 #include <optional>
 #include <functional>
 #include <memory>
@@ -14,11 +13,15 @@
 #include <gdsmc/plugin.hpp>
 
 #include "config/pipeline.hpp"
+#include "engine/adaptive_layers.hpp"
+#include "engine/call_sites.hpp"
 #include "engine/cells.hpp"
 #include "engine/checked_plugins.hpp"
 #include "engine/collision_stage.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/particle_store.hpp"
+#include "engine/run_tallies.hpp"
+#include "engine/stage_clock.hpp"
 #include "engine/streaming.hpp"
 #include "engine/streams.hpp"
 #include "engine/work_pool.hpp"
@@ -113,22 +116,11 @@ class Engine {
   const StepContext& context() const { return ctx_; }
   const SystemInfo& system() const { return system_; }
   double wall_seconds() const { return wall_seconds_; }
-  // Where the steps' wall time went, stage by stage (as SPARTA and LAMMPS print at the end of a
-  // run): forcings, free flight with walls (or a homogeneous body acceleration's kick), the
-  // layers' counting sort, the reordering of storage by layer, collisions, moment updates, and
-  // diagnostics (sampling, recording). Seconds over every step, summed over the segments of a
-  // resumed run like wall_seconds; a stage the system does not have stays 0.
-  enum class Stage { forcings, flight, sort, reorder, collisions, moments, diagnostics, count };
-  static constexpr std::size_t kStages = static_cast<std::size_t>(Stage::count);
-  using StageSeconds = std::array<double, kStages>;  // indexed by Stage
-  static const char* stage_name(Stage s);
-  // The /run attribute that keeps a stage's seconds: "stage_seconds.<stage_name>".
-  static std::string stage_attribute(Stage s) { return std::string("stage_seconds.") + stage_name(s); }
-  // "2.03 = flight 1.09 (54 %), collisions 0.6 (30 %), ...": the total, then the stages that took
-  // any time, longest first, each with its share (the run's summary and `gdsmc inspect`).
-  static std::string stage_times_text(const StageSeconds& seconds);
-  const StageSeconds& stage_seconds() const { return stage_seconds_; }
-  double stage_seconds(Stage s) const { return stage_seconds_[static_cast<std::size_t>(s)]; }
+  // Where the steps' wall time went, stage by stage (engine/stage_clock.hpp): seconds over every
+  // step, summed over the segments of a resumed run like wall_seconds; a stage the system does not
+  // have stays 0.
+  const StageSeconds& stage_seconds() const { return clock_.seconds(); }
+  double stage_seconds(Stage s) const { return clock_.seconds()[static_cast<std::size_t>(s)]; }
 
   using Interrupted = host::Interrupted;
 
@@ -158,17 +150,9 @@ class Engine {
   void shuffle_subpopulations();
   void begin_diagnostics();
 
-  // Layers sized to the local mean free path (system.layers: {mean_free_paths, after}).
-  void open_layers();
-  void sample_layer_profile();
   void set_layers_from_profile();
-  void tally_layer_widths();
-  std::string layer_widths_text() const;
-  double layer_width_local(std::size_t layer) const;
   void begin_collision_rule();
-  void setup_slab();
   void check_boundaries();
-  void open_ledger();
   void update_moments();
   void permute_by_layer();
   void measure_sampled_moments();
@@ -181,19 +165,11 @@ class Engine {
   // The bracketed diagnostics' samples just before or just after the collision stage (SamplePhase).
   void sample_bracketed(SamplePhase phase);
   void sample_slot(std::size_t k, const ParticleSpan& span, std::uint32_t instance, SamplePhase phase, double t, double s);
-  void finish_energy_balance();
+  std::string energy_balance_text();
   Progress progress(double elapsed_seconds) const;
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
 
   const Pipeline& pipeline_;
-  // For the fatal-signal handler (engine/plugin_calls.hpp): this run's name, and one site per
-  // plugin entry of the pipeline (the texts they point to are kept beside them).
-  std::string run_name_;
-  std::vector<PluginCallSite> sites_;
-  std::vector<const PluginUse*> site_uses_;
-  std::vector<std::string> site_texts_;
-  void build_sites();
-  const PluginCallSite& site_of(const PluginUse& use) const;
   // The collision rule as the collision stage calls it (marked, its velocities checked), and the
   // boundaries as the mover calls them (marked).
   CheckedCollisionRule checked_collision_;
@@ -208,6 +184,10 @@ class Engine {
   ParticleStore store_;
   QuantityBoard board_;
   StepContext ctx_;
+  // For the fatal-signal handler (engine/plugin_calls.hpp): one site per plugin entry
+  // (after ctx_: they point at its step).
+  CallSites sites_;
+  const PluginCallSite& site_of(const PluginUse& use) const { return sites_.of(use); }
   StreamFactory streams_;
   CellGrid grid_;
   std::vector<CellMoments> cells_;  // per-cell moments as of the last update (ctx.cells)
@@ -229,11 +209,9 @@ class Engine {
   Vec3 acceleration_{0, 0, 0};
   std::array<Boundary*, 2> boundaries_{nullptr, nullptr};
   std::optional<Mover> mover_;
-  std::array<BoundaryTally, 2> tallies_{};
-  std::vector<std::string> tally_names_;      // the collision rule's tallies
-  std::vector<CollisionTally> tallies_total_;  // their running totals (ctx.collision_tallies)
-  std::vector<std::string> ledger_names_;
-  std::vector<EnergyLedgerEntry> ledger_;  // [0] collisions, [1 + k] forcing k, then y_min, y_max
+  WallTallies walls_;
+  CollisionTallies collision_tallies_;
+  EnergyLedger ledger_;
   double initial_energy_ = 0;
   // Collisions the majorants missed since the start (CollisionStage::Totals::missed): candidates
   // whose rate exceeded their bound were accepted once where their rate asked for more.
@@ -244,14 +222,8 @@ class Engine {
   CollisionStage collisions_;            // per-cell majorants, remainders and streams
   std::vector<double> kick_energy_;      // per block: a homogeneous body acceleration's work this step
   double wall_seconds_ = 0;
-  StageSeconds stage_seconds_{};
-  std::chrono::steady_clock::time_point lap_start_;
-  // The time since the last lap (or the step's start) added to stage s.
-  void lap(Stage s) {
-    const auto now = std::chrono::steady_clock::now();
-    stage_seconds_[static_cast<std::size_t>(s)] += std::chrono::duration<double>(now - lap_start_).count();
-    lap_start_ = now;
-  }
+  StageClock clock_;
+  void lap(Stage s) { clock_.lap(s); }
   bool steady_ = false;
   bool finished_ = false;  // run() completed: finish() called, nothing left to step
   bool cells_reversed_ = false;
@@ -259,17 +231,7 @@ class Engine {
   // (every step but those that reorder storage, which need the lists first).
   bool members_written_by_collisions() const { return mover_ && ctx_.step % kReorderEvery != 0; }
   int steady_slot_ = -1;
-  // Layers from the transient: the edges SystemInfo::layer_edges points to (equal widths until
-  // they are set), the density profile of the transient's second half on a fine grid, and after the
-  // edges are set, each layer's count summed over the moment updates since (for the report).
-  bool adaptive_layers() const { return pipeline_.layers_mean_free_paths > 0; }
-  std::vector<double> layer_edges_;
-  std::vector<double> layer_profile_;
-  std::uint64_t layer_profile_samples_ = 0;
-  bool layers_set_ = false;
-  double layers_set_time_tau0_ = 0;
-  std::vector<double> layer_count_sums_;
-  std::uint64_t layer_count_samples_ = 0;
+  AdaptiveLayers layers_;  // system.layers: {mean_free_paths, after}
 };
 
 }  // namespace gdsmc::host

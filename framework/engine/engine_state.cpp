@@ -30,7 +30,7 @@ void Engine::save(StateWriter& out) const {
   out.write("engine.flags", flags, 2);
   out.write("engine.wall_seconds", wall_seconds_);
   out.write("engine.missed_collisions", missed_collisions_);
-  out.write("engine.stage_seconds", stage_seconds_.data(), kStages);
+  out.write("engine.stage_seconds", clock_.seconds().data(), kStages);
   // A finished run keeps its particles only when they are part of the output.
   const std::uint8_t particles = !finished_ || pipeline_.output_particles;
   out.write("engine.has_particles", particles);
@@ -46,17 +46,9 @@ void Engine::save(StateWriter& out) const {
   out.write("moments.count", cell_counts);
   out.write("moments.values", cell_values);
   out.write("moments.kinetic_energy", sampled_.kinetic_energy);
-  for (const BoundaryTally& t : tallies_) {
-    out.write("boundary.hits", t.hits);
-    const double v[4] = {t.momentum[0], t.momentum[1], t.momentum[2], t.energy};
-    out.write("boundary.values", v, 4);
-  }
-  std::vector<double> values;
-  for (const auto& t : tallies_total_) values.push_back(t.value);
-  out.write("collision_tallies", values);
-  values.clear();
-  for (const auto& e : ledger_) values.push_back(e.energy);
-  out.write("energy_ledger", values);
+  walls_.save(out);
+  collision_tallies_.save(out);
+  ledger_.save(out);
   collisions_.save(out);
   for (const DiagnosticSlot& slot : slots_) {
     const double sums[2] = {slot.time_sum, slot.s_sum};
@@ -76,14 +68,7 @@ void Engine::save(StateWriter& out) const {
     }
     out.write("plugin." + object_uses_[k]->path, plugin.bytes());
   }
-  if (adaptive_layers()) {  // system.layers: {mean_free_paths, after} only: other runs' state is unchanged
-    out.write("layers.edges", layer_edges_);
-    out.write("layers.profile", layer_profile_);
-    const std::uint64_t counts[3] = {layers_set_, layer_profile_samples_, layer_count_samples_};
-    out.write("layers.counts", counts, 3);
-    out.write("layers.set_time", layers_set_time_tau0_);
-    out.write("layers.count_sums", layer_count_sums_);
-  }
+  layers_.save(out);
 }
 
 void Engine::load(StateReader& in) {
@@ -107,7 +92,7 @@ void Engine::load(StateReader& in) {
   steady_ = flags[1] != 0;
   in.read("engine.wall_seconds", wall_seconds_);
   in.read("engine.missed_collisions", missed_collisions_);
-  in.read("engine.stage_seconds", stage_seconds_.data(), kStages);
+  in.read("engine.stage_seconds", clock_.seconds().data(), kStages);
   std::uint8_t particles = 0;
   in.read("engine.has_particles", particles);
   if (particles) {
@@ -132,19 +117,9 @@ void Engine::load(StateReader& in) {
     c.temperature = v[4];
   }
   in.read("moments.kinetic_energy", sampled_.kinetic_energy);
-  for (BoundaryTally& t : tallies_) {
-    in.read("boundary.hits", t.hits);
-    double v[4];
-    in.read("boundary.values", v, 4);
-    for (int a = 0; a < 3; ++a) t.momentum[a] = v[a];
-    t.energy = v[3];
-  }
-  std::vector<double> values(tallies_total_.size());
-  in.read("collision_tallies", values.data(), values.size());
-  for (std::size_t k = 0; k < values.size(); ++k) tallies_total_[k].value = values[k];
-  values.assign(ledger_.size(), 0.0);
-  in.read("energy_ledger", values.data(), values.size());
-  for (std::size_t k = 0; k < values.size(); ++k) ledger_[k].energy = values[k];
+  walls_.load(in);
+  collision_tallies_.load(in);
+  ledger_.load(in);
   collisions_.load(in);
   for (DiagnosticSlot& slot : slots_) {
     double sums[2];
@@ -182,33 +157,13 @@ void Engine::load(StateReader& in) {
                        " of the " + std::to_string(bytes.size()) + " bytes its save_state wrote (next entry '" +
                        plugin.peek_name() + "')");
   }
-  if (adaptive_layers()) {
-    std::vector<double> edges, profile, sums;
-    std::uint64_t counts[3];
-    in.read("layers.edges", edges);
-    in.read("layers.profile", profile);
-    in.read("layers.counts", counts, 3);
-    in.read("layers.set_time", layers_set_time_tau0_);
-    in.read("layers.count_sums", sums);
-    if (edges.size() != layer_edges_.size() || profile.size() != layer_profile_.size() ||
-        sums.size() != layer_count_sums_.size())
-      throw StateError("checkpoint entries 'layers.*': " + std::to_string(edges.size()) + " edges, " +
-                       std::to_string(profile.size()) + " profile bins and " + std::to_string(sums.size()) +
-                       " layer counts where this run has " + std::to_string(layer_edges_.size()) + ", " +
-                       std::to_string(layer_profile_.size()) + " and " + std::to_string(layer_count_sums_.size()));
+  layers_.load(in, [&](const std::vector<double>& edges) {
     try {
       grid_.set_edges(edges);
     } catch (const std::invalid_argument& e) {
       throw StateError(std::string("checkpoint entry 'layers.edges': ") + e.what());
     }
-    layer_edges_ = std::move(edges);
-    system_.layer_edges = layer_edges_.data();
-    layer_profile_ = std::move(profile);
-    layer_count_sums_ = std::move(sums);
-    layers_set_ = counts[0] != 0;
-    layer_profile_samples_ = counts[1];
-    layer_count_samples_ = counts[2];
-  }
+  });
 }
 
 }  // namespace gdsmc::host

@@ -18,7 +18,7 @@ struct RunResults {
   std::vector<std::string> summary;  // realization 0 only
   std::vector<DiagnosticOutput> diagnostics;
   double collisions = 0, wall_seconds = 0;
-  Engine::StageSeconds stage_seconds{};
+  StageSeconds stage_seconds{};
   std::uint64_t steps = 0;
   bool steady = false;
 };

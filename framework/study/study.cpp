@@ -177,19 +177,19 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   for (const auto& line : runs.front()->results.summary)
     case_summary.push_back((p.realizations > 1 ? "[realization 0] " : "") + line);
   std::vector<std::vector<DiagnosticOutput>> diagnostics;
-  Engine::StageSeconds stages{};
+  StageSeconds stages{};
   for (Run* run : runs) {
     RunResults& r = run->results;
-    for (std::size_t k = 0; k < Engine::kStages; ++k) stages[k] += r.stage_seconds[k];
+    for (std::size_t k = 0; k < kStages; ++k) stages[k] += r.stage_seconds[k];
     if (run->realization > 0) {
       case_out.run["wall_seconds"] += r.wall_seconds;
       case_out.run["reached_steady_state"] = std::min(case_out.run["reached_steady_state"], r.steady ? 1.0 : 0.0);
     }
     diagnostics.push_back(std::move(r.diagnostics));
   }
-  for (std::size_t k = 0; k < Engine::kStages; ++k)
-    case_out.run[Engine::stage_attribute(static_cast<Engine::Stage>(k))] = stages[k];
-  case_summary.push_back("time in the steps [s]: " + Engine::stage_times_text(stages));
+  for (std::size_t k = 0; k < kStages; ++k)
+    case_out.run[stage_attribute(static_cast<Stage>(k))] = stages[k];
+  case_summary.push_back("time in the steps [s]: " + stage_times_text(stages));
   case_out.run["realizations"] = p.realizations;
   case_out.diagnostics = average_realizations(diagnostics, nullptr);
   add_steady_averages(case_out.diagnostics, p.average_after_collisions_per_particle, p.average_after_time_tau0,
