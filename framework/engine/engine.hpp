@@ -18,6 +18,7 @@
 #include "engine/cells.hpp"
 #include "engine/checked_plugins.hpp"
 #include "engine/collision_stage.hpp"
+#include "engine/diagnostic_slots.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/particle_store.hpp"
 #include "engine/run_tallies.hpp"
@@ -111,7 +112,7 @@ class Engine {
   CaseOutput output();
   bool reached_steady_state() const { return steady_; }
   const std::vector<std::string>& summary() const { return summary_; }
-  const std::vector<DiagnosticOutput>& diagnostics() const { return outputs_; }
+  const std::vector<DiagnosticOutput>& diagnostics() const { return diagnostics_.outputs(); }
   ParticleSpan particles() { return store_.span(); }
   const StepContext& context() const { return ctx_; }
   const SystemInfo& system() const { return system_; }
@@ -125,20 +126,6 @@ class Engine {
   using Interrupted = host::Interrupted;
 
  private:
-  struct DiagnosticSlot {
-    Diagnostic* object;
-    const PluginUse* use;
-    const PluginCallSite* site = nullptr;
-    double time_sum = 0, s_sum = 0;
-    std::uint64_t samples = 0;
-    std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
-    bool bracketed = false;  // sampled on both sides of the collision stage (BracketedSampling, run.sampling)
-    std::uint64_t bracketed_step = static_cast<std::uint64_t>(-1);  // the step of its last bracketed pair
-    // Whether it samples (or records) after step `step`, unless forced to record.
-    bool samples_at(std::uint64_t step) const {
-      return last_record_step != step && (step % use->record_every == 0 || step % use->sample_every == 0);
-    }
-  };
   enum class Setup { full, objects_only, restore };
   Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads,
          StateReader* state = nullptr);
@@ -156,7 +143,6 @@ class Engine {
   void update_moments();
   void permute_by_layer();
   void measure_sampled_moments();
-  bool samples_at(std::uint64_t step) const;
   double time_step() const;
   void apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings);
   void stream(double dt);
@@ -164,7 +150,6 @@ class Engine {
   void sample_and_record(bool force_record);
   // The bracketed diagnostics' samples just before or just after the collision stage (SamplePhase).
   void sample_bracketed(SamplePhase phase);
-  void sample_slot(std::size_t k, const ParticleSpan& span, std::uint32_t instance, SamplePhase phase, double t, double s);
   std::string energy_balance_text();
   Progress progress(double elapsed_seconds) const;
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
@@ -198,7 +183,6 @@ class Engine {
   // A homogeneous system without forcings: only collisions change velocities, so between passes
   // the mean stays and T follows their declared energy (update_moments).
   bool moments_follow_collisions_ = false;
-  bool any_bracketed_ = false;  // some diagnostic is sampled before the collision stage too
   double energy_at_update_ = 0;  // ctx.collision_energy_change at the last moment update
   std::vector<std::shared_ptr<PluginObject>> objects_;  // keeps every plugin object (and library) alive
   std::vector<const PluginUse*> object_uses_;           // what made each of objects_
@@ -216,8 +200,7 @@ class Engine {
   // Collisions the majorants missed since the start (CollisionStage::Totals::missed): candidates
   // whose rate exceeded their bound were accepted once where their rate asked for more.
   double missed_collisions_ = 0;
-  std::vector<DiagnosticSlot> slots_;
-  std::vector<DiagnosticOutput> outputs_;
+  DiagnosticSlots diagnostics_;
   std::vector<std::string> summary_;
   CollisionStage collisions_;            // per-cell majorants, remainders and streams
   std::vector<double> kick_energy_;      // per block: a homogeneous body acceleration's work this step
@@ -230,7 +213,6 @@ class Engine {
   // This step, the slab's member lists are placed by stream() and written by the collision stage
   // (every step but those that reorder storage, which need the lists first).
   bool members_written_by_collisions() const { return mover_ && ctx_.step % kReorderEvery != 0; }
-  int steady_slot_ = -1;
   AdaptiveLayers layers_;  // system.layers: {mean_free_paths, after}
 };
 

@@ -50,13 +50,7 @@ void Engine::save(StateWriter& out) const {
   collision_tallies_.save(out);
   ledger_.save(out);
   collisions_.save(out);
-  for (const DiagnosticSlot& slot : slots_) {
-    const double sums[2] = {slot.time_sum, slot.s_sum};
-    out.write("sampling.sums", sums, 2);
-    const std::uint64_t steps[2] = {slot.samples, slot.last_record_step};
-    out.write("sampling.steps", steps, 2);
-  }
-  for (const DiagnosticOutput& o : outputs_) o.save(out);
+  diagnostics_.save(out);
   out.write("summary.lines", static_cast<std::uint64_t>(summary_.size()));
   for (const auto& line : summary_) out.write("summary.line", line);
   for (std::size_t k = 0; k < objects_.size(); ++k) {
@@ -121,23 +115,7 @@ void Engine::load(StateReader& in) {
   collision_tallies_.load(in);
   ledger_.load(in);
   collisions_.load(in);
-  for (DiagnosticSlot& slot : slots_) {
-    double sums[2];
-    in.read("sampling.sums", sums, 2);
-    slot.time_sum = sums[0];
-    slot.s_sum = sums[1];
-    std::uint64_t steps[2];
-    in.read("sampling.steps", steps, 2);
-    slot.samples = steps[0];
-    slot.last_record_step = steps[1];
-  }
-  for (std::size_t k = 0; k < outputs_.size(); ++k) {
-    try {
-      outputs_[k].load(in);
-    } catch (const StateError& e) {
-      throw StateError(where_text(*slots_[k].use) + ": " + e.what());
-    }
-  }
+  diagnostics_.load(in);
   std::uint64_t lines = 0;
   in.read("summary.lines", lines);
   if (lines > in.remaining()) throw StateError("checkpoint entry 'summary.lines': a damaged count");
