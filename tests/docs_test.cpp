@@ -547,3 +547,15 @@ TEST(Docs, OtherDiagnosticsNameTheirDatasets) {
   EXPECT_TRUE(contains(docs["poiseuille_channel"], "T_centre [T_w] (T(0))")) << docs["poiseuille_channel"];
   expect_cited_attributes_exist(dir / "poiseuille.h5");
 }
+
+// docs/performance.md is a reference (issue 31 item 5): the current figures, what limits each and
+// how to reproduce them, in at most 200 lines, with the SPARTA deck that its comparison ran
+// (issue 27 item 5); dated series live in its history.
+TEST(Docs, PerformanceIsAReferenceOfAtMostTwoHundredLines) {
+  const std::string text = read_text(source_dir() / "docs" / "performance.md");
+  const auto lines = std::count(text.begin(), text.end(), '\n');
+  EXPECT_LE(lines, 200) << "docs/performance.md has " << lines << " lines";
+  for (const char* part : {"## How to measure", "## Side by side with SPARTA", "create_grid     ${K} ${K} ${K}",
+                           "collide         vss gas hs.vss", "## Memory"})
+    EXPECT_TRUE(contains(text, part)) << part;
+}
