@@ -5,12 +5,15 @@
 #include <cstring>
 
 #include "engine/bulk_rng.hpp"
+#include "engine/candidate_batch.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/majorant.hpp"
 #include "engine/weighted_layer.hpp"
 #include "util/text.hpp"
 
 namespace gdsmc::host {
+
+using namespace candidates;
 
 std::size_t subpopulation_count(std::size_t particles, std::size_t size) {
   if (size == 0 || particles <= size) return 1;
@@ -129,77 +132,14 @@ void CollisionStage::set_layer_majorants(const CellMoments* cells, const double*
 }
 
 namespace {
-// Particle a of a group without a member list: (first + a * stride) mod n, by a Barrett reduction
-// (barrett = floor((2^64 - 1) / n), computed once per group), so no division per candidate.
-inline std::uint32_t strided_particle(std::uint64_t first, std::uint64_t stride, std::uint32_t a, std::uint64_t n,
-                                      std::uint64_t barrett) {
-  const std::uint64_t x = first + static_cast<std::uint64_t>(a) * stride;
-  const auto q = static_cast<std::uint64_t>((static_cast<unsigned __int128>(x) * barrett) >> 64);
-  std::uint64_t r = x - q * n;
-  while (r >= n) r -= n;
-  return static_cast<std::uint32_t>(r);
-}
-
-template <class T>
-inline void prefetch(const T* a) {
-#if defined(__GNUC__)
-  __builtin_prefetch(a, 1, 3);  // written if the pair collides
-#else
-  (void)a;
-#endif
-}
-
-// One batch of candidates being drawn: at most kPairBatch pairs with no particle twice (a set of
-// the cell's local indices, hashed into kSeenBits bits: a clash, real or of the hash, closes the
-// batch early). Since the rule draws from its own stream and takes the pairs in order on the
-// current velocities, where a batch ends changes only the speed, never a result.
-constexpr std::uint32_t kPairBatch = 32;
-// A uniform draw of this many candidates (three numbers each) or more takes its numbers from a
-// BulkRng (64 at a time); fewer, from the stream itself.
-constexpr std::uint64_t kBulkCandidates = 32;
-constexpr std::uint32_t kSeenBits = 4096;
-struct BatchScratch {
-  std::uint32_t i[kPairBatch], j[kPairBatch];
-  Vec3 v1[kPairBatch], v2[kPairBatch];
-  double u[kPairBatch], w[kPairBatch];
-  // Weighted pairs: each pair's time in the step and its particles' local indices.
-  double t[kPairBatch];
-  std::uint32_t la[kPairBatch], lb[kPairBatch];
-  std::uint8_t accepted[kPairBatch];
-  std::uint64_t seen[kSeenBits / 64];
-  bool dirty = true;  // seen may hold bits of pairs no longer open (a batch left by an exception)
-  bool holds(std::uint32_t a) const { return (seen[(a & (kSeenBits - 1)) >> 6] >> (a & 63)) & 1; }
-  // An empty batch whose arrays the rule sees through `b`. The scratch is kept per thread (a layer
-  // step holds a few candidates: clearing 512 bytes per layer cost more than drawing them).
-  void open(PairBatch& b) {
-    if (dirty) std::memset(seen, 0, sizeof seen);
-    dirty = false;
-    b.i = i, b.j = j, b.v1 = v1, b.v2 = v2, b.u = u, b.accepted = accepted;
-  }
-  // The set emptied after the first m pairs (local indices la, lb) were closed: their words only.
-  void forget(std::uint32_t m) {
-    for (std::uint32_t q = 0; q < m; ++q) seen[(la[q] & (kSeenBits - 1)) >> 6] = seen[(lb[q] & (kSeenBits - 1)) >> 6] = 0;
-  }
-  // The first m pairs' velocities from storage (prefetched as the pairs were drawn).
-  void load_velocities(std::uint32_t m, const double* vx, const double* vy, const double* vz) {
-    for (std::uint32_t q = 0; q < m; ++q) {
-      v1[q] = Vec3{vx[i[q]], vy[i[q]], vz[i[q]]};
-      v2[q] = Vec3{vx[j[q]], vy[j[q]], vz[j[q]]};
+// The kept speed bounds of the particles of the first m pairs that collided, after the collision.
+void follow_accepted(const KeptSpeedBounds& kept, std::uint8_t* bound, const BatchScratch& s, std::uint32_t m) {
+  for (std::uint32_t q = 0; q < m; ++q)
+    if (s.accepted[q]) {
+      bound[s.i[q]] = kept.level(s.v1[q].x, s.v1[q].y, s.v1[q].z);
+      bound[s.j[q]] = kept.level(s.v2[q].x, s.v2[q].y, s.v2[q].z);
     }
-  }
-  // The accepted ones of the first m pairs back to storage.
-  void store_accepted(std::uint32_t m, double* vx, double* vy, double* vz) const {
-    for (std::uint32_t q = 0; q < m; ++q) {
-      if (!accepted[q]) continue;
-      vx[i[q]] = v1[q].x, vy[i[q]] = v1[q].y, vz[i[q]] = v1[q].z;
-      vx[j[q]] = v2[q].x, vy[j[q]] = v2[q].y, vz[j[q]] = v2[q].z;
-    }
-  }
-  void add(std::uint32_t a) {
-    seen[(a & (kSeenBits - 1)) >> 6] |= std::uint64_t{1} << (a & 63);
-    dirty = true;
-  }
-};
+}
 }  // namespace
 
 CollisionStage::CollisionStage(PairCount scheme) : scheme_(scheme) {}
@@ -208,17 +148,8 @@ CollisionStage::~CollisionStage() = default;
 void CollisionStage::collide_candidates(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
                                         std::uint64_t candidates, Rng& stream, PairBatch& batch, bool kept) {
   const Group& group = groups_[c];
-  const std::uint32_t* const members = group.members;
-  const std::uint64_t first = group.first, stride = group.stride, total = particles.count;
-  const std::uint64_t barrett = total ? ~std::uint64_t{0} / total : 0;
+  const GroupParticles particle(group.members, group.first, group.stride, particles.count);
   const std::uint32_t count = group.count;
-  // Particle a of the group: a member list (slab layers), a contiguous range, or a strided one
-  // (the sub-populations of a homogeneous system).
-  auto particle = [&](std::uint32_t a) -> std::uint32_t {
-    if (members) return members[a];
-    if (stride == 1) return static_cast<std::uint32_t>(first + a);
-    return strided_particle(first, stride, a, total, barrett);
-  };
   double* const vx = particles.vx.data;
   double* const vy = particles.vy.data;
   double* const vz = particles.vz.data;
@@ -234,27 +165,13 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
     batch.count = m;
     rule.collide_batch(batch);
     s.store_accepted(m, vx, vy, vz);
-    if (bound)
-      for (std::uint32_t q = 0; q < m; ++q)
-        if (s.accepted[q]) {
-          bound[s.i[q]] = kept_.level(s.v1[q].x, s.v1[q].y, s.v1[q].z);
-          bound[s.j[q]] = kept_.level(s.v2[q].x, s.v2[q].y, s.v2[q].z);
-        }
-    s.forget(m);
-    s.dirty = false;
+    if (bound) follow_accepted(kept_, bound, s, m);
+    s.close(m);
     m = 0;
   };
   // A candidate into the open batch (its velocities prefetched), the batch closed when full.
   const auto open = [&](std::uint32_t a, std::uint32_t b, std::uint32_t i, std::uint32_t j, double u) {
-    s.add(a);
-    s.add(b);
-    s.i[m] = i;
-    s.j[m] = j;
-    s.la[m] = a;
-    s.lb[m] = b;
-    s.u[m] = u;
-    prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
-    prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
+    s.put(m, a, b, i, j, u, vx, vy, vz);
     if (++m == kPairBatch) flush();
   };
   // The candidates from `draws` (the stream itself, or drawn ahead by BulkRng: the same numbers).
@@ -305,170 +222,6 @@ void CollisionStage::collide_candidates(const CollisionRule& rule, const Particl
   draw_from(stream, candidates >= kBulkCandidates, draw_all);
 }
 
-// Weighted pairs of one layer over the step (000 Eq. 4.13 with pair majorants c_a + c_b): envelope
-// events at the rate R = K E, K = sigma^2 pi scale (2 P(N_c) / N_c) / V_c, on a time counter whose
-// credit is carried from step to step (as the uniform candidates' remainder). Particle a initiates
-// candidates at the rate K c_a, with a partner drawn uniformly, so the pair (a, b) is a candidate at
-// the rate K (c_a + c_b) / (N_c - 1) = (P / C(N_c, 2)) sigma^2 pi scale (c_a + c_b) / V_c, and
-// collides with probability |g| / (c_a + c_b): the hard-sphere rate, pair by pair.
-// A batch holds no particle twice, and a drawn pair that meets a particle of the open batch closes
-// it first, so every test sees current speeds. When a collision lifts a particle's bound by dB at
-// time t_q, its extra events (rate K dB, initiated by it, partner uniform) until the envelope takes
-// them over are drawn: none before the batch's last event is the rule, and the batch stands; else
-// the batch is cut at the first one's time E (the rule's work on the pairs after E is undone by
-// running it again on the pairs before E from the saved stream, results and tallies), that event is
-// the next candidate, and the time counter starts again at E. Returns the credit left at dt.
-template <class Draws>
-double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                     WeightedLayer& layer, double credit, double dt, Draws& select, PairBatch& batch) {
-  const Group& group = groups_[c];
-  const std::uint32_t* const members = group.members;
-  const std::uint32_t count = group.count;
-  double* const vx = particles.vx.data;
-  double* const vy = particles.vy.data;
-  double* const vz = particles.vz.data;
-  const double per_bound = 2.0 * pair_count(scheme_, count) / count * batch.sigma * batch.sigma * M_PI *
-                           rule.rate_bound(1.0) / group.volume;  // K
-  batch.speed_bound = 2.0 * layer.bulk_bound();  // the bulk's pair bound (for a rule that looks)
-  batch.rate_bound = rule.rate_bound(batch.speed_bound);
-  thread_local BatchScratch s;
-  s.open(batch);
-  batch.speed_bounds = s.w;
-  std::uint32_t m = 0;
-  std::uint64_t candidates = 0;
-  // The time counter: since the anchor time t0 with credit f0 at rate R, envelope event k (k >= 1)
-  // is at t0 + (k - f0) / R; `events` of them drawn so far, those at or before dt while
-  // events + 1 <= budget.
-  double t0 = 0, f0 = credit, rate = per_bound * layer.envelope(), inverse_rate = 1.0 / rate;
-  double budget = std::isfinite(rate) ? f0 + rate * dt : 0.0;
-  std::uint64_t events = 0;
-  const auto anchor = [&](double t, double f) {
-    t0 = t;
-    f0 = std::min(std::max(f, 0.0), std::nextafter(1.0, 0.0));
-    rate = per_bound * layer.envelope();
-    inverse_rate = 1.0 / rate;
-    // A speed that is not finite (a rule that broke a velocity) ends the layer's step here; the
-    // engine's checks of the state name it.
-    budget = std::isfinite(rate) ? f0 + rate * (dt - t0) : 0.0;
-    events = 0;
-  };
-  std::int64_t initiator = -1;  // an extra event's particle, the next candidate (at t0)
-  thread_local std::vector<double> saved_tally;
-  saved_tally.resize(tally_count_);
-  // Close the batch, whose newest event is at `last`: the rule's pass, every collided particle's new
-  // speed, the extra events of those that rose. True if the batch was cut (an extra event before
-  // `last`: `initiator` is set, and the time counter starts again at its time).
-  const auto flush = [&](double last) -> bool {
-    s.load_velocities(m, vx, vy, vz);
-    const Rng kernel_before = *batch.rng;
-    const std::uint64_t collided = batch.collided, exceeded = batch.exceeded;
-    const double max_rate = batch.max_rate, energy = batch.energy_change, missed = batch.missed;
-    if (batch.tally) std::copy(batch.tally, batch.tally + tally_count_, saved_tally.begin());
-    batch.count = m;
-    rule.collide_batch(batch);
-    double first_extra = INFINITY;
-    std::uint32_t extra = 0, kept = m;
-    bool rose = false;
-    for (std::uint32_t q = 0; q < m; ++q) {
-      if (s.t[q] > first_extra) {
-        kept = q;
-        break;
-      }
-      if (!s.accepted[q]) continue;
-      const Vec3 after[2] = {s.v1[q], s.v2[q]};
-      for (int e = 0; e < 2; ++e) {
-        const std::uint32_t a = e == 0 ? s.la[q] : s.lb[q];
-        const double lift = layer.rise(a, layer.peculiar_square(after[e].x, after[e].y, after[e].z));
-        if (lift > 0) {
-          rose = true;
-          const double t = s.t[q] - std::log1p(-select.uniform()) / (per_bound * lift);
-          if (t < first_extra) first_extra = t, extra = a;
-        }
-      }
-    }
-    if (kept < m) {
-      // Undo the rule's pass and run it again on the pairs before the cut: the same draws, so the
-      // same outcomes for them, and results and tallies that hold those pairs only.
-      *batch.rng = kernel_before;
-      batch.collided = collided, batch.exceeded = exceeded, batch.max_rate = max_rate;
-      batch.energy_change = energy, batch.missed = missed;
-      if (batch.tally) std::copy(saved_tally.begin(), saved_tally.end(), batch.tally);
-      s.load_velocities(kept, vx, vy, vz);
-      batch.count = kept;
-      rule.collide_batch(batch);
-    }
-    s.store_accepted(kept, vx, vy, vz);
-    candidates += kept;
-    s.forget(m);
-    s.dirty = false;
-    m = 0;
-    if (first_extra <= last) {
-      // The envelope events after E are dropped; the counter goes on from E with the new envelope.
-      const double due = f0 + rate * (first_extra - t0);
-      anchor(first_extra, due - std::floor(due));
-      initiator = extra;
-      return true;
-    }
-    if (rose) anchor(last, f0 + rate * (last - t0) - static_cast<double>(events));
-    return false;
-  };
-  const auto draw_time = [&] { return t0 + (static_cast<double>(events) - f0) * inverse_rate; };
-  for (;;) {
-    std::uint32_t a;
-    double t, thin;
-    bool from_bulk = false;
-    if (initiator >= 0) {
-      a = static_cast<std::uint32_t>(initiator);
-      initiator = -1;
-      t = t0;
-      thin = select.uniform();
-    } else if (static_cast<double>(events + 1) <= budget) {
-      ++events;
-      if ((events & 0xFFFF) == 0) poll_interrupt(interrupt_);
-      t = draw_time();
-      a = layer.pick(select.uniform(), thin, from_bulk);
-    } else {
-      if (m > 0 && flush(dt)) continue;
-      break;
-    }
-    // a thinned first (its speed is current once no open pair holds it), then its partner and the
-    // acceptance number for a candidate only.
-    if (m > 0 && s.holds(a) && flush(t)) continue;  // cut before t: this draw goes
-    if (!layer.candidate(a, thin, from_bulk)) continue;
-    std::uint32_t b = select.below(count - 1);
-    b += (b >= a);
-    const double u = select.uniform32();
-    if (m > 0 && s.holds(b) && flush(t)) continue;
-    s.add(a);
-    s.add(b);
-    const std::uint32_t i = members[a], j = members[b];
-    s.i[m] = i;
-    s.j[m] = j;
-    s.la[m] = a;
-    s.lb[m] = b;
-    s.u[m] = u;
-    s.t[m] = t;
-    s.w[m] = layer.speed(a) + layer.speed(b);
-    prefetch(vx + i), prefetch(vy + i), prefetch(vz + i);
-    prefetch(vx + j), prefetch(vy + j), prefetch(vz + j);
-    if (++m == kPairBatch) flush(t);
-  }
-  counts_[3 * c] = candidates;
-  return f0 + rate * (dt - t0) - static_cast<double>(events);
-}
-
-// A layer-step draws two numbers an envelope event and two more a candidate: a few Philox blocks at
-// least, which sixteen side by side (AVX2, AVX-512) cost less than one after the other; without a
-// vector version, from a local copy of the stream.
-double CollisionStage::collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                        WeightedLayer& layer, double credit, double dt, Rng& stream,
-                                        PairBatch& batch) {
-  double left = 0;
-  draw_from(stream, philox_sixteen_vectorized(),
-            [&](auto& draws) { left = weighted_step(rule, particles, c, layer, credit, dt, draws, batch); });
-  return left;
-}
-
 void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double sigma,
                                    double dt, const StreamFactory& streams) {
   poll_interrupt(interrupt_);
@@ -503,37 +256,7 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   if (weighted_ && group.members &&
       (!in_storage_order || selection_ == PairSelection::weighted ||
        ratio_[c] * kUniformAcceptanceFloor > kMaxwellMeanRelativeSpeed)) {
-    thread_local WeightedLayer layer;
-    // About the layer's mean velocity at the last moment update (any u bounds |g|; one near the
-    // mean keeps the speeds small), with the bulk bound kBulkSpeedBound times the rms speed.
-    double u[3] = {0, 0, 0};
-    if (cells_ && cells_[c].count >= 2) {
-      std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
-    } else {
-      for (std::uint32_t a = 0; a < group.count; ++a) {
-        const std::uint32_t i = group.members[a];
-        u[0] += particles.vx.data[i], u[1] += particles.vy.data[i], u[2] += particles.vz.data[i];
-      }
-      for (double& x : u) x /= group.count;
-    }
-    // A homogeneous system of one group: storage order, and B_0 from the reference temperature
-    // (kBulkSpeedBound times the rms speed sqrt(3 T_ref/m)), so one pass builds the envelope.
-    if (in_storage_order ? !layer.build_contiguous(particles, group.count, u, kBulkSpeedBound * std::sqrt(3.0) * speed_[c])
-                   : !layer.build(particles, group.members, group.count, u, kBulkSpeedBound)) {
-      remainder_[c] = 0;
-      return;
-    }
-    // This step's velocities are not followed by the kept bounds (a homogeneous system of one
-    // group: no other group runs meanwhile); they are rebuilt at the next uniform step.
-    kept_.invalidate();
-    // The remainder is a fraction of an envelope event here and of a uniform candidate otherwise:
-    // in [0, 1) either way, so a layer that changes its draw (run.pair_selection at a resume)
-    // carries less than one.
-    remainder_[c] = collide_weighted(rule, particles, c, layer, remainder_[c], dt, select, batch);
-    counts[1] = batch.collided;
-    counts[2] = batch.exceeded;
-    energy_[c] = batch.energy_change;
-    missed_[c] = batch.missed;
+    collide_group_weighted(rule, particles, c, dt, select, batch);
     return;
   }
   // Candidates of the step (000 Eqs. 4.13, 4.23): P_c sigma^2 Omega_B W dt / V_c, W the rule's

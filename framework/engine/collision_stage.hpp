@@ -198,6 +198,9 @@ class CollisionStage {
                           std::uint64_t candidates, Rng& select, PairBatch& batch, bool kept);
   KeptSpeedBounds kept_;  // engine/kept_speed_bounds.hpp
   bool collisions_only_ = false, kept_this_step_ = false;
+  // Group c's step with weighted pairs: its envelope built, then collide_weighted.
+  void collide_group_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double dt,
+                              Rng& select, PairBatch& batch);
   // Group c's step with weighted pairs (a slab layer, the hard-sphere form): returns the time
   // counter's credit at dt.
   double collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
