@@ -447,29 +447,10 @@ int agree(int status, StderrHold& hold) {
   return any;
 }
 
-}  // namespace
-
-int cmd_run(const Options& options, bool run_it) {
-  // A crash inside a plugin (SIGSEGV, SIGBUS, SIGFPE, abort) names it, its role, the step and the
-  // run, and removes the temporary output and the lock (engine/plugin_calls.hpp).
-  install_fatal_signal_handlers();
-  // In an MPI job (study/ranks.hpp) every rank checks the pipeline and runs its share of the
-  // study; rank 0 alone prints progress and the summary, and writes the file.
-  StderrHold hold(job::distributed() && !job::root());
-  Options o = options;
-  if (!job::root()) o.quiet = true;
-  if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
-  Pipeline p;
-  std::vector<StudyCase> cases;
-  OutputTarget target;
-  MemoryEstimate memory;
-  std::vector<std::string> reading;
-  if (const int status = agree(prepare(o, run_it, p, cases, target, memory, reading), hold)) return status;
-  if (run_it && !o.quiet)
-    for (const auto& line : reading) std::cerr << line << "\n";
-  const std::string notice = target.replacement_notice(run_it);
-  // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
-  std::optional<CheckpointStore> checkpoints;
+// The checkpoint of this output before anything runs: checked (validate, --resume) or begun (a run
+// that asks for one), on every rank. Returns the exit status when the command ends here.
+std::optional<int> open_checkpoints(const Options& o, const Pipeline& p, const std::vector<StudyCase>& cases,
+                                    bool run_it, StderrHold& hold, std::optional<CheckpointStore>& checkpoints) {
   const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
   std::error_code exists_error;
   if (!run_it && !o.resume && p.checkpoint && fs::exists(checkpoint_dir / "study", exists_error)) {
@@ -513,18 +494,78 @@ int cmd_run(const Options& options, bool run_it) {
     }
     if (const int status = agree(checked, hold)) return status;
   }
-  if (!run_it) {
-    if (checkpoints)
-      std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->describe(cases)
-                << ")\n";
-    if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
-    for (const auto& line : reading) std::cout << line << "\n";
-    std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
-              << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
-              << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string()
-              << "; about " << bytes_text(memory.bytes) << " of memory)\n";
-    return 0;
+  return std::nullopt;
+}
+
+// validate's verdict: the checkpoint it found, the notices and the reading of the pipeline, and
+// what the study is (cases, realizations, particles, diagnostics, output, memory).
+int print_valid(const Pipeline& p, const std::vector<StudyCase>& cases, const MemoryEstimate& memory,
+                const std::vector<std::string>& reading, const std::string& notice,
+                const std::optional<CheckpointStore>& checkpoints) {
+  const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
+  if (checkpoints)
+    std::cout << checkpoint_dir.string() << ": a checkpoint of this pipeline (" << checkpoints->describe(cases)
+              << ")\n";
+  if (!notice.empty()) std::cerr << "gdsmc: " << notice << "\n";
+  for (const auto& line : reading) std::cout << line << "\n";
+  std::cout << p.file.string() << ": valid (" << cases.size() << (cases.size() == 1 ? " case" : " cases") << " x "
+            << p.realizations << (p.realizations == 1 ? " realization" : " realizations") << "; " << p.particles
+            << " particles; " << p.diagnostics.size() << " diagnostics; output " << p.output_file.string()
+            << "; about " << bytes_text(memory.bytes) << " of memory)\n";
+  return 0;
+}
+
+// A rank other than 0 of an MPI job: its share of the runs, sent to rank 0 as they finish; rank 0
+// reports any failure and ends the job with one exit status.
+int run_other_rank(const Options& o, const Pipeline& p, const std::vector<StudyCase>& cases, const OutputTarget& target,
+                   std::optional<CheckpointStore>& checkpoints) {
+  const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
+  try {
+    run_study(cases, {}, 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
+  } catch (const std::exception&) {
   }
+  const int status = job::await_status();
+  // Rank 0 died (killed, crashed): no one reports anything, but the lowest rank on its host, if
+  // any, can say so and remove its temporary file.
+  if (job::root_gone() && job::watches_root()) {
+    std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size()
+              << ": rank 0, which gathers the runs and writes the output, ended without a word: it was killed by a "
+                 "signal or crashed (mpirun names the signal); nothing was written";
+    if (checkpoints)
+      std::cerr << "; every run saved its state in " << checkpoint_dir.string()
+                << " as the pipeline asks (those of rank 0 at their last checkpoint): " << resume_text(o, p);
+    std::cerr << "\n";
+    for (const auto& line : remove_stale_temporaries(target))
+      std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size() << ": " << line << "\n";
+  }
+  return status;
+}
+
+}  // namespace
+
+int cmd_run(const Options& options, bool run_it) {
+  // A crash inside a plugin (SIGSEGV, SIGBUS, SIGFPE, abort) names it, its role, the step and the
+  // run, and removes the temporary output and the lock (engine/plugin_calls.hpp).
+  install_fatal_signal_handlers();
+  // In an MPI job (study/ranks.hpp) every rank checks the pipeline and runs its share of the
+  // study; rank 0 alone prints progress and the summary, and writes the file.
+  StderrHold hold(job::distributed() && !job::root());
+  Options o = options;
+  if (!job::root()) o.quiet = true;
+  if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
+  Pipeline p;
+  std::vector<StudyCase> cases;
+  OutputTarget target;
+  MemoryEstimate memory;
+  std::vector<std::string> reading;
+  if (const int status = agree(prepare(o, run_it, p, cases, target, memory, reading), hold)) return status;
+  if (run_it && !o.quiet)
+    for (const auto& line : reading) std::cerr << line << "\n";
+  const std::string notice = target.replacement_notice(run_it);
+  // Checkpoints: checked (resume) or begun (a fresh run that asks for them) before anything runs.
+  std::optional<CheckpointStore> checkpoints;
+  if (const std::optional<int> status = open_checkpoints(o, p, cases, run_it, hold, checkpoints)) return *status;
+  if (!run_it) return print_valid(p, cases, memory, reading, notice, checkpoints);
   // Handlers first: a signal from here on removes the temporary file (exit 130).
   install_interrupt_handlers();
   std::signal(SIGXFSZ, SIG_IGN);  // a file size limit (ulimit -f) is a write error, not a kill
@@ -549,29 +590,7 @@ int cmd_run(const Options& options, bool run_it) {
   }
   if (const int status = agree(created, hold)) return status;
   hold.end(false);  // from here on, a rank's warnings (a checkpoint not written) are its own
-  if (!job::root()) {
-    // Its share of the runs, sent to rank 0 as they finish; rank 0 reports any failure, and ends
-    // the job with one exit status.
-    try {
-      run_study(cases, {}, 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
-    } catch (const std::exception&) {
-    }
-    const int status = job::await_status();
-    // Rank 0 died (killed, crashed): no one reports anything, but the lowest rank on its host, if
-    // any, can say so and remove its temporary file.
-    if (job::root_gone() && job::watches_root()) {
-      std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size()
-                << ": rank 0, which gathers the runs and writes the output, ended without a word: it was killed by a "
-                   "signal or crashed (mpirun names the signal); nothing was written";
-      if (checkpoints)
-        std::cerr << "; every run saved its state in " << checkpoint_dir.string()
-                  << " as the pipeline asks (those of rank 0 at their last checkpoint): " << resume_text(o, p);
-      std::cerr << "\n";
-      for (const auto& line : remove_stale_temporaries(target))
-        std::cerr << "gdsmc: rank " << job::rank() << " of " << job::size() << ": " << line << "\n";
-    }
-    return status;
-  }
+  if (!job::root()) return run_other_rank(o, p, cases, target, checkpoints);
   return job::conclude(finish_run(o, p, cases, memory, notice, *out, checkpoints, start, tty, report));
 }
 

@@ -32,6 +32,43 @@ void write_all(int fd, const char* data, std::size_t n) {
   }
 }
 
+// The child's side: its output to /dev/null when quiet, fn, then the end marker; never returns.
+[[noreturn]] void run_as_child(int fd, const std::function<void(ChildReport&)>& fn, bool quiet) {
+  if (quiet) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+      ::dup2(null, 1);
+      ::dup2(null, 2);
+    }
+  }
+  ChildReport report(fd);
+  fn(report);
+  write_all(fd, reinterpret_cast<const char*>(&kFinished), sizeof kFinished);
+  std::cout.flush();
+  std::fflush(nullptr);
+  ::_exit(0);
+}
+
+// The complete messages at the front of `data` moved into `messages`, up to the end marker (which
+// sets `ended`). Returns how many messages and markers were taken.
+std::size_t take_messages(std::string& data, std::vector<std::string>& messages, bool& ended) {
+  std::size_t taken = 0;
+  std::uint64_t n;
+  while (!ended && data.size() >= sizeof n) {
+    std::memcpy(&n, data.data(), sizeof n);
+    if (n == kFinished) {
+      ended = true;
+    } else if (data.size() - sizeof n >= n) {
+      messages.push_back(data.substr(sizeof n, n));
+    } else {
+      break;
+    }
+    data.erase(0, sizeof n + (ended ? 0 : n));
+    ++taken;
+  }
+  return taken;
+}
+
 }  // namespace
 
 void ChildReport::send(const std::string& message) {
@@ -60,19 +97,7 @@ ChildOutcome run_in_child(const std::function<void(ChildReport&)>& fn, double ti
   }
   if (pid == 0) {
     ::close(fds[0]);
-    if (quiet) {
-      const int null = ::open("/dev/null", O_WRONLY);
-      if (null >= 0) {
-        ::dup2(null, 1);
-        ::dup2(null, 2);
-      }
-    }
-    ChildReport report(fds[1]);
-    fn(report);
-    write_all(fds[1], reinterpret_cast<const char*>(&kFinished), sizeof kFinished);
-    std::cout.flush();
-    std::fflush(nullptr);
-    ::_exit(0);
+    run_as_child(fds[1], fn, quiet);
   }
   ::close(fds[1]);
   // The time limit is kept here, not by alarm() in the child: plugin code may block or catch SIGALRM.
@@ -99,19 +124,7 @@ ChildOutcome run_in_child(const std::function<void(ChildReport&)>& fn, double ti
     if (r <= 0) break;  // end of file: the child closed the pipe (or exited)
     data.append(buf, static_cast<std::size_t>(r));
     // Take the complete messages; each one restarts the clock.
-    std::uint64_t n;
-    while (!ended && data.size() >= sizeof n) {
-      std::memcpy(&n, data.data(), sizeof n);
-      if (n == kFinished) {
-        ended = true;
-      } else if (data.size() - sizeof n >= n) {
-        out.messages.push_back(data.substr(sizeof n, n));
-      } else {
-        break;
-      }
-      data.erase(0, sizeof n + (ended ? 0 : n));
-      deadline = clock::now() + limit;
-    }
+    if (take_messages(data, out.messages, ended) > 0) deadline = clock::now() + limit;
   }
   ::close(fds[0]);
   if (kill_it) ::kill(pid, SIGKILL);
