@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <gdsmc/physics/units.hpp>
+
 #include "util/text.hpp"
 
 namespace gdsmc::host {
@@ -145,14 +147,14 @@ void AdaptiveLayers::write(CaseOutput& out) const {
   out.system["layers_target_mean_free_paths"] = p_->layers_mean_free_paths;
   out.system["layers_set_at_tau0"] = set_ ? set_time_tau0_ : std::nan("");
   if (p_->layers_max_width > 0) out.system["layers_max_width_lambda0"] = p_->layers_max_width / lambda0;
-  ParticleDataset edges{"layer_edges", "lambda0",
+  ParticleDataset edges{"layer_edges", units::length,
                         "the edges of the collision layers along y (layers + 1 values from -Ly/2 to +Ly/2), set "
                         "at layers_set_at_tau0 from the transient's density profile (system.layers: "
                         "{mean_free_paths, after}; equal widths before)",
                         1, {}, ""};
   for (const double e : edges_) edges.data.push_back(e / lambda0);
   out.system_arrays.push_back(std::move(edges));
-  ParticleDataset widths{"layer_width_local_mean_free_paths", "1",
+  ParticleDataset widths{"layer_width_local_mean_free_paths", units::dimensionless,
                          "each layer's width over its local mean free path, delta y_I / lambda_I with lambda_I = "
                          "1/(sqrt(2) pi n_I sigma^2) and n_I its mean density over the moment updates after the "
                          "edges were set (NaN if they never were)",

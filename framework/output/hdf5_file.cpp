@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include <gdsmc/physics/units.hpp>
+
 namespace gdsmc::host {
 
 namespace fs = std::filesystem;
@@ -178,12 +180,12 @@ class Writer {
   void diagnostic(hid_t g, const DiagnosticOutput& d) const {
     for (const auto& [k, v] : d.attributes) attr_string(g, k, v);
     const hsize_t n = d.time.size();
-    dataset(g, "time", d.time, {n}, "tau0", "time t / tau0 (mean over the samples of each record)");
-    dataset(g, "collisions_per_particle", d.collisions_per_particle, {n}, "1",
+    dataset(g, "time", d.time, {n}, units::time, "time t / tau0 (mean over the samples of each record)");
+    dataset(g, "collisions_per_particle", d.collisions_per_particle, {n}, units::dimensionless,
             std::string(kCollisionsPerParticle) + "; per record, the mean over the record's samples");
     for (const auto& c : d.columns) dataset(g, c.name, c.values, {c.values.size()}, c.unit, c.doc);
     if (!d.profiles.empty())
-      dataset(g, "bin_centre", d.bin_centres, {d.bins()}, "lambda0",
+      dataset(g, "bin_centre", d.bin_centres, {d.bins()}, units::length,
               "centre y of each sampling bin of the profiles (the slab spans y in [-Ly/2, Ly/2])");
     for (const auto& p : d.profiles) dataset(g, p.name, p.values, {p.values.size() / d.bins(), d.bins()}, p.unit, p.doc);
     for (const auto& a : d.arrays) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <gdsmc/physics/units.hpp>
+
 #include "output/hdf5_file.hpp"
 
 namespace gdsmc::host {
@@ -10,13 +12,13 @@ std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const System
   const double length = system.mean_free_path0, speed = std::sqrt(2.0 * system.initial_temperature / system.mass);
   std::vector<ParticleColumn> out;
   if (s.x)  // a homogeneous system keeps no positions
-    out = {{"x", "lambda0", "final position x", 1, s.x.data, s.count, length},
-           {"y", "lambda0", "final position y", 1, s.y.data, s.count, length},
-           {"z", "lambda0", "final position z", 1, s.z.data, s.count, length}};
+    out = {{"x", units::length, "final position x", 1, s.x.data, s.count, length},
+           {"y", units::length, "final position y", 1, s.y.data, s.count, length},
+           {"z", units::length, "final position z", 1, s.z.data, s.count, length}};
   out.insert(out.end(), {
-      {"vx", "sqrt(2T0/m)", "final velocity x", 1, s.vx.data, s.count, speed},
-      {"vy", "sqrt(2T0/m)", "final velocity y", 1, s.vy.data, s.count, speed},
-      {"vz", "sqrt(2T0/m)", "final velocity z", 1, s.vz.data, s.count, speed}});
+      {"vx", units::speed, "final velocity x", 1, s.vx.data, s.count, speed},
+      {"vy", units::speed, "final velocity y", 1, s.vy.data, s.count, speed},
+      {"vz", units::speed, "final velocity z", 1, s.vz.data, s.count, speed}});
   for (std::size_t a = 0; a < s.attribute_count; ++a) {
     const AttributeSpec& spec = s.attribute_specs[a];
     out.push_back({spec.name, spec.unit, spec.doc, spec.components, s.attribute_data[a], s.count, 1.0});

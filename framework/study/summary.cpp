@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include <gdsmc/physics/units.hpp>
+
 namespace gdsmc::host {
 
 void add_realization_lines(const std::vector<DiagnosticOutput>& diagnostics, std::uint32_t realizations, bool sweep,
@@ -39,7 +41,7 @@ SummaryColumn axis_column(const std::vector<StudyCase>& cases, std::size_t a) {
   if (numeric) {
     col.values = numbers;
     col.labels.clear();
-    col.unit = "as given in the sweep";
+    col.unit = units::as_swept;
   }
   return col;
 }

@@ -65,7 +65,7 @@ double sonine_prefactor(int k, double a) {
 class HeatFlux final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "heat_flux";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.2.1";
   static constexpr const char* summary =
       "Heat-flux state of paper 001: q_x, kappa'/kappa0 (or kappa/kappa0), b_k (Eqs. 3.10, 3.12), g1, phi, beta1 and first-Sonine theory";
   static constexpr const char* documentation =
@@ -79,7 +79,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
       "(Eq. 2.11), u and T the local flow and temperature of the sampled state (ctx.moments).\n"
       "Series (each record: the mean over the samples since the previous record; the host adds\n"
       "<name>.steady_mean/.steady_stderr over run.average_after):\n"
-      "  q_x [n T0 sqrt(2T0/m)]: heat flux (m/2) n <|V|^2 V_x> (Eq. 2.7), n = system density;\n"
+      "  q_x [n0 T0 sqrt(2T0/m)]: heat flux (m/2) n <|V|^2 V_x> (Eq. 2.7), n = n0 the system density;\n"
       "  conductivity_over_kappa0 [1]: -q_x / (T eps kappa0(T)) (Eq. 3.9), kappa0 = (15/4) n T/(m nu0)\n"
       "    (Eq. 2.47), nu0 = (16/5) sqrt(pi) n sigma^2 sqrt(T/m) (Eq. 2.15): kappa'(t)/kappa0 on route 0,\n"
       "    kappa(t)/kappa0 on route 1 (the group attribute 'route' says kappa_prime or kappa). It equals\n"
@@ -166,7 +166,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
                                              : "kappa'/kappa0: force G' of Eq. 3.2 (kappa' = kappa - n mu / 2T)");
     const std::string what = kappa ? "kappa(t)/kappa0" : "kappa'(t)/kappa0";
     const std::vector<std::array<std::string, 3>> cols = {
-        {"q_x", "n T0 sqrt(2T0/m)", "heat flux q_x = (m/2) n <|V|^2 V_x> (Eq. 2.7)"},
+        {"q_x", gdsmc::units::heat_flux, "heat flux q_x = (m/2) n <|V|^2 V_x> (Eq. 2.7)"},
         {"conductivity_over_kappa0", "1",
          what + " = -q_x/(T eps kappa0(T)) (Eq. 3.9), kappa0 = (15/4) n T/(m nu0) (Eq. 2.47); route attribute: " +
              (kappa ? "kappa" : "kappa_prime")},
@@ -243,7 +243,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
     }
     const double N = static_cast<double>(p.count);
     double v[kColumns];
-    // q_x = (m/2) n <V^2 V_x> = (1/2) n v0^3 <c^2 c_x> (Eq. 2.7), reported in n T0 sqrt(2T0/m).
+    // q_x = (m/2) n <V^2 V_x> = (1/2) n v0^3 <c^2 c_x> (Eq. 2.7), reported in n0 T0 sqrt(2T0/m).
     const double qx = 0.5 * n_ * v0 * v0 * v0 * s_c2cx / N;
     v[kQx] = qx / (n_ * t0_ * std::sqrt(2.0 * t0_));
     // kappa'/kappa0 (or kappa/kappa0) = -q_x/(T eps kappa0) (Eq. 3.9), eps = eps*/lambda;

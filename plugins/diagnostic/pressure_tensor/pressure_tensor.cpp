@@ -7,15 +7,15 @@ namespace {
 class PressureTensor final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "pressure_tensor";
-  static constexpr const char* version = "1.3.0";
-  static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n T0) of the whole system";
+  static constexpr const char* version = "1.3.1";
+  static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n0 T0) of the whole system";
   static constexpr const char* documentation =
       "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
       "relative to the local flow (paper 000, Eq. 4.16): the mean of all particles in a homogeneous\n"
       "system; in a slab the mean of the particle's layer, so that P is the mean pressure tensor P-bar\n"
       "of Eq. (4.9) and T is T-bar (Eq. 4.8). From the moments the host computes once per sample\n"
       "(ctx.moments). Series P_xx, P_yy, P_zz, P_xy, P_xz, P_yz in\n"
-      "units of n T0 [n T0], plus the reduced forms P_xy_over_nT = P_xy/(nT), N1_over_nT = (P_xx -\n"
+      "units of n0 T0 [n0 T0] (n0 = N / Omega), plus the reduced forms P_xy_over_nT = P_xy/(nT), N1_over_nT = (P_xx -\n"
       "P_yy)/(nT) and N2_over_nT = (P_zz - P_yy)/(nT) [1] with the current temperature T, as the papers\n"
       "plot them.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
@@ -23,12 +23,12 @@ class PressureTensor final : public gdsmc::Diagnostic {
 
   void begin(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard&, gdsmc::OutputSink& out) override {
     t0_ = sys.initial_temperature;
-    window_.declare(out, {{"P_xx", "n T0", "xx element of the kinetic pressure tensor (000 Eq. 4.16)"},
-                          {"P_yy", "n T0", "yy element"},
-                          {"P_zz", "n T0", "zz element"},
-                          {"P_xy", "n T0", "xy element"},
-                          {"P_xz", "n T0", "xz element"},
-                          {"P_yz", "n T0", "yz element"},
+    window_.declare(out, {{"P_xx", gdsmc::units::pressure, "xx element of the kinetic pressure tensor (000 Eq. 4.16)"},
+                          {"P_yy", gdsmc::units::pressure, "yy element"},
+                          {"P_zz", gdsmc::units::pressure, "zz element"},
+                          {"P_xy", gdsmc::units::pressure, "xy element"},
+                          {"P_xz", gdsmc::units::pressure, "xz element"},
+                          {"P_yz", gdsmc::units::pressure, "yz element"},
                           {"P_xy_over_nT", "1", "reduced shear stress P_xy / (n T)"},
                           {"N1_over_nT", "1", "reduced normal stress difference (P_xx - P_yy) / (n T)"},
                           {"N2_over_nT", "1", "reduced normal stress difference (P_zz - P_yy) / (n T)"}});

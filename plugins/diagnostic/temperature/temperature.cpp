@@ -7,14 +7,14 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.4.0";
+  static constexpr const char* version = "1.4.1";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
       "the mean of all particles in a homogeneous system; in a slab the mean of the particle's layer,\n"
       "so that T is T-bar of Eq. (4.8). Read from the moments the host computes once per sample\n"
       "(ctx.moments). Series: temperature [T0], mean_velocity_x, mean_velocity_y, mean_velocity_z\n"
-      "[sqrt(2 T0 / m)] (the mean velocity of all particles). Each record is the mean of the samples taken since the previous record.\n"
+      "[sqrt(2T0/m)] (the mean velocity of all particles). Each record is the mean of the samples taken since the previous record.\n"
       "None of its series is declared stationary (group attribute `stationary` = \"\", so `gdsmc plot` draws\n"
       "no steady mean): whether T settles depends on the whole pipeline, not on anything this diagnostic\n"
       "reads: T decays in the homogeneous cooling state (Haff's law), grows by viscous heating in the\n"
@@ -32,9 +32,9 @@ class Temperature final : public gdsmc::Diagnostic {
     t0_ = sys.initial_temperature;
     v0_ = std::sqrt(2.0 * sys.initial_temperature / sys.mass);
     window_.declare(out, {{"temperature", "T0", "granular temperature T / T0 (000 Eq. 4.15)"},
-                          {"mean_velocity_x", "sqrt(2 T0/m)", "x component of the mean velocity"},
-                          {"mean_velocity_y", "sqrt(2 T0/m)", "y component of the mean velocity"},
-                          {"mean_velocity_z", "sqrt(2 T0/m)", "z component of the mean velocity"}});
+                          {"mean_velocity_x", gdsmc::units::speed, "x component of the mean velocity"},
+                          {"mean_velocity_y", gdsmc::units::speed, "y component of the mean velocity"},
+                          {"mean_velocity_z", gdsmc::units::speed, "z component of the mean velocity"}});
   }
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
     const gdsmc::VelocityMoments& m = ctx.moments->local;

@@ -1,8 +1,8 @@
 // gdsmc SDK, physics toolkit: helpers that plugins share (moments of a span, per-bin moment
 // accumulators, formulas of kinetic theory, the HCS reservoir, wall laws, running statistics of
-// series: window means, the error estimator BatchMeans, the steady-state test). Header-only and
-// outside the ABI fingerprint: a plugin compiles in what it uses, and the toolkit may change
-// without a new ABI version. Nothing here crosses the plugin boundary.
+// series: window means, the error estimator BatchMeans, the steady-state test; the units of
+// outputs). Header-only and outside the ABI fingerprint: a plugin compiles in what it uses, and
+// the toolkit may change without a new ABI version. Nothing here crosses the plugin boundary.
 #pragma once
 #include "gdsmc/gdsmc.hpp"
 #include "gdsmc/physics/bins.hpp"
@@ -11,4 +11,5 @@
 #include "gdsmc/physics/moments.hpp"
 #include "gdsmc/physics/series.hpp"
 #include "gdsmc/physics/steady.hpp"
+#include "gdsmc/physics/units.hpp"
 #include "gdsmc/physics/walls.hpp"
