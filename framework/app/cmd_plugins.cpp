@@ -4,6 +4,7 @@
 #include "app/commands.hpp"
 #include "config/suggest.hpp"
 #include "config/units.hpp"
+#include "plugins/kinds.hpp"
 #include "plugins/registry.hpp"
 #include "util/text.hpp"
 
@@ -48,7 +49,7 @@ void print_plugin_doc(const LoadedPlugin& lp) {
                 << " (or {value, unit}: reduced, or any product of powers of lambda0, sigma, tau0, T0, m)";
     std::cout << "\n        " << s.doc << "\n";
   }
-  if (d.kind == PluginKind::diagnostic)
+  if (const PluginKindInfo* kind = find_kind(d.kind); kind && kind->writes_output)
     std::cout << "    (every diagnostic also takes: name, sample_every, record_every)\n";
   std::cout << "\n";
 }
@@ -63,9 +64,9 @@ int cmd_plugins(const Options& o) {
   }
   for (const auto& pth : PluginRegistry::default_search_path()) reg.add(pth);
   if (o.positional.empty()) {
-    for (auto kind : {PluginKind::collision_rule, PluginKind::forcing, PluginKind::boundary, PluginKind::initial_state,
-                      PluginKind::diagnostic}) {
-      std::cout << to_string(kind) << ":\n";
+    for (const PluginKindInfo& row : kPluginKinds) {
+      const PluginKind kind = row.kind;
+      std::cout << row.name << ":\n";
       bool any = false;
       for (const auto& info : reg.available())  // as examined: listing loads nothing into this process
         if (info.kind == kind) {

@@ -10,14 +10,6 @@
 
 namespace gdsmc::host {
 
-const std::vector<std::string>& reserved_keys(PluginKind kind) {
-  static const std::vector<std::string> diagnostic = {"plugin", "name", "sample_every", "record_every"};
-  static const std::vector<std::string> other = {"plugin", "name"};
-  return kind == PluginKind::diagnostic ? diagnostic : other;
-}
-
-const std::vector<std::string>& all_reserved_keys() { return reserved_keys(PluginKind::diagnostic); }
-
 namespace {
 
 // "plugin 'NAME' (FILE)": the library a message is about, so that a plugin shadowed by another
@@ -71,7 +63,7 @@ bool check_entry_keys(Checker& c, const Pipeline& p, const YAML::Node& map, cons
                       const std::string& name, const std::vector<ParamSpec>& schema, PluginUse& use) {
   bool ok = true;
   if (!map) {
-    if (kind == PluginKind::diagnostic) {
+    if (kind_info(kind).writes_output) {
       use.sample_every = p.sample_every;
       use.record_every = p.record_every;
     }
@@ -102,7 +94,7 @@ bool check_entry_keys(Checker& c, const Pipeline& p, const YAML::Node& map, cons
     if (map["name"].IsScalar() && !map["name"].Scalar().empty()) use.instance_name = map["name"].Scalar();
     else c.error(path + ".name", map["name"], "expected a name for the output group");
   }
-  if (kind == PluginKind::diagnostic) {
+  if (kind_info(kind).writes_output) {
     use.sample_every = p.sample_every;
     use.record_every = p.record_every;
     for (auto [key, field] : {std::pair{"sample_every", &use.sample_every}, std::pair{"record_every", &use.record_every}}) {

@@ -9,13 +9,12 @@
 
 #include "config/pipeline.hpp"
 #include "config/yaml_reader.hpp"
+#include "plugins/kinds.hpp"
 
 namespace gdsmc::host {
 
-// Keys of a plugin entry that belong to the pipeline, not to the plugin's parameters.
-const std::vector<std::string>& reserved_keys(PluginKind kind);
-// The union over the kinds: no plugin may name a parameter like this.
-const std::vector<std::string>& all_reserved_keys();
+// Keys of a plugin entry that belong to the pipeline, not to the plugin's parameters:
+// reserved_keys and all_reserved_keys (plugins/kinds.hpp).
 
 // Check one plugin entry (a bare name or {plugin: NAME, ...}) and test-construct the plugin.
 // Returns nullopt after recording every problem in `c`.

@@ -38,6 +38,7 @@
 #include "engine/majorant.hpp"
 #include "engine/particle_store.hpp"
 #include "output/diagnostic_output.hpp"
+#include "plugins/kinds.hpp"
 #include "plugins/loader.hpp"
 #include "plugins/registry.hpp"
 #include "util/text.hpp"

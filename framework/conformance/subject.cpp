@@ -79,16 +79,7 @@ std::string describe_assignment(const Subject& s, const Assignment& a) {
   return t.empty() ? "no parameters" : t;
 }
 
-std::string slot_path(PluginKind k) {
-  switch (k) {
-    case PluginKind::collision_rule: return "collision";
-    case PluginKind::initial_state: return "initial_state";
-    case PluginKind::forcing: return "forcings[0]";
-    case PluginKind::boundary: return "boundaries.y";
-    case PluginKind::diagnostic: return "diagnostics[0]";
-  }
-  return "?";
-}
+std::string slot_path(PluginKind k) { return kind_info(k).first_entry; }
 
 const PluginUse& slot(const Pipeline& p, PluginKind k) {
   switch (k) {

@@ -1,19 +1,8 @@
 #include "engine/call_sites.hpp"
 
-namespace gdsmc::host {
+#include "plugins/kinds.hpp"
 
-namespace {
-const char* role_of(PluginKind kind) {
-  switch (kind) {
-    case PluginKind::collision_rule: return "collision rule";
-    case PluginKind::forcing: return "forcing";
-    case PluginKind::boundary: return "boundary";
-    case PluginKind::initial_state: return "initial state";
-    case PluginKind::diagnostic: return "diagnostic";
-  }
-  return "plugin";
-}
-}  // namespace
+namespace gdsmc::host {
 
 // texts_ is sized first, so that no string moves after a site points into it.
 CallSites::CallSites(const Pipeline& p, const std::uint64_t* step) : run_name_(thread_run_name()) {
@@ -27,7 +16,8 @@ CallSites::CallSites(const Pipeline& p, const std::uint64_t* step) : run_name_(t
     texts_.push_back(u->path + ", " + u->where.str());
     PluginCallSite site;
     site.plugin = u->plugin ? u->plugin->descriptor->name.c_str() : "?";
-    site.role = u->plugin ? role_of(u->plugin->descriptor->kind) : "plugin";
+    const PluginKindInfo* kind = u->plugin ? find_kind(u->plugin->descriptor->kind) : nullptr;
+    site.role = kind ? kind->role : "plugin";
     site.where = texts_.back().c_str();
     site.step = step;
     site.run = run_name_.c_str();
