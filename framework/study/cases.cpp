@@ -101,6 +101,38 @@ std::size_t round_down(double n) {
   return static_cast<std::size_t>(std::floor(n / unit) * unit);
 }
 
+// The message when the study needs more memory than is available: where, how much and what to change.
+std::string memory_message(const std::vector<StudyCase>& cases, const MemoryEstimate& estimate,
+                           const MemoryAvailable& available) {
+  const StudyCase& peak = cases[estimate.peak_case];
+  const CaseMemory& m = estimate.at_peak;
+  const double particles = estimate.concurrent * static_cast<double>(m.particles) * m.bytes_per_particle,
+               others = estimate.bytes - particles;
+  // Located at run.particles, unless the records are what does not fit.
+  std::string message = particles >= others ? peak.pipeline.particles_where.str() + ": run.particles: "
+                                            : peak.pipeline.file.string() + ": diagnostics: ";
+  message += std::string(cases.size() > 1 || estimate.concurrent > 1 ? "this study needs about " : "this run needs about ") +
+             bytes_text(estimate.bytes) + " of memory";
+  if (!peak.label.empty())
+    message += " (at its peak, in sweep case " + std::to_string(estimate.peak_case) + " (" + peak.label + "))";
+  message += " but " + bytes_text(available.bytes) + " is available (" + available.source + "); the estimate: " +
+             estimate.drivers();
+  if (estimate.concurrent * m.setup_bytes > 0.5 * others)
+    message += "; the plugins allocate about " + bytes_text(m.setup_bytes) + " at setup" +
+               (peak.pipeline.geometry == Geometry::slab && (peak.pipeline.bins ? peak.pipeline.bins : peak.pipeline.layers) > kProbeBins
+                    ? fmt(" (measured with %zu and %zu sampling bins, for %zu): use fewer system.bins", kProbeBins,
+                          2 * kProbeBins, peak.pipeline.bins ? peak.pipeline.bins : peak.pipeline.layers)
+                    : std::string());
+  else if (others < available.bytes)
+    message += "; at most about " +
+               std::to_string(round_down((available.bytes - others) / (estimate.concurrent * m.bytes_per_particle))) +
+               " particles fit" + (estimate.concurrent > 1 ? " per run" : "");
+  else
+    message += "; the records alone need " + bytes_text(others) +
+               ": record less often (record_every), stop sooner (run.stop) or run fewer realizations";
+  return message;
+}
+
 }  // namespace
 
 double sweep_case_count(const Pipeline& p) {
@@ -242,33 +274,7 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
     if (!problems.empty()) throw problems.error();
     return estimate;
   }
-  const StudyCase& peak = cases[estimate.peak_case];
-  const CaseMemory& m = estimate.at_peak;
-  const double particles = estimate.concurrent * static_cast<double>(m.particles) * m.bytes_per_particle,
-               others = estimate.bytes - particles;
-  // Located at run.particles, unless the records are what does not fit.
-  std::string message = particles >= others ? peak.pipeline.particles_where.str() + ": run.particles: "
-                                            : peak.pipeline.file.string() + ": diagnostics: ";
-  message += std::string(cases.size() > 1 || estimate.concurrent > 1 ? "this study needs about " : "this run needs about ") +
-             bytes_text(estimate.bytes) + " of memory";
-  if (!peak.label.empty())
-    message += " (at its peak, in sweep case " + std::to_string(estimate.peak_case) + " (" + peak.label + "))";
-  message += " but " + bytes_text(available.bytes) + " is available (" + available.source + "); the estimate: " +
-             estimate.drivers();
-  if (estimate.concurrent * m.setup_bytes > 0.5 * others)
-    message += "; the plugins allocate about " + bytes_text(m.setup_bytes) + " at setup" +
-               (peak.pipeline.geometry == Geometry::slab && (peak.pipeline.bins ? peak.pipeline.bins : peak.pipeline.layers) > kProbeBins
-                    ? fmt(" (measured with %zu and %zu sampling bins, for %zu): use fewer system.bins", kProbeBins,
-                          2 * kProbeBins, peak.pipeline.bins ? peak.pipeline.bins : peak.pipeline.layers)
-                    : std::string());
-  else if (others < available.bytes)
-    message += "; at most about " +
-               std::to_string(round_down((available.bytes - others) / (estimate.concurrent * m.bytes_per_particle))) +
-               " particles fit" + (estimate.concurrent > 1 ? " per run" : "");
-  else
-    message += "; the records alone need " + bytes_text(others) +
-               ": record less often (record_every), stop sooner (run.stop) or run fewer realizations";
-  throw PipelineError({message});
+  throw PipelineError({memory_message(cases, estimate, available)});
 }
 
 }  // namespace gdsmc::host

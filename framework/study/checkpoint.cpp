@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <map>
@@ -13,6 +12,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "study/checkpoint_file.hpp"
 #include "util/content_hash.hpp"
 
 #include <gdsmc/version.hpp>
@@ -27,274 +27,6 @@ constexpr const char* kFormat = "gdsmc checkpoint";
 // 2: the engine keeps its stage times (engine.stage_seconds); 3: a checksum per entry, plugin
 // libraries by content hash.
 constexpr std::uint32_t kFormatVersion = 3;
-
-std::string errno_text() { return std::strerror(errno); }
-
-// Every entry of a checkpoint file carries a checksum. The file is the entries as the SDK's
-// StateWriter frames them (name length, name, kind, element size, count, payload), then a table:
-// one 64-bit ContentHash per entry, over the entry's bytes (header and payload), then the entry
-// count, the bytes of the entries, the table's own hash and the 8 bytes "GDSMCSUM". The reader
-// checks the whole file against its table before it hands out a byte, so a flipped bit, a
-// truncated file or a file still being written is refused naming the file and the entry. The
-// checksums live entirely in the host's file writer and reader: the SDK's entry format and ABI are
-// unchanged (a plugin's own entries travel inside the host's entry "plugin.<role>").
-constexpr char kTableMagic[8] = {'G', 'D', 'S', 'M', 'C', 'S', 'U', 'M'};
-constexpr std::uint64_t kTableTail = 32;  // count, entry bytes, table hash, magic
-
-// Follows the SDK's entry framing through a stream of bytes, hashing each entry.
-class EntryScanner {
- public:
-  // Feeds bytes; `done(name, begin, end, hash)` is called at the end of each entry (bytes
-  // [begin, end) of the stream). A header that cannot be (a name longer than the SDK allows)
-  // makes feed() return false.
-  template <class Done>
-  bool feed(const unsigned char* p, std::size_t n, Done&& done) {
-    while (n) {
-      std::size_t take = 0;
-      switch (phase_) {
-        case Phase::length:
-        case Phase::tail: {
-          const std::size_t want = (phase_ == Phase::length ? 4 : 10) - have_;
-          take = std::min(want, n);
-          std::memcpy(head_ + have_, p, take);
-          have_ += take;
-          if (take == want) {
-            if (phase_ == Phase::length) {
-              std::uint32_t length;
-              std::memcpy(&length, head_, 4);
-              if (length > 4096) {
-                hash_.update(p, take);
-                return false;
-              }
-              name_.clear();
-              left_ = length;
-              phase_ = Phase::name;
-            } else {
-              std::uint64_t count;
-              std::memcpy(&count, head_ + 2, 8);
-              const unsigned size = head_[1];
-              left_ = size && count > ~std::uint64_t{0} / size ? ~std::uint64_t{0} : count * size;
-              phase_ = Phase::payload;
-            }
-            have_ = 0;
-          }
-          break;
-        }
-        case Phase::name:
-          take = static_cast<std::size_t>(std::min<std::uint64_t>(left_, n));
-          name_.append(reinterpret_cast<const char*>(p), take);
-          left_ -= take;
-          if (!left_) phase_ = Phase::tail;
-          break;
-        case Phase::payload:
-          take = static_cast<std::size_t>(std::min<std::uint64_t>(left_, n));
-          left_ -= take;
-          break;
-      }
-      hash_.update(p, take);
-      at_ += take;
-      p += take;
-      n -= take;
-      if (phase_ == Phase::payload && !left_) end_entry(done);
-    }
-    if (phase_ == Phase::payload && !left_) end_entry(done);  // an entry without payload
-    return true;
-  }
-  // Between entries (not inside one).
-  bool at_boundary() const { return phase_ == Phase::length && have_ == 0; }
-  const std::string& name() const { return name_; }    // of the entry under way
-  std::uint64_t entry_begin() const { return begin_; }  // its first byte
-  std::uint64_t payload_left() const { return phase_ == Phase::payload ? left_ : 0; }
-
- private:
-  enum class Phase { length, name, tail, payload };
-  template <class Done>
-  void end_entry(Done&& done) {
-    done(name_, begin_, at_, hash_.finish());
-    hash_.reset();
-    phase_ = Phase::length;
-    have_ = 0;
-    begin_ = at_;
-  }
-  Phase phase_ = Phase::length;
-  unsigned char head_[10] = {};
-  std::size_t have_ = 0;
-  std::uint64_t left_ = 0, at_ = 0, begin_ = 0;
-  std::string name_;
-  ContentHash hash_;
-};
-
-// Entries straight into a file (a state of 10^7 particles is never held twice in memory), each
-// with its checksum in the table at the end.
-class FileStateWriter final : public StateWriter {
- public:
-  explicit FileStateWriter(const fs::path& path) : path_(path) {
-    file_ = std::fopen(path.c_str(), "wb");
-    if (!file_) throw std::runtime_error("cannot create " + path.string() + ": " + errno_text());
-    std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
-  }
-  ~FileStateWriter() override {
-    if (file_) std::fclose(file_);
-  }
-  // The checksum table, then flush, fsync and close; throws on any error (disk full).
-  void close() {
-    if (!scanner_.at_boundary()) throw std::logic_error("checkpoint " + path_.string() + ": an entry was left unfinished");
-    ContentHash table;
-    const std::uint64_t tail[2] = {static_cast<std::uint64_t>(sums_.size()), bytes_};
-    raw(sums_.data(), sums_.size() * sizeof(std::uint64_t));
-    raw(tail, sizeof tail);
-    table.update(sums_.data(), sums_.size() * sizeof(std::uint64_t));
-    table.update(tail, sizeof tail);
-    const std::uint64_t table_hash = table.finish();
-    raw(&table_hash, sizeof table_hash);
-    raw(kTableMagic, sizeof kTableMagic);
-    const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
-    const int saved = errno;
-    const bool closed = std::fclose(file_) == 0;
-    file_ = nullptr;
-    if (!ok || !closed) {
-      errno = ok ? errno : saved;
-      throw std::runtime_error("cannot write " + path_.string() + ": " + errno_text());
-    }
-  }
-
- protected:
-  void put(const void* data, std::size_t bytes) override {
-    raw(data, bytes);
-    bytes_ += bytes;
-    scanner_.feed(static_cast<const unsigned char*>(data), bytes,
-                  [&](const std::string&, std::uint64_t, std::uint64_t, std::uint64_t hash) { sums_.push_back(hash); });
-  }
-
- private:
-  void raw(const void* data, std::size_t bytes) {
-    if (bytes && std::fwrite(data, 1, bytes, file_) != bytes)
-      throw std::runtime_error("cannot write " + path_.string() + ": " + errno_text());
-  }
-  fs::path path_;
-  std::FILE* file_ = nullptr;
-  EntryScanner scanner_;
-  std::vector<std::uint64_t> sums_;
-  std::uint64_t bytes_ = 0;
-};
-
-// The entries of a file that passed its checksums. Opening reads the whole file once to check
-// every entry against the table (CheckpointError naming the file and the entry); reads then
-// serve the entries alone. Without `verify` (a file already checked, read again for a message:
-// describe, kept_text) only the table's tail is checked.
-enum class Verify { all, tail };
-class FileStateReader final : public StateReader {
- public:
-  explicit FileStateReader(const fs::path& path, Verify verify = Verify::all) : path_(path) {
-    file_ = std::fopen(path.c_str(), "rb");
-    if (!file_) throw CheckpointError("cannot read " + path.string() + ": " + errno_text());
-    std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
-    check(verify);
-  }
-  ~FileStateReader() override { std::fclose(file_); }
-  std::string peek_name() override {
-    const long at = std::ftell(file_);
-    std::uint32_t length = 0;
-    std::string name;
-    if (remaining() >= sizeof length && std::fread(&length, sizeof length, 1, file_) == 1 && length <= 4096 &&
-        length <= remaining()) {
-      name.resize(length);
-      if (std::fread(name.data(), 1, length, file_) != length) name.clear();
-    }
-    std::fseek(file_, at, SEEK_SET);
-    return name;
-  }
-  std::uint64_t remaining() const override { return size_ - at_; }
-  bool at_end() const { return at_ == size_; }
-  std::size_t entries() const { return entries_; }
-
- protected:
-  void get(void* data, std::size_t bytes) override {
-    if (bytes > remaining() || std::fread(data, 1, bytes, file_) != bytes)
-      throw StateError(path_.string() + " is truncated (" + std::to_string(bytes) + " bytes wanted, " +
-                       std::to_string(remaining()) + " left)");
-    at_ += bytes;
-  }
-
- private:
-  [[noreturn]] void damaged(const std::string& what) const {
-    throw CheckpointError(path_.string() + " is damaged: " + what +
-                          "; it cannot be used (a bit changed on disk or in a copy, or the file was cut short)");
-  }
-  void read_at(std::uint64_t offset, void* data, std::size_t bytes) {
-    if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0 || std::fread(data, 1, bytes, file_) != bytes)
-      throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
-  }
-  void check(Verify verify) {
-    std::error_code ec;
-    const std::uint64_t file_size = fs::file_size(path_, ec);
-    if (ec) throw CheckpointError("cannot read " + path_.string() + ": " + ec.message());
-    char magic[8] = {};
-    std::uint64_t tail[3] = {};  // entries, entry bytes, table hash
-    if (file_size >= kTableTail) {
-      read_at(file_size - kTableTail, tail, sizeof tail);
-      read_at(file_size - sizeof magic, magic, sizeof magic);
-    }
-    if (file_size < kTableTail || std::memcmp(magic, kTableMagic, sizeof magic) != 0)
-      throw CheckpointError(path_.string() + " is truncated or not a checkpoint file of this gdsmc: it does not end with "
-                            "its table of checksums (" + std::to_string(file_size) +
-                            " bytes); it cannot be used (a write cut short, a file cut in a copy, or a checkpoint "
-                            "of an older gdsmc, which had no checksums)");
-    const std::uint64_t count = tail[0], bytes = tail[1];
-    if (count > file_size / 8 || bytes > file_size || bytes + 8 * count + kTableTail != file_size)
-      damaged("its table of checksums claims " + std::to_string(count) + " entries in " + std::to_string(bytes) +
-              " bytes, which does not fit its " + std::to_string(file_size) + " bytes");
-    if (verify == Verify::tail) {
-      if (std::fseek(file_, 0, SEEK_SET) != 0) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
-      size_ = bytes;
-      entries_ = count;
-      return;
-    }
-    std::vector<std::uint64_t> sums(count);
-    if (count) read_at(bytes, sums.data(), count * 8);
-    ContentHash table;
-    table.update(sums.data(), count * 8);
-    table.update(tail, 16);
-    if (table.finish() != tail[2]) damaged("its table of checksums does not match its own checksum");
-    // Every entry against its checksum.
-    if (std::fseek(file_, 0, SEEK_SET) != 0) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
-    EntryScanner scanner;
-    std::vector<unsigned char> buffer(1 << 20);
-    std::size_t entry = 0;
-    auto done = [&](const std::string& name, std::uint64_t begin, std::uint64_t end, std::uint64_t hash) {
-      if (entry >= count)
-        damaged("entry " + std::to_string(entry + 1) + " '" + name + "' (at byte " + std::to_string(begin) +
-                ") is beyond the " + std::to_string(count) + " entries its table lists");
-      if (hash != sums[entry])
-        damaged("entry " + std::to_string(entry + 1) + " of " + std::to_string(count) + ", '" + name + "' (bytes " +
-                std::to_string(begin) + " to " + std::to_string(end) +
-                "), does not match its checksum");
-      ++entry;
-    };
-    at_ = 0;
-    for (std::uint64_t left = bytes; left;) {
-      const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, buffer.size()));
-      if (std::fread(buffer.data(), 1, n, file_) != n) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
-      if (!scanner.feed(buffer.data(), n, done))
-        damaged("entry " + std::to_string(entry + 1) + " (at byte " + std::to_string(scanner.entry_begin()) +
-                ") has a damaged header");
-      if (scanner.payload_left() > left - n)
-        damaged("entry " + std::to_string(entry + 1) + ", '" + scanner.name() + "' (at byte " +
-                std::to_string(scanner.entry_begin()) + "), claims more bytes than the file holds");
-      left -= n;
-    }
-    if (!scanner.at_boundary() || entry != count)
-      damaged("its entries end inside entry " + std::to_string(entry + 1) + " of the " + std::to_string(count) +
-              " its table lists");
-    if (std::fseek(file_, 0, SEEK_SET) != 0) throw CheckpointError("cannot read " + path_.string() + ": " + errno_text());
-    size_ = bytes;
-    entries_ = count;
-  }
-  fs::path path_;
-  std::FILE* file_ = nullptr;
-  std::uint64_t size_ = 0, at_ = 0;
-  std::size_t entries_ = 0;
-};
 
 // The pipeline as it decides the results: the resolved text without run.threads and
 // run.checkpoint, which do not change a bit of the output (a resume may use other values).
@@ -378,6 +110,41 @@ std::string first_difference(const std::string& saved, const std::string& now) {
   }
 }
 
+// The plugin lines of the checkpoint and of this run that differ, for a message.
+std::string plugin_differences(const std::string& saved_plugins, const std::string& plugins,
+                               const std::map<std::string, std::string>& libraries) {
+  // Name each plugin line that is not the same: a library of the same plugin and version whose
+  // content differs (rebuilt) with both hashes, any other difference as the two lines.
+  const std::set<std::string> before = line_set(saved_plugins), after = line_set(plugins);
+  auto identity = [](const std::string& l) { return l.substr(0, l.find(kLibraryMark)); };
+  auto hash_of = [](const std::string& l) {
+    const std::size_t at = l.find(kLibraryMark);
+    return at == std::string::npos ? std::string("none") : l.substr(at + std::strlen(kLibraryMark), 16);
+  };
+  std::string what;
+  std::set<std::string> named;
+  for (const auto& l : before) {
+    if (after.count(l)) continue;
+    for (const auto& now : after)
+      if (!before.count(now) && identity(now) == identity(l)) {
+        const std::string role = l.substr(0, l.find(':'));
+        const auto file = libraries.find(identity(now));
+        what += (what.empty() ? "" : "; ") + ("plugin '" + role + "' (" + identity(l).substr(role.size() + 2) +
+                                             (file == libraries.end() ? "" : ", " + file->second) +
+                                             ") is not the library that wrote the checkpoint: its content hash is " +
+                                             hash_of(now) + ", the checkpoint's " + hash_of(l) +
+                                             " (rebuilt or replaced with the same version string)");
+        named.insert(l);
+        named.insert(now);
+      }
+  }
+  for (const auto& l : before)
+    if (!after.count(l) && !named.count(l)) what += (what.empty() ? "" : "; ") + ("the checkpoint has " + l);
+  for (const auto& l : after)
+    if (!before.count(l) && !named.count(l)) what += (what.empty() ? "" : "; ") + ("this run has " + l);
+  return what;
+}
+
 }  // namespace
 
 fs::path CheckpointStore::directory_for(const fs::path& output) {
@@ -397,27 +164,37 @@ CheckpointStore::CheckpointStore(fs::path dir, const std::vector<StudyCase>& cas
   }
   std::string plugins;
   for (const auto& t : all) plugins += t;
+  if (resume)
+    check_study(plugins, libraries);
+  else
+    create_study(plugins);
+}
+
+void CheckpointStore::create_study(const std::string& plugins) const {
   const fs::path study = dir_ / "study";
   std::error_code ec;
-  if (!resume) {
-    if (fs::exists(study, ec))
-      throw CheckpointError(dir_.string() + " holds the checkpoint of an earlier run with this output: continue it "
-                            "with `gdsmc run ... --resume`, or remove the directory to start over");
-    fs::create_directories(dir_, ec);
-    if (ec) throw CheckpointError("cannot create the checkpoint directory " + dir_.string() + ": " + ec.message());
-    const fs::path partial = dir_ / ".study.partial";
-    FileStateWriter w(partial);
-    w.write("format", std::string(kFormat));
-    w.write("format_version", kFormatVersion);
-    w.write("gdsmc_version", gdsmc_version_);
-    w.write("pipeline", pipeline_);
-    w.write("plugins", plugins);
-    w.write("runs", static_cast<std::uint64_t>(runs_));
-    w.close();
-    fs::rename(partial, study, ec);
-    if (ec) throw CheckpointError("cannot write " + study.string() + ": " + ec.message());
-    return;
-  }
+  if (fs::exists(study, ec))
+    throw CheckpointError(dir_.string() + " holds the checkpoint of an earlier run with this output: continue it "
+                          "with `gdsmc run ... --resume`, or remove the directory to start over");
+  fs::create_directories(dir_, ec);
+  if (ec) throw CheckpointError("cannot create the checkpoint directory " + dir_.string() + ": " + ec.message());
+  const fs::path partial = dir_ / ".study.partial";
+  FileStateWriter w(partial);
+  w.write("format", std::string(kFormat));
+  w.write("format_version", kFormatVersion);
+  w.write("gdsmc_version", gdsmc_version_);
+  w.write("pipeline", pipeline_);
+  w.write("plugins", plugins);
+  w.write("runs", static_cast<std::uint64_t>(runs_));
+  w.close();
+  fs::rename(partial, study, ec);
+  if (ec) throw CheckpointError("cannot write " + study.string() + ": " + ec.message());
+}
+
+void CheckpointStore::check_study(const std::string& plugins,
+                                  const std::map<std::string, std::string>& libraries) const {
+  const fs::path study = dir_ / "study";
+  std::error_code ec;
   if (!fs::exists(study, ec)) {
     bool runs = false;
     for (const auto& e : fs::directory_iterator(dir_, ec)) runs = runs || e.path().filename().string().rfind("run-", 0) == 0;
@@ -449,38 +226,8 @@ CheckpointStore::CheckpointStore(fs::path dir, const std::vector<StudyCase>& cas
     if (pipeline != pipeline_)
       differences.push_back("the pipeline (after --set; run.threads and run.checkpoint aside) differs at " +
                             first_difference(pipeline, pipeline_));
-    if (saved_plugins != plugins) {
-      // Name each plugin line that is not the same: a library of the same plugin and version whose
-      // content differs (rebuilt) with both hashes, any other difference as the two lines.
-      const std::set<std::string> before = line_set(saved_plugins), after = line_set(plugins);
-      auto identity = [](const std::string& l) { return l.substr(0, l.find(kLibraryMark)); };
-      auto hash_of = [](const std::string& l) {
-        const std::size_t at = l.find(kLibraryMark);
-        return at == std::string::npos ? std::string("none") : l.substr(at + std::strlen(kLibraryMark), 16);
-      };
-      std::string what;
-      std::set<std::string> named;
-      for (const auto& l : before) {
-        if (after.count(l)) continue;
-        for (const auto& now : after)
-          if (!before.count(now) && identity(now) == identity(l)) {
-            const std::string role = l.substr(0, l.find(':'));
-            const auto file = libraries.find(identity(now));
-            what += (what.empty() ? "" : "; ") + ("plugin '" + role + "' (" + identity(l).substr(role.size() + 2) +
-                                                 (file == libraries.end() ? "" : ", " + file->second) +
-                                                 ") is not the library that wrote the checkpoint: its content hash is " +
-                                                 hash_of(now) + ", the checkpoint's " + hash_of(l) +
-                                                 " (rebuilt or replaced with the same version string)");
-            named.insert(l);
-            named.insert(now);
-          }
-      }
-      for (const auto& l : before)
-        if (!after.count(l) && !named.count(l)) what += (what.empty() ? "" : "; ") + ("the checkpoint has " + l);
-      for (const auto& l : after)
-        if (!before.count(l) && !named.count(l)) what += (what.empty() ? "" : "; ") + ("this run has " + l);
-      differences.push_back("the plugins differ: " + what);
-    }
+    if (saved_plugins != plugins)
+      differences.push_back("the plugins differ: " + plugin_differences(saved_plugins, plugins, libraries));
     if (runs != runs_ && pipeline == pipeline_)
       differences.push_back("it holds " + std::to_string(runs) + " runs, this study has " + std::to_string(runs_));
   } catch (const StateError& e) {

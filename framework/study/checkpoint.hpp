@@ -7,6 +7,7 @@
 // still give the output of the uninterrupted study, to the bit.
 #pragma once
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -62,6 +63,11 @@ class CheckpointStore {
 
  private:
   std::filesystem::path run_file(std::size_t index) const;
+  // Fresh study: refuses a checkpoint already in the directory, creates it and writes `study`.
+  void create_study(const std::string& plugins) const;
+  // Resume: checks the directory's `study` against this run (CheckpointError naming every
+  // difference) and removes temporaries of killed writes.
+  void check_study(const std::string& plugins, const std::map<std::string, std::string>& libraries) const;
   // Run `index`'s file checked (checksums, header) and, with `restore`, its engine restored.
   std::unique_ptr<Engine> read_run(std::size_t index, const StudyCase& c, std::uint32_t realization, unsigned threads,
                                    bool restore) const;
