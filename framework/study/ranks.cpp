@@ -289,65 +289,86 @@ void RunExchange::post_result(std::size_t run, std::vector<unsigned char> bytes)
   s_->results.emplace_back(run, std::move(bytes));
 }
 
-void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
 #ifdef GDSMC_WITH_MPI
-  if (!root()) {
-    if (root_gone_now()) {
-      stop.store(true);
-      return;
-    }
-    // A stop, or a roll call (answered at once). kFinal only comes once this rank has ended.
-    while (const auto st = probe(0, MPI_ANY_TAG)) {
-      receive_bytes(*st);
-      if (st->MPI_TAG == kStop) stop.store(true);
-      if (st->MPI_TAG == kRollCall) MPI_Send(nullptr, 0, MPI_BYTE, 0, kHere, MPI_COMM_WORLD);
-    }
-    decltype(s_->started) started;
-    decltype(s_->progress) progress;
-    decltype(s_->results) results;
-    {
-      std::lock_guard<std::mutex> lock(s_->mutex);
-      started.swap(s_->started);
-      progress.swap(s_->progress);
-      results.swap(s_->results);
-    }
-    for (const std::size_t run : started) {
-      const auto index = static_cast<std::uint64_t>(run);
-      MPI_Send(&index, 1, MPI_UINT64_T, 0, kStarted, MPI_COMM_WORLD);
-    }
-    // Progress first: a run's final report reaches rank 0 before its results.
-    for (const auto& [run, pr] : progress) {
-      std::vector<unsigned char> bytes(sizeof(std::uint64_t) + sizeof(Progress));
-      const auto index = static_cast<std::uint64_t>(run);
-      std::memcpy(bytes.data(), &index, sizeof index);
-      std::memcpy(bytes.data() + sizeof index, &pr, sizeof pr);
-      send_bytes(bytes, 0, kProgress);
-    }
-    for (const auto& [run, bytes] : results) {
-      const std::uint64_t head[2] = {run, bytes.size()};
-      MPI_Send(head, 2, MPI_UINT64_T, 0, kResultHead, MPI_COMM_WORLD);
-      for (std::size_t at = 0; at < bytes.size(); at += kChunk)
-        MPI_Send(bytes.data() + at, static_cast<int>(std::min(kChunk, bytes.size() - at)), MPI_BYTE, 0, kResultData,
-                 MPI_COMM_WORLD);
-    }
+// Rank > 0: stops at rank 0's stop (or when rank 0 is gone), answers its roll calls, and sends it
+// what the worker threads queued.
+void RunExchange::send_to_root(std::atomic<bool>& stop) {
+  if (root_gone_now()) {
+    stop.store(true);
     return;
   }
-  // Rank 0. A roll call at every SIGCONT (and below, when the job stops): every rank that has not
-  // ended is asked to answer.
-  auto call_roll = [&] {
-    if (s_->calling) return;
-    s_->calling = true;
-    s_->called = std::chrono::steady_clock::now();
-    for (int r = 1; r < size(); ++r) {
-      const auto ri = static_cast<std::size_t>(r);
-      s_->answered[ri] = 0;
-      if (!s_->ended[ri] && !s_->lost[ri]) MPI_Send(nullptr, 0, MPI_BYTE, r, kRollCall, MPI_COMM_WORLD);
-    }
-  };
-  if (const unsigned continued = g_continued.load(); continued != s_->continued_seen) {
-    s_->continued_seen = continued;
-    call_roll();
+  // A stop, or a roll call (answered at once). kFinal only comes once this rank has ended.
+  while (const auto st = probe(0, MPI_ANY_TAG)) {
+    receive_bytes(*st);
+    if (st->MPI_TAG == kStop) stop.store(true);
+    if (st->MPI_TAG == kRollCall) MPI_Send(nullptr, 0, MPI_BYTE, 0, kHere, MPI_COMM_WORLD);
   }
+  decltype(s_->started) started;
+  decltype(s_->progress) progress;
+  decltype(s_->results) results;
+  {
+    std::lock_guard<std::mutex> lock(s_->mutex);
+    started.swap(s_->started);
+    progress.swap(s_->progress);
+    results.swap(s_->results);
+  }
+  for (const std::size_t run : started) {
+    const auto index = static_cast<std::uint64_t>(run);
+    MPI_Send(&index, 1, MPI_UINT64_T, 0, kStarted, MPI_COMM_WORLD);
+  }
+  // Progress first: a run's final report reaches rank 0 before its results.
+  for (const auto& [run, pr] : progress) {
+    std::vector<unsigned char> bytes(sizeof(std::uint64_t) + sizeof(Progress));
+    const auto index = static_cast<std::uint64_t>(run);
+    std::memcpy(bytes.data(), &index, sizeof index);
+    std::memcpy(bytes.data() + sizeof index, &pr, sizeof pr);
+    send_bytes(bytes, 0, kProgress);
+  }
+  for (const auto& [run, bytes] : results) {
+    const std::uint64_t head[2] = {run, bytes.size()};
+    MPI_Send(head, 2, MPI_UINT64_T, 0, kResultHead, MPI_COMM_WORLD);
+    for (std::size_t at = 0; at < bytes.size(); at += kChunk)
+      MPI_Send(bytes.data() + at, static_cast<int>(std::min(kChunk, bytes.size() - at)), MPI_BYTE, 0, kResultData,
+               MPI_COMM_WORLD);
+  }
+}
+
+// Rank 0: asks every rank that has neither ended nor been lost to answer, unless a roll call is
+// under way.
+void RunExchange::call_roll() {
+  if (s_->calling) return;
+  s_->calling = true;
+  s_->called = std::chrono::steady_clock::now();
+  for (int r = 1; r < size(); ++r) {
+    const auto ri = static_cast<std::size_t>(r);
+    s_->answered[ri] = 0;
+    if (!s_->ended[ri] && !s_->lost[ri]) MPI_Send(nullptr, 0, MPI_BYTE, r, kRollCall, MPI_COMM_WORLD);
+  }
+}
+
+// Rank 0: a finished run from rank `from` (its head probed), received in chunks and handed to the receiver.
+void RunExchange::receive_result(int from, std::atomic<bool>& stop, const Receiver& receiver) {
+  const auto from_index = static_cast<std::size_t>(from);
+  const auto start = std::chrono::steady_clock::now();
+  std::uint64_t head[2];
+  MPI_Recv(head, 2, MPI_UINT64_T, from, kResultHead, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<unsigned char> bytes(head[1]);
+  for (std::size_t at = 0; at < bytes.size(); at += kChunk)
+    MPI_Recv(bytes.data() + at, static_cast<int>(std::min(kChunk, bytes.size() - at)), MPI_BYTE, from, kResultData,
+             MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  s_->under_way[from_index].erase(head[0]);
+  if (head[0] < s_->run_received.size()) s_->run_received[head[0]] = 1;
+  // A stopped job writes nothing: its results are not worth gathering (the main thread answers
+  // the next roll call sooner).
+  if (!stop.load()) receiver.result(head[0], bytes);
+  s_->received.runs += 1;
+  s_->received.bytes += static_cast<double>(bytes.size());
+  s_->received.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Rank 0: every message the other ranks have sent so far (answers, runs started, progress, finished
+// runs, how a rank ended).
+void RunExchange::receive_from_ranks(std::atomic<bool>& stop, const Receiver& receiver) {
   while (const auto st = probe(MPI_ANY_SOURCE, MPI_ANY_TAG)) {
     const int from = st->MPI_SOURCE;
     const auto from_index = static_cast<std::size_t>(from);
@@ -366,21 +387,7 @@ void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
       std::memcpy(&pr, bytes.data() + sizeof run, sizeof pr);
       if (receiver.progress) receiver.progress(run, pr);
     } else if (st->MPI_TAG == kResultHead) {
-      const auto start = std::chrono::steady_clock::now();
-      std::uint64_t head[2];
-      MPI_Recv(head, 2, MPI_UINT64_T, from, kResultHead, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      std::vector<unsigned char> bytes(head[1]);
-      for (std::size_t at = 0; at < bytes.size(); at += kChunk)
-        MPI_Recv(bytes.data() + at, static_cast<int>(std::min(kChunk, bytes.size() - at)), MPI_BYTE, from, kResultData,
-                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      s_->under_way[from_index].erase(head[0]);
-      if (head[0] < s_->run_received.size()) s_->run_received[head[0]] = 1;
-      // A stopped job writes nothing: its results are not worth gathering (the main thread answers
-      // the next roll call sooner).
-      if (!stop.load()) receiver.result(head[0], bytes);
-      s_->received.runs += 1;
-      s_->received.bytes += static_cast<double>(bytes.size());
-      s_->received.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      receive_result(from, stop, receiver);
     } else if (st->MPI_TAG == kEnd) {
       const std::vector<unsigned char> bytes = receive_bytes(*st);
       BufferStateReader in(bytes);
@@ -398,6 +405,10 @@ void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
       receive_bytes(*st);  // nothing else is sent to rank 0
     }
   }
+}
+
+// Rank 0: the roll call under way, ended once kRollCallSeconds have passed since it began.
+void RunExchange::end_roll_call(std::atomic<bool>& stop) {
   // The roll call's end: a rank that has neither answered nor ended is lost.
   if (s_->calling &&
       std::chrono::duration<double>(std::chrono::steady_clock::now() - s_->called).count() >= kRollCallSeconds) {
@@ -422,6 +433,23 @@ void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
       stop.store(true);
     }
   }
+}
+#endif
+
+void RunExchange::poll(std::atomic<bool>& stop, const Receiver& receiver) {
+#ifdef GDSMC_WITH_MPI
+  if (!root()) {
+    send_to_root(stop);
+    return;
+  }
+  // Rank 0. A roll call at every SIGCONT (and below, when the job stops): every rank that has not
+  // ended is asked to answer.
+  if (const unsigned continued = g_continued.load(); continued != s_->continued_seen) {
+    s_->continued_seen = continued;
+    call_roll();
+  }
+  receive_from_ranks(stop, receiver);
+  end_roll_call(stop);
   if (stop.load() && !s_->stop_sent) {
     s_->stop_sent = true;
     for (int r = 1; r < size(); ++r)

@@ -136,6 +136,14 @@ class RunExchange {
  private:
   struct State;
   std::unique_ptr<State> s_;
+
+  // The parts of poll() (defined with MPI alone): a rank other than 0's, and rank 0's roll calls and
+  // receiving.
+  void send_to_root(std::atomic<bool>& stop);
+  void call_roll();
+  void receive_from_ranks(std::atomic<bool>& stop, const Receiver& receiver);
+  void receive_result(int from, std::atomic<bool>& stop, const Receiver& receiver);
+  void end_roll_call(std::atomic<bool>& stop);
 };
 
 }  // namespace gdsmc::host::job

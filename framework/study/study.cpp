@@ -223,19 +223,67 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
   return case_out;
 }
 
-}  // namespace
+// A study under way on this process: its runs, the slots their cases are gathered into, its clock
+// and, over the ranks of an MPI job, its exchange.
+class StudyRunner {
+ public:
+  StudyRunner(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
+              double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints);
+  // Whether this process's runs go one after the other on this thread (one worker, no MPI).
+  bool serial() const { return workers_ == 1 && !exchange_; }
+  // Whether this process is a rank other than 0, whose runs' results went to rank 0.
+  bool sends() const { return sends_; }
+  void run_serial();
+  void run_parallel(StudyResult& result);
+  void assemble(StudyResult& result, bool sweep);
 
-StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
-                      double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints) {
-  StudyResult result;
-  describe_provenance(cases.front().pipeline, result.output);
-  const bool sweep = cases.size() > 1 || !cases.front().label.empty();
+ private:
+  void finish(std::size_t index);
+  std::function<void(const Progress&)> progress_of(std::size_t index);
+  void name_run(std::size_t index) const;
+  void done(std::size_t index);
+  void work();
+  job::RunExchange::Receiver make_receiver();
+  void end_exchange(StudyResult& result, const job::RunExchange::Receiver& receiver,
+                    const std::exception_ptr& first_error, std::size_t first_failed);
 
+  const std::vector<StudyCase>& cases_;
+  const std::atomic<bool>* interrupt_;
+  const CheckpointStore* checkpoints_;
+  std::vector<Run> runs_;
+  std::vector<std::size_t> first_run_;  // of each case
+  // A case is gathered by the worker that finishes its last run (so that only the averaged
+  // records of finished cases are kept, as in a serial study), into its own slot.
+  std::vector<std::optional<CaseOutput>> gathered_;
+  std::vector<std::vector<std::string>> case_summaries_;
+  std::vector<std::uint32_t> left_;
+  std::optional<StudyClock> clock_;
+  std::unique_ptr<job::RunExchange> exchange_;
+  bool sends_ = false;               // a rank other than 0: its runs' results go to rank 0
+  std::vector<std::size_t> mine_;    // the runs this process executes, in study order
+  std::uint32_t workers_ = 1, per_run_ = 1;
+  std::mutex mutex_;
+  std::vector<char> measured_;       // whether a finished run of the case was measured
+  std::atomic<bool> stop_{false};
+  std::condition_variable idle_;
+  std::size_t next_ = 0, active_ = 0;
+  std::exception_ptr received_error_;  // results from another rank that could not be read
+};
+
+// Every run of the study, its slots and clock, and which runs this process executes on how many workers.
+StudyRunner::StudyRunner(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
+                         double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints)
+    : cases_(cases),
+      interrupt_(interrupt),
+      checkpoints_(checkpoints),
+      first_run_(cases.size()),
+      gathered_(cases.size()),
+      case_summaries_(cases.size()),
+      left_(cases.size()),
+      measured_(cases.size(), 0) {
   // Every run, in case order and realization order within a case: the order workers take them in.
-  std::vector<Run> runs;
-  std::vector<std::size_t> first_run(cases.size());
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
-    first_run[ci] = runs.size();
+    first_run_[ci] = runs_.size();
     const Pipeline& p = cases[ci].pipeline;
     for (std::uint32_t r = 0; r < p.realizations; ++r) {
       Run run;
@@ -244,195 +292,231 @@ StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<v
       run.label = cases[ci].label;
       if (p.realizations > 1)
         run.label += (run.label.empty() ? "" : ", ") + std::string("realization ") + std::to_string(r);
-      runs.push_back(std::move(run));
+      runs_.push_back(std::move(run));
     }
   }
-  // A case is gathered by the worker that finishes its last run (so that only the averaged
-  // records of finished cases are kept, as in a serial study), into its own slot.
-  std::vector<std::optional<CaseOutput>> gathered(cases.size());
-  std::vector<std::vector<std::string>> case_summaries(cases.size());
-  std::vector<std::uint32_t> left(cases.size());
-  for (std::size_t ci = 0; ci < cases.size(); ++ci) left[ci] = cases[ci].pipeline.realizations;
+  for (std::size_t ci = 0; ci < cases.size(); ++ci) left_[ci] = cases[ci].pipeline.realizations;
 
-  StudyClock clock(runs.size(), report, report_interval);
+  clock_.emplace(runs_.size(), report, report_interval);
   // Over the ranks of an MPI job (study/ranks.hpp) each rank runs its share of the runs, and rank 0
   // also gathers those of the others, as they finish, into the same slots as its own.
-  std::unique_ptr<job::RunExchange> exchange;
-  if (job::distributed()) exchange = std::make_unique<job::RunExchange>(run_costs(cases, runs));
-  const bool sends = exchange && !job::root();  // a rank other than 0: its runs' results go to rank 0
-  std::vector<std::size_t> mine;                // the runs this process executes, in study order
-  for (std::size_t index = 0; index < runs.size(); ++index)
-    if (!exchange || exchange->mine(index)) mine.push_back(index);
-  const std::uint32_t workers = study_threads(cases, mine.size());
-  const std::uint32_t per_run = threads_per_run(cases, mine.size());
-  std::mutex mutex;
-  std::vector<char> measured(cases.size(), 0);  // whether a finished run of the case was measured
-  auto finish = [&](std::size_t index) {
-    const std::size_t ci = runs[index].case_index;
-    std::uint32_t runs_left;
-    bool first;
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      runs_left = --left[ci];
-      first = !measured[ci];
-      measured[ci] = 1;
-    }
-    if (first) check_case_memory(cases[ci], runs[index], runs_left);
-    if (runs_left > 0) return;
-    std::vector<Run*> case_runs;
-    for (std::uint32_t r = 0; r < cases[ci].pipeline.realizations; ++r) case_runs.push_back(&runs[first_run[ci] + r]);
-    gathered[ci] = gather_case(cases[ci], case_runs, case_summaries[ci]);
-  };
-  auto progress_of = [&](std::size_t index) -> std::function<void(const Progress&)> {
-    if (sends) return [&, index](const Progress& pr) { exchange->post_progress(index, pr); };
-    return [&, index](const Progress& pr) { clock.update(index, runs[index].label, pr); };
-  };
-  // How a crash inside a plugin names the run (engine/plugin_calls.hpp): set on the thread that
-  // builds its engine.
-  auto name_run = [&](std::size_t index) {
-    std::string name;
-    if (job::distributed()) name = "rank " + std::to_string(job::rank()) + " of " + std::to_string(job::size()) + ", ";
-    if (runs.size() > 1 || !runs[index].label.empty())
-      name += "run " + std::to_string(index + 1) + " of " + std::to_string(runs.size());
-    if (!runs[index].label.empty()) name += " (" + runs[index].label + ")";
-    if (name.size() >= 2 && name.compare(name.size() - 2, 2, ", ") == 0) name.resize(name.size() - 2);
-    set_thread_run_name(std::move(name));
-  };
-  auto done = [&](std::size_t index) {
-    if (!sends) return finish(index);
-    exchange->post_result(index, save_run_results(runs[index].results));
-    runs[index].results = RunResults{};
-  };
+  if (job::distributed()) exchange_ = std::make_unique<job::RunExchange>(run_costs(cases, runs_));
+  sends_ = exchange_ && !job::root();
+  for (std::size_t index = 0; index < runs_.size(); ++index)
+    if (!exchange_ || exchange_->mine(index)) mine_.push_back(index);
+  workers_ = study_threads(cases, mine_.size());
+  per_run_ = threads_per_run(cases, mine_.size());
+}
 
-  if (workers == 1 && !exchange) {
-    // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
-    for (std::size_t index = 0; index < runs.size(); ++index) {
-      name_run(index);
-      execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, interrupt,
-              per_run, checkpoints);
-      finish(index);
-    }
-  } else {
-    // Workers stop at the user's interrupt or at the first failed run (`stop`, polled by every
-    // engine), or when another rank failed or was interrupted; the main thread forwards the
-    // interrupt flag while it waits, and exchanges the ranks' messages.
-    std::atomic<bool> stop{false};
-    std::condition_variable idle;
-    std::size_t next = 0, active = workers;
-    auto work = [&] {
-      for (;;) {
-        std::size_t index;
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (next == mine.size() || stop.load()) break;
-          index = mine[next++];
-        }
-        try {
-          if (sends) exchange->post_started(index);  // rank 0 names it if this rank dies
-          name_run(index);
-          execute(cases[runs[index].case_index], runs[index], progress_of(index), clock.interval(), index, &stop,
-                  per_run, checkpoints);
-          done(index);
-        } catch (...) {
-          runs[index].error = std::current_exception();
-          stop.store(true);
-        }
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      --active;
-      idle.notify_all();
-    };
-    std::exception_ptr received_error;  // results from another rank that could not be read
-    job::RunExchange::Receiver receiver;
-    receiver.progress = [&](std::size_t index, const Progress& pr) { clock.update(index, runs[index].label, pr); };
-    receiver.result = [&](std::size_t index, const std::vector<unsigned char>& bytes) {
-      try {
-        runs[index].results = load_run_results(bytes);
-        finish(index);
-      } catch (...) {
-        if (!received_error) received_error = std::current_exception();
-        stop.store(true);
-      }
-    };
-    std::vector<std::thread> pool;
-    for (std::uint32_t w = 0; w < workers; ++w) pool.emplace_back(work);
-    {
-      std::unique_lock<std::mutex> lock(mutex);
-      while (active > 0) {
-        idle.wait_for(lock, std::chrono::milliseconds(exchange ? 20 : 50));
-        if (interrupt && interrupt->load()) stop.store(true);
-        if (!exchange) continue;
-        lock.unlock();
-        exchange->poll(stop, receiver);
-        lock.lock();
-      }
-    }
-    for (auto& t : pool) t.join();
-    // The first run (in study order) that failed of itself; the runs stopped because of it, or by
-    // the user, were interrupted and say nothing new.
-    std::exception_ptr first_error;
-    std::size_t first_failed = 0;
-    for (std::size_t index = 0; index < runs.size() && !first_error; ++index) {
-      if (!runs[index].error) continue;
-      try {
-        std::rethrow_exception(runs[index].error);
-      } catch (const Engine::Interrupted&) {
-        continue;
-      } catch (...) {
-        first_error = runs[index].error;
-        first_failed = index;
-      }
-    }
-    if (exchange) {
-      std::optional<job::RunExchange::Failure> failure;
-      if (first_error) {
-        try {
-          std::rethrow_exception(first_error);
-        } catch (const std::exception& e) {
-          failure = job::RunExchange::Failure::of(first_failed, failure_text(e, nullptr));
-        } catch (...) {
-          failure = job::RunExchange::Failure::of(first_failed, "an exception that is not a std::exception");
-        }
-      }
-      const auto other = exchange->finish(stop, receiver, failure, interrupt && interrupt->load());
-      if (other && other->lost) throw RankLost(lost_rank_text(*other, runs));
-      if (other && (!first_error || other->run < first_failed))
-        throw RankFailure(other->message + (runs[other->run].label.empty() ? "" : " (run " + runs[other->run].label + ")"));
-      if (received_error) std::rethrow_exception(received_error);
-      if (exchange->others_interrupted()) throw Engine::Interrupted();
-      const job::RunExchange::Received received = exchange->received();
-      result.received_runs = received.runs;
-      result.received_bytes = received.bytes;
-      result.received_seconds = received.seconds;
-    }
-    if (first_error) std::rethrow_exception(first_error);
-    if (stop.load()) throw Engine::Interrupted();
+// Counts run `index` as finished: its case's memory checked after the case's first run, the case
+// gathered after its last.
+void StudyRunner::finish(std::size_t index) {
+  const std::size_t ci = runs_[index].case_index;
+  std::uint32_t runs_left;
+  bool first;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    runs_left = --left_[ci];
+    first = !measured_[ci];
+    measured_[ci] = 1;
   }
-  if (sends) return result;  // rank 0 holds the study's results
+  if (first) check_case_memory(cases_[ci], runs_[index], runs_left);
+  if (runs_left > 0) return;
+  std::vector<Run*> case_runs;
+  for (std::uint32_t r = 0; r < cases_[ci].pipeline.realizations; ++r)
+    case_runs.push_back(&runs_[first_run_[ci] + r]);
+  gathered_[ci] = gather_case(cases_[ci], case_runs, case_summaries_[ci]);
+}
 
-  for (std::size_t ci = 0; ci < cases.size(); ++ci) {
-    const StudyCase& sc = cases[ci];
+// Where run `index` reports its progress: to rank 0 from another rank, to the study's clock here.
+std::function<void(const Progress&)> StudyRunner::progress_of(std::size_t index) {
+  if (sends_) return [this, index](const Progress& pr) { exchange_->post_progress(index, pr); };
+  return [this, index](const Progress& pr) { clock_->update(index, runs_[index].label, pr); };
+}
+
+// How a crash inside a plugin names the run (engine/plugin_calls.hpp): set on the thread that
+// builds its engine.
+void StudyRunner::name_run(std::size_t index) const {
+  std::string name;
+  if (job::distributed()) name = "rank " + std::to_string(job::rank()) + " of " + std::to_string(job::size()) + ", ";
+  if (runs_.size() > 1 || !runs_[index].label.empty())
+    name += "run " + std::to_string(index + 1) + " of " + std::to_string(runs_.size());
+  if (!runs_[index].label.empty()) name += " (" + runs_[index].label + ")";
+  if (name.size() >= 2 && name.compare(name.size() - 2, 2, ", ") == 0) name.resize(name.size() - 2);
+  set_thread_run_name(std::move(name));
+}
+
+// A run of this process that has finished: counted here, or (a rank other than 0) its results sent
+// to rank 0.
+void StudyRunner::done(std::size_t index) {
+  if (!sends_) return finish(index);
+  exchange_->post_result(index, save_run_results(runs_[index].results));
+  runs_[index].results = RunResults{};
+}
+
+// This process's runs one after the other on this thread.
+void StudyRunner::run_serial() {
+  // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
+  for (std::size_t index = 0; index < runs_.size(); ++index) {
+    name_run(index);
+    execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, interrupt_,
+            per_run_, checkpoints_);
+    finish(index);
+  }
+}
+
+// A worker thread: takes this process's runs in study order until none is left or the study stops.
+void StudyRunner::work() {
+  for (;;) {
+    std::size_t index;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (next_ == mine_.size() || stop_.load()) break;
+      index = mine_[next_++];
+    }
+    try {
+      if (sends_) exchange_->post_started(index);  // rank 0 names it if this rank dies
+      name_run(index);
+      execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, &stop_,
+              per_run_, checkpoints_);
+      done(index);
+    } catch (...) {
+      runs_[index].error = std::current_exception();
+      stop_.store(true);
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  --active_;
+  idle_.notify_all();
+}
+
+// What rank 0's main thread does with what the other ranks send: their progress to the clock, each
+// finished run read and counted as its own.
+job::RunExchange::Receiver StudyRunner::make_receiver() {
+  job::RunExchange::Receiver receiver;
+  receiver.progress = [this](std::size_t index, const Progress& pr) { clock_->update(index, runs_[index].label, pr); };
+  receiver.result = [this](std::size_t index, const std::vector<unsigned char>& bytes) {
+    try {
+      runs_[index].results = load_run_results(bytes);
+      finish(index);
+    } catch (...) {
+      if (!received_error_) received_error_ = std::current_exception();
+      stop_.store(true);
+    }
+  };
+  return receiver;
+}
+
+// This process's runs on the worker threads while the main thread waits; throws the study's first
+// failure (of this process, or over MPI ranks of another) or Engine::Interrupted.
+void StudyRunner::run_parallel(StudyResult& result) {
+  // Workers stop at the user's interrupt or at the first failed run (`stop`, polled by every
+  // engine), or when another rank failed or was interrupted; the main thread forwards the
+  // interrupt flag while it waits, and exchanges the ranks' messages.
+  active_ = workers_;
+  const job::RunExchange::Receiver receiver = make_receiver();
+  std::vector<std::thread> pool;
+  for (std::uint32_t w = 0; w < workers_; ++w) pool.emplace_back([this] { work(); });
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (active_ > 0) {
+      idle_.wait_for(lock, std::chrono::milliseconds(exchange_ ? 20 : 50));
+      if (interrupt_ && interrupt_->load()) stop_.store(true);
+      if (!exchange_) continue;
+      lock.unlock();
+      exchange_->poll(stop_, receiver);
+      lock.lock();
+    }
+  }
+  for (auto& t : pool) t.join();
+  // The first run (in study order) that failed of itself; the runs stopped because of it, or by
+  // the user, were interrupted and say nothing new.
+  std::exception_ptr first_error;
+  std::size_t first_failed = 0;
+  for (std::size_t index = 0; index < runs_.size() && !first_error; ++index) {
+    if (!runs_[index].error) continue;
+    try {
+      std::rethrow_exception(runs_[index].error);
+    } catch (const Engine::Interrupted&) {
+      continue;
+    } catch (...) {
+      first_error = runs_[index].error;
+      first_failed = index;
+    }
+  }
+  if (exchange_) end_exchange(result, receiver, first_error, first_failed);
+  if (first_error) std::rethrow_exception(first_error);
+  if (stop_.load()) throw Engine::Interrupted();
+}
+
+// Over MPI ranks, once this process's workers have ended: how it ended exchanged with the other
+// ranks; throws another rank's failure (or loss, or interrupt) and results that could not be read,
+// and counts what rank 0 received.
+void StudyRunner::end_exchange(StudyResult& result, const job::RunExchange::Receiver& receiver,
+                               const std::exception_ptr& first_error, std::size_t first_failed) {
+  std::optional<job::RunExchange::Failure> failure;
+  if (first_error) {
+    try {
+      std::rethrow_exception(first_error);
+    } catch (const std::exception& e) {
+      failure = job::RunExchange::Failure::of(first_failed, failure_text(e, nullptr));
+    } catch (...) {
+      failure = job::RunExchange::Failure::of(first_failed, "an exception that is not a std::exception");
+    }
+  }
+  const auto other = exchange_->finish(stop_, receiver, failure, interrupt_ && interrupt_->load());
+  if (other && other->lost) throw RankLost(lost_rank_text(*other, runs_));
+  if (other && (!first_error || other->run < first_failed))
+    throw RankFailure(other->message + (runs_[other->run].label.empty() ? "" : " (run " + runs_[other->run].label + ")"));
+  if (received_error_) std::rethrow_exception(received_error_);
+  if (exchange_->others_interrupted()) throw Engine::Interrupted();
+  const job::RunExchange::Received received = exchange_->received();
+  result.received_runs = received.runs;
+  result.received_bytes = received.bytes;
+  result.received_seconds = received.seconds;
+}
+
+// The study's result (on rank 0) from its gathered cases, in case order.
+void StudyRunner::assemble(StudyResult& result, bool sweep) {
+  for (std::size_t ci = 0; ci < cases_.size(); ++ci) {
+    const StudyCase& sc = cases_[ci];
     const Pipeline& p = sc.pipeline;
     for (std::uint32_t r = 0; r < p.realizations; ++r) {
-      result.collisions += runs[first_run[ci] + r].results.collisions;
-      result.steps += runs[first_run[ci] + r].results.steps;
+      result.collisions += runs_[first_run_[ci] + r].results.collisions;
+      result.steps += runs_[first_run_[ci] + r].results.steps;
     }
-    CaseOutput case_out = std::move(*gathered[ci]);
+    CaseOutput case_out = std::move(*gathered_[ci]);
     if (sweep) {
       case_out.group = "cases/" + std::to_string(ci);
       case_out.attributes["case"] = sc.label;
       for (const auto& [axis, value] : sc.axis_values) case_out.attributes["sweep." + axis] = value;
       result.summary.push_back("case " + std::to_string(ci) + ": " + sc.label);
-      for (const auto& line : case_summaries[ci]) result.summary.push_back("  " + line);
+      for (const auto& line : case_summaries_[ci]) result.summary.push_back("  " + line);
     } else {
-      for (const auto& line : case_summaries[ci]) result.summary.push_back(line);
+      for (const auto& line : case_summaries_[ci]) result.summary.push_back(line);
     }
     if (p.realizations > 1) add_realization_lines(case_out.diagnostics, p.realizations, sweep, result.summary);
     result.output.cases.push_back(std::move(case_out));
   }
-  if (sweep) result.output.summary = summary_table(cases, result.output.cases);
-  result.wall_seconds = clock.elapsed();
-  result.threads = workers;
+  if (sweep) result.output.summary = summary_table(cases_, result.output.cases);
+  result.wall_seconds = clock_->elapsed();
+  result.threads = workers_;
+}
+
+}  // namespace
+
+StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
+                      double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints) {
+  StudyResult result;
+  describe_provenance(cases.front().pipeline, result.output);
+  const bool sweep = cases.size() > 1 || !cases.front().label.empty();
+  StudyRunner study(cases, report, report_interval, interrupt, checkpoints);
+  if (study.serial())
+    study.run_serial();
+  else
+    study.run_parallel(result);
+  if (study.sends()) return result;  // rank 0 holds the study's results
+  study.assemble(result, sweep);
   return result;
 }
 
