@@ -398,7 +398,8 @@ TEST(OutputSafety, ParticlesAreWrittenFromTheStoreWithoutACopy) {
   host::Engine engine(p);
   engine.run();
   host::StudyOutput study;
-  study.cases.push_back(engine.output());
+  const host::ParticleStager stager = out.stager();
+  study.cases.push_back(engine.output(&stager));
   ASSERT_EQ(study.cases[0].particles.size(), 3u);
   for (const auto& d : study.cases[0].particles) {
     EXPECT_TRUE(d.data.empty()) << d.name << ": a copy of the particles was held in memory";
@@ -433,7 +434,8 @@ TEST(OutputSafety, TheInterruptFlagStopsTheWriting) {
     EXPECT_EQ(temporaries(dir.path()).size(), 1u);
     host::Engine engine(p);
     engine.run();
-    EXPECT_THROW(engine.output(), host::OutputInterrupted);
+    const host::ParticleStager stager = out.stager();
+    EXPECT_THROW(engine.output(&stager), host::OutputInterrupted);
     EXPECT_THROW(out.commit(host::StudyOutput{}), host::OutputInterrupted);
   }
   EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{});

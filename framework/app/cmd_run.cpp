@@ -362,7 +362,9 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
     std::cerr << "gdsmc: resuming from " << checkpoint_dir.string() << " (" << checkpoints->describe(cases) << ")\n";
   StudyResult result;
   try {
-    result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
+    const ParticleStager particles = out.stager();  // the final particles straight into the file
+    result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr,
+                       &particles);
     end_line();
   } catch (const Engine::Interrupted&) {
     return interrupted("");

@@ -440,7 +440,7 @@ std::string Engine::energy_balance_text() {
   return "energy per particle [T0]: " + ledger_.balance_text(sampled_.kinetic_energy - initial_energy_, per);
 }
 
-CaseOutput Engine::output() {
+CaseOutput Engine::output(const ParticleStager* stage) {
   CaseOutput out;
   out.system = {{"particles", static_cast<double>(system_.particles)},
                 {"number_density", system_.number_density},
@@ -472,7 +472,7 @@ CaseOutput Engine::output() {
   if (system_.geometry == Geometry::slab) walls_.write(out.run);
   out.plugins = plugin_provenance(pipeline_);
   out.diagnostics = diagnostics_.outputs();
-  if (pipeline_.output_particles) out.particles = particle_datasets(store_.span(), system_);
+  if (pipeline_.output_particles) out.particles = particle_datasets(store_.span(), system_, stage);
   return out;
 }
 

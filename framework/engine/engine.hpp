@@ -27,6 +27,7 @@
 #include "engine/streams.hpp"
 #include "engine/work_pool.hpp"
 #include "output/diagnostic_output.hpp"
+#include "output/particle_dump.hpp"
 #include "output/records.hpp"
 
 namespace gdsmc::host {
@@ -108,8 +109,10 @@ class Engine {
   // Process the collision cells in reverse order (tests: no result may depend on the order).
   void set_cells_reversed(bool reversed) { cells_reversed_ = reversed; }
 
-  // This run's results (diagnostics copied), without the file-level provenance.
-  CaseOutput output();
+  // This run's results (diagnostics copied), without the file-level provenance; with
+  // output.particles, the final particles handed to `stage` (written into the output file) or,
+  // without one, copied.
+  CaseOutput output(const ParticleStager* stage = nullptr);
   bool reached_steady_state() const { return steady_; }
   const std::vector<std::string>& summary() const { return summary_; }
   const std::vector<DiagnosticOutput>& diagnostics() const { return diagnostics_.outputs(); }

@@ -22,7 +22,6 @@ constexpr const char* kStaging = ".gdsmc-staging";
 // Particles per write of a particle dataset: bounds the scaled copy (1 MiB).
 constexpr std::size_t kParticleChunk = std::size_t(1) << 17;
 
-OutputFile* g_current = nullptr;
 
 void init_hdf5() {
   static const bool done = [] {
@@ -299,16 +298,12 @@ OutputFile::OutputFile(const OutputTarget& target, const std::atomic<bool>* inte
     throw OutputPathError("cannot create the HDF5 file " + tmp_.path().string() +
                           (why.empty() ? ": the name was taken by another file" : ": " + why));
   }
-  g_current = this;
 }
 
 OutputFile::~OutputFile() {
-  if (g_current == this) g_current = nullptr;
   if (file_ >= 0) H5Fclose(file_);  // may fail (disk full): the file is removed anyway
   // tmp_ removes the temporary file unless it was renamed.
 }
-
-OutputFile* OutputFile::current() { return g_current; }
 
 std::vector<ParticleDataset> OutputFile::stage_particles(const std::vector<ParticleColumn>& columns) {
   const std::lock_guard<std::mutex> one_at_a_time(staging_);
@@ -332,7 +327,6 @@ void OutputFile::commit(const StudyOutput& out) {
   check(H5Fclose(file), "complete the file");
   w.poll();
   tmp_.rename_over(target_);
-  g_current = nullptr;
 }
 
 void write_hdf5(const fs::path& file, const StudyOutput& out) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "output/output_path.hpp"
+#include "output/particle_dump.hpp"
 #include "output/records.hpp"
 
 namespace gdsmc::host {
@@ -50,9 +51,11 @@ class OutputFile {
   // "name already exists", once in a clean-clone CI run of tests/threads_test.cpp at --threads 3).
   std::vector<ParticleDataset> stage_particles(const std::vector<ParticleColumn>& columns);
 
-  // The file open in this process, if any: Engine::output hands it the final particles while the
-  // store still holds them (particle_datasets), since the engine does not know the file.
-  static OutputFile* current();
+  // stage_particles as the engine takes it (Engine::output, through run_study): the final
+  // particles go into this file while the store still holds them.
+  ParticleStager stager() {
+    return [this](const std::vector<ParticleColumn>& columns) { return stage_particles(columns); };
+  }
 
   const std::filesystem::path& temporary_path() const { return tmp_.path(); }
 

@@ -4,7 +4,6 @@
 
 #include <gdsmc/physics/units.hpp>
 
-#include "output/hdf5_file.hpp"
 
 namespace gdsmc::host {
 
@@ -26,9 +25,10 @@ std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const System
   return out;
 }
 
-std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system) {
+std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system,
+                                               const ParticleStager* stage) {
   const std::vector<ParticleColumn> columns = particle_columns(s, system);
-  if (OutputFile* file = OutputFile::current()) return file->stage_particles(columns);
+  if (stage && *stage) return (*stage)(columns);
   std::vector<ParticleDataset> out;
   for (const auto& c : columns) {
     ParticleDataset d{c.name, c.unit, c.doc, c.components, {c.values, c.values + c.count * c.components}, ""};

@@ -97,7 +97,8 @@ class StudyClock {
 
 // Runs `run` (study index `index`), telling `report` its progress about every `interval` seconds.
 void execute(const StudyCase& sc, Run& run, const std::function<void(const Progress&)>& report, double interval,
-             std::size_t index, const std::atomic<bool>* stop, unsigned threads, const CheckpointStore* checkpoints) {
+             std::size_t index, const std::atomic<bool>* stop, unsigned threads, const CheckpointStore* checkpoints,
+             const ParticleStager* particles) {
   const Pipeline& p = sc.pipeline;
   const std::unique_ptr<Engine> started =
       checkpoints && checkpoints->has_run(index) ? checkpoints->restore(index, sc, run.realization, threads)
@@ -125,7 +126,7 @@ void execute(const StudyCase& sc, Run& run, const std::function<void(const Progr
   r.stage_seconds = engine.stage_seconds();
   r.steady = engine.reached_steady_state();
   if (run.realization == 0) {
-    r.output = engine.output();
+    r.output = engine.output(particles);
     r.summary = engine.summary();
   }
   r.diagnostics = engine.diagnostics();
@@ -228,7 +229,8 @@ CaseOutput gather_case(const StudyCase& sc, std::vector<Run*> runs, std::vector<
 class StudyRunner {
  public:
   StudyRunner(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
-              double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints);
+              double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints,
+              const ParticleStager* particles);
   // Whether this process's runs go one after the other on this thread (one worker, no MPI).
   bool serial() const { return workers_ == 1 && !exchange_; }
   // Whether this process is a rank other than 0, whose runs' results went to rank 0.
@@ -250,6 +252,7 @@ class StudyRunner {
   const std::vector<StudyCase>& cases_;
   const std::atomic<bool>* interrupt_;
   const CheckpointStore* checkpoints_;
+  const ParticleStager* particles_;  // where realization 0 writes its final particles (output.particles)
   std::vector<Run> runs_;
   std::vector<std::size_t> first_run_;  // of each case
   // A case is gathered by the worker that finishes its last run (so that only the averaged
@@ -272,10 +275,12 @@ class StudyRunner {
 
 // Every run of the study, its slots and clock, and which runs this process executes on how many workers.
 StudyRunner::StudyRunner(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
-                         double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints)
+                         double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints,
+                         const ParticleStager* particles)
     : cases_(cases),
       interrupt_(interrupt),
       checkpoints_(checkpoints),
+      particles_(particles),
       first_run_(cases.size()),
       gathered_(cases.size()),
       case_summaries_(cases.size()),
@@ -360,7 +365,7 @@ void StudyRunner::run_serial() {
   for (std::size_t index = 0; index < runs_.size(); ++index) {
     name_run(index);
     execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, interrupt_,
-            per_run_, checkpoints_);
+            per_run_, checkpoints_, particles_);
     finish(index);
   }
 }
@@ -378,7 +383,7 @@ void StudyRunner::work() {
       if (sends_) exchange_->post_started(index);  // rank 0 names it if this rank dies
       name_run(index);
       execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, &stop_,
-              per_run_, checkpoints_);
+              per_run_, checkpoints_, particles_);
       done(index);
     } catch (...) {
       runs_[index].error = std::current_exception();
@@ -506,11 +511,12 @@ void StudyRunner::assemble(StudyResult& result, bool sweep) {
 }  // namespace
 
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
-                      double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints) {
+                      double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints,
+                      const ParticleStager* particles) {
   StudyResult result;
   describe_provenance(cases.front().pipeline, result.output);
   const bool sweep = cases.size() > 1 || !cases.front().label.empty();
-  StudyRunner study(cases, report, report_interval, interrupt, checkpoints);
+  StudyRunner study(cases, report, report_interval, interrupt, checkpoints, particles);
   if (study.serial())
     study.run_serial();
   else

@@ -56,9 +56,10 @@ struct RankLost : RankFailure {
 // their expected cost, and rank 0 returns the study's result, the same bits as a serial study
 // (the other ranks return an empty one); a failure on any rank stops every rank, and rank 0
 // throws it (RankFailure for another rank's, RankLost for a rank that died, Engine::Interrupted
-// when a rank was interrupted).
+// when a rank was interrupted). `particles`, when given, takes realization 0's final particles
+// (output.particles) as each case's run ends (OutputFile::stager); without it they are copied.
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt,
-                      const CheckpointStore* checkpoints = nullptr);
+                      const CheckpointStore* checkpoints = nullptr, const ParticleStager* particles = nullptr);
 
 }  // namespace gdsmc::host
