@@ -2,7 +2,8 @@
 // OutputSink (series, profile, array, histogram, scalar) rather than writing its own text, so that
 // a reader (h5py, `gdsmc plot`, a report script) meets one string per unit; the host's test
 // checks every unit that the shipped pipelines write against this list (docs/output-format.md
-// gives their meanings). A unit missing here is added here, once.
+// gives their meanings). An in-tree plugin that needs a unit missing here adds it here, once; an
+// out-of-tree one may write its own text.
 #pragma once
 #include <array>
 #include <string_view>
