@@ -66,7 +66,7 @@ int cmd_plugins(const Options& o) {
   if (o.positional.empty()) {
     for (const PluginKindInfo& row : kPluginKinds) {
       const PluginKind kind = row.kind;
-      std::cout << row.name << ":\n";
+      std::cout << to_string(kind) << ":\n";
       bool any = false;
       for (const auto& info : reg.available())  // as examined: listing loads nothing into this process
         if (info.kind == kind) {

@@ -48,10 +48,10 @@ struct BatchResults {
   Rng kernel;
   std::uint64_t collided, exceeded;
   double max_rate, energy, missed;
-  void save(const PairBatch& b, std::vector<double>& tally, std::size_t tallies) {
+  void save(const PairBatch& b, std::vector<double>& tally) {
     kernel = *b.rng;
     collided = b.collided, exceeded = b.exceeded, max_rate = b.max_rate, energy = b.energy_change, missed = b.missed;
-    if (b.tally) std::copy(b.tally, b.tally + tallies, tally.begin());
+    if (b.tally) std::copy(b.tally, b.tally + tally.size(), tally.begin());
   }
   void restore(PairBatch& b, const std::vector<double>& tally) const {
     *b.rng = kernel;
@@ -99,12 +99,10 @@ ExtraEvent first_extra_event(const BatchScratch& s, std::uint32_t m, WeightedLay
 template <class Draws>
 ExtraEvent collide_to_first_extra(const CollisionRule& rule, PairBatch& batch, BatchScratch& s, std::uint32_t m,
                                   WeightedLayer& layer, Draws& select, double per_bound, const ParticleSpan& p,
-                                  std::size_t tallies) {
-  thread_local std::vector<double> saved_tally;
-  saved_tally.resize(tallies);
+                                  std::vector<double>& saved_tally) {
   s.load_velocities(m, p.vx.data, p.vy.data, p.vz.data);
   BatchResults before;
-  before.save(batch, saved_tally, tallies);
+  before.save(batch, saved_tally);
   batch.count = m;
   rule.collide_batch(batch);
   const ExtraEvent extra = first_extra_event(s, m, layer, select, per_bound);
@@ -152,11 +150,13 @@ double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSp
   EventClock clock;
   clock.start(credit, per_bound * layer.envelope(), dt);
   std::int64_t initiator = -1;  // an extra event's particle, the next candidate (at t0)
+  thread_local std::vector<double> saved_tally;  // the tallies before a pass, should it be undone
+  saved_tally.resize(tally_count_);
   // Close the batch, whose newest event is at `last`: the rule's pass, every collided particle's new
   // speed, the extra events of those that rose. True if the batch was cut (an extra event before
   // `last`: `initiator` is set, and the time counter starts again at its time).
   const auto flush = [&](double last) -> bool {
-    const ExtraEvent extra = collide_to_first_extra(rule, batch, s, m, layer, select, per_bound, particles, tally_count_);
+    const ExtraEvent extra = collide_to_first_extra(rule, batch, s, m, layer, select, per_bound, particles, saved_tally);
     s.store_accepted(extra.kept, vx, vy, vz);
     candidates += extra.kept;
     s.close(m);

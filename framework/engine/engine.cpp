@@ -129,7 +129,7 @@ void Engine::step() {
   }
   ctx_.time += dt;
   ++ctx_.step;
-  if (layers_.enabled() && !layers_.set()) {
+  if (layers_.enabled()) {  // due and profiling until the edges are set
     const double t = ctx_.time_in_tau0();
     if (layers_.due(t)) {
       set_layers_from_profile();  // with this step's positions, and new moments for the new layers

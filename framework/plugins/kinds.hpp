@@ -11,8 +11,7 @@
 namespace gdsmc::host {
 
 struct PluginKindInfo {
-  PluginKind kind;
-  const char* name;         // as descriptors and `gdsmc plugins` name it (gdsmc::to_string)
+  PluginKind kind;           // named as gdsmc::to_string names it ("collision", "initial", ...)
   const char* role;         // in messages: "collision rule", "initial state", ...
   const char* first_entry;  // the key path of its first entry in a pipeline: "collision", "forcings[0]", ...
   bool writes_output;       // a diagnostic: it has an output group, and sample_every and record_every
@@ -20,11 +19,11 @@ struct PluginKindInfo {
 
 // In the order `gdsmc plugins` lists them.
 inline constexpr std::array<PluginKindInfo, 5> kPluginKinds = {{
-    {PluginKind::collision_rule, "collision", "collision rule", "collision", false},
-    {PluginKind::forcing, "forcing", "forcing", "forcings[0]", false},
-    {PluginKind::boundary, "boundary", "boundary", "boundaries.y", false},
-    {PluginKind::initial_state, "initial", "initial state", "initial_state", false},
-    {PluginKind::diagnostic, "diagnostic", "diagnostic", "diagnostics[0]", true},
+    {PluginKind::collision_rule, "collision rule", "collision", false},
+    {PluginKind::forcing, "forcing", "forcings[0]", false},
+    {PluginKind::boundary, "boundary", "boundaries.y", false},
+    {PluginKind::initial_state, "initial state", "initial_state", false},
+    {PluginKind::diagnostic, "diagnostic", "diagnostics[0]", true},
 }};
 
 // The row of `kind` (a kind no row has: a descriptor from a newer SDK; the loader refuses it).

@@ -5,7 +5,6 @@
 // gives their meanings). An in-tree plugin that needs a unit missing here adds it here, once; an
 // out-of-tree one may write its own text.
 #pragma once
-#include <array>
 #include <string_view>
 
 namespace gdsmc::units {
@@ -39,7 +38,7 @@ inline constexpr const char* channel_pressure = "rho_av u_R^2/2";
 inline constexpr const char* as_swept = "as given in the sweep";
 inline constexpr const char* text = "";
 
-inline constexpr std::array<const char*, 22> all = {
+inline constexpr const char* all[] = {
     dimensionless, temperature, time, rate, length, speed, density, pressure, heat_flux, wall_hit_rate, viscosity,
     channel_width, wall_temperature, wall_temperature_gradient, wall_power, wall_speed, wall_speed_gradient,
     mass_density, mass_density_gradient, channel_pressure, as_swept, text};
