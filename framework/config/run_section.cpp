@@ -7,8 +7,7 @@
 #include <vector>
 
 #include "config/sections.hpp"
-#include "engine/majorant.hpp"
-#include "engine/stop.hpp"
+#include "config/work_limits.hpp"
 #include "util/text.hpp"
 
 namespace gdsmc::host {

@@ -8,7 +8,7 @@
 // diagnostic, one step of dt against two of dt/2 for a forcing).
 #include "conformance/conformance.hpp"
 #include "conformance/internal.hpp"
-#include "app/cli.hpp"
+#include "util/options.hpp"
 
 namespace gdsmc::host {
 

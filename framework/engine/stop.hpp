@@ -6,13 +6,11 @@
 #include <gdsmc/context.hpp>
 
 #include "config/pipeline.hpp"
+#include "config/work_limits.hpp"
 #include "output/diagnostic_output.hpp"
 
 namespace gdsmc::host {
 
-// The most steps a run may need to reach its stop: beyond this it would not end in any sane time
-// (1e12 steps of even a tiny system take weeks), so the pipeline or the run is refused.
-constexpr double kMaxSteps = 1e12;
 
 // Whether the run has reached its stop condition (or is steady).
 bool finished(const Pipeline& p, const StepContext& ctx, bool steady);
