@@ -363,3 +363,62 @@ TEST(Cli, HelpAndPluginDocumentation) {
 }
 
 }  // namespace
+
+// The same refusals in-process: each error carries its fields (where, which key, plugin,
+// parameter, what is valid, who found it), which `gdsmc conformance` matches instead of the text.
+namespace {
+const gdsmc::host::ConfigError* error_at(const gdsmc::host::PipelineError& e, const std::string& path) {
+  for (const auto& error : e.errors())
+    if (error.path == path) return &error;
+  return nullptr;
+}
+}  // namespace
+
+TEST(ConfigErrors, EachErrorCarriesItsLocationPluginParameterAndWhatIsValid) {
+  using gdsmc::host::ErrorOrigin;
+  TempDir dir;
+  std::string yaml = replace_once(kGood, "alpha: 0.9}", "alpha: 1.2, alpah: 1}");
+  yaml = replace_once(yaml, "particles: 500", "particles: 1");
+  try {
+    (void)gdsmc::test::load_yaml(dir, yaml);
+    FAIL() << "expected a PipelineError";
+  } catch (const gdsmc::host::PipelineError& e) {
+    ASSERT_EQ(e.errors().size(), e.messages().size());
+    const auto* range = error_at(e, "collision.alpha");
+    ASSERT_NE(range, nullptr) << e.what();
+    EXPECT_EQ(range->plugin, "inelastic_hard_spheres");
+    EXPECT_EQ(range->parameter, "alpha");
+    EXPECT_EQ(range->valid, "[0, 1]");
+    EXPECT_EQ(range->origin, ErrorOrigin::host_check);
+    const std::string file = (dir.path() / "pipeline.yaml").string();
+    const std::string line = "collision: {plugin: inelastic_hard_spheres, alpha: ";  // the value's column follows it
+    EXPECT_EQ(range->location, file + ":" + std::to_string(line_of(yaml, "alpha: 1.2")) + ":" +
+                                   std::to_string(line.size() + 1));
+    EXPECT_TRUE(contains(range->text(), "; valid: [0, 1]")) << range->text();
+    const auto* unknown = error_at(e, "collision.alpah");
+    ASSERT_NE(unknown, nullptr) << e.what();
+    EXPECT_EQ(unknown->plugin, "inelastic_hard_spheres");
+    EXPECT_EQ(unknown->parameter, "alpah");
+    const auto* particles = error_at(e, "run.particles");
+    ASSERT_NE(particles, nullptr) << e.what();
+    EXPECT_EQ(particles->plugin, "");  // a host key: no plugin, no parameter
+    EXPECT_EQ(particles->parameter, "");
+  }
+}
+
+// A value inside the schema that the plugin's constructor refuses is marked as the plugin's refusal.
+TEST(ConfigErrors, APluginsOwnRefusalIsMarkedAsSuch) {
+  TempDir dir;
+  const std::string yaml = replace_once(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}",
+                                        "{plugin: enskog_hard_spheres, alpha: 0.9, contact_value: -2}");
+  try {
+    (void)gdsmc::test::load_yaml(dir, yaml);
+    FAIL() << "expected a PipelineError";
+  } catch (const gdsmc::host::PipelineError& e) {
+    const auto* refused = error_at(e, "collision.contact_value");
+    ASSERT_NE(refused, nullptr) << e.what();
+    EXPECT_EQ(refused->origin, gdsmc::host::ErrorOrigin::refused_by_plugin);
+    EXPECT_EQ(refused->plugin, "enskog_hard_spheres");
+    EXPECT_EQ(refused->parameter, "contact_value");
+  }
+}

@@ -40,6 +40,7 @@ const LoadedPlugin* resolve_plugin(Checker& c, const Pipeline& p, const YAML::No
     return nullptr;
   }
   const LoadedPlugin* lp = p.registry->find(name);
+  Checker::About about(c, name);
   if (!lp) {
     auto close = closest_names(name, p.registry->names_of_kind(kind));
     if (close.empty()) close = closest_names(name, p.registry->names());
@@ -84,6 +85,7 @@ bool check_entry_keys(Checker& c, const Pipeline& p, const YAML::Node& map, cons
       std::vector<std::string> names;
       for (const auto& s : schema) names.push_back(s.name);
       auto close = closest_names(key, names);
+      Checker::About about(c, name, key);
       c.error(sub, it->first, plugin_ref(name, *use.plugin) + " has no parameter '" + key + "'" +
                                   (close.empty() ? "" : "; did you mean " + join(close, ", ") + "?") +
                                   " (parameters: " + (names.empty() ? "none" : join(names, ", ")) + ")");
@@ -142,8 +144,8 @@ bool convert_real(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::No
   const bool low = spec.min && (spec.min_inclusive ? reference_value < *spec.min : reference_value <= *spec.min);
   const bool high = spec.max && (spec.max_inclusive ? reference_value > *spec.max : reference_value >= *spec.max);
   if (low || high) {
-    c.error(at, sub, "value " + value_text(reference_value) + " is out of range for " + who + "; valid: " +
-                         spec.range_text() + (spec.dimension.dimensionless() ? "" : " in " + reference_unit(spec.dimension)));
+    c.error(at, sub, "value " + value_text(reference_value) + " is out of range for " + who,
+            spec.range_text() + (spec.dimension.dimensionless() ? "" : " in " + reference_unit(spec.dimension)));
     return false;
   }
   use.params.set(spec.name, *value, at);
@@ -164,7 +166,7 @@ bool convert_param(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::N
       const double d = static_cast<double>(*num);
       if ((spec.min && (spec.min_inclusive ? d < *spec.min : d <= *spec.min)) ||
           (spec.max && (spec.max_inclusive ? d > *spec.max : d >= *spec.max))) {
-        c.error(at, sub, "value " + std::to_string(*num) + " is out of range for " + who + "; valid: " + spec.range_text());
+        c.error(at, sub, "value " + std::to_string(*num) + " is out of range for " + who, spec.range_text());
         return false;
       }
       use.params.set(spec.name, *num, at);
@@ -185,8 +187,8 @@ bool convert_param(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::N
       const std::string s = v.Scalar();
       if (spec.type == ParamType::choice && std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end()) {
         auto close = closest_names(s, spec.choices);
-        c.error(sub, v, "'" + s + "' is not valid for " + who + "; " + spec.range_text() +
-                            (close.empty() ? "" : " (did you mean " + join(close, ", ") + "?)"));
+        c.error(sub, v, "'" + s + "' is not valid for " + who,
+                spec.range_text() + (close.empty() ? "" : " (did you mean " + join(close, ", ") + "?)"));
         return false;
       }
       use.params.set(spec.name, s, at);
@@ -217,10 +219,13 @@ bool test_construct(Checker& c, const LoadedPlugin& lp, const std::string& path,
     (void)create_object(lp, use.params);
   } catch (const ParameterError& e) {
     const SourceLocation at = use.params.has(e.parameter()) ? use.params.entry(e.parameter()).where : use.where;
-    c.error(at, path + "." + e.parameter(), plugin_ref(name, lp) + " refused parameter '" + e.parameter() + "': " + e.what());
+    Checker::About about(c, name, e.parameter());
+    c.plugin_error(at, path + "." + e.parameter(), ErrorOrigin::refused_by_plugin,
+                   plugin_ref(name, lp) + " refused parameter '" + e.parameter() + "': " + e.what());
     return false;
   } catch (const std::exception& e) {
-    c.error(use.where, path, plugin_ref(name, lp) + " failed to construct: " + e.what());
+    Checker::About about(c, name);
+    c.plugin_error(use.where, path, ErrorOrigin::plugin_failed, plugin_ref(name, lp) + " failed to construct: " + e.what());
     return false;
   }
   return true;
@@ -240,8 +245,10 @@ std::optional<PluginUse> check_plugin(Checker& c, Pipeline& p, const YAML::Node&
   use.plugin = lp;
   use.instance_name = name;
   const auto& schema = lp->descriptor->parameters;
+  Checker::About about(c, name);
   bool ok = check_entry_keys(c, p, map, path, kind, name, schema, use);
   for (const auto& spec : schema) {
+    Checker::About about_parameter(c, name, spec.name);
     const std::string sub = path + "." + spec.name;
     const YAML::Node v = map ? map[spec.name] : YAML::Node();
     const bool good = v ? convert_param(c, p, spec, v, sub, name, use) : default_param(c, p, spec, path, name, use);

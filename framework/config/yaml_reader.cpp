@@ -73,12 +73,31 @@ SourceLocation Checker::where(const std::string& path, const YAML::Node& node) c
   return SourceLocation{file_.string(), 0, 0};
 }
 
-void Checker::error(const SourceLocation& at, const std::string& path, const std::string& message) {
-  errors_.push_back(at.str() + ": " + (path.empty() ? "" : path + ": ") + message);
+void Checker::error(const SourceLocation& at, const std::string& path, const std::string& message,
+                    const std::string& valid) {
+  errors_.push_back(ConfigError{at.str(), path, plugin_, parameter_, message, valid, ErrorOrigin::host_check});
 }
 
-void Checker::error(const std::string& path, const YAML::Node& node, const std::string& message) {
-  error(where(path, node), path, message);
+void Checker::error(const std::string& path, const YAML::Node& node, const std::string& message,
+                    const std::string& valid) {
+  error(where(path, node), path, message, valid);
+}
+
+void Checker::plugin_error(const SourceLocation& at, const std::string& path, ErrorOrigin origin,
+                           const std::string& message) {
+  error(at, path, message);
+  errors_.back().origin = origin;
+}
+
+Checker::About::About(Checker& c, const std::string& plugin, const std::string& parameter)
+    : c_(c), plugin_(c.plugin_), parameter_(c.parameter_) {
+  c.plugin_ = plugin;
+  c.parameter_ = parameter;
+}
+
+Checker::About::~About() {
+  c_.plugin_ = plugin_;
+  c_.parameter_ = parameter_;
 }
 
 bool Checker::check_keys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed) {

@@ -12,6 +12,8 @@
 
 #include <gdsmc/params.hpp>
 
+#include "config/errors.hpp"
+
 namespace gdsmc::host {
 
 // A pipeline is a small text file: anything that is not a regular file, or is larger than this,
@@ -33,9 +35,28 @@ class Checker {
   // Where the value at `path` came from: the sweep entry or the --set assignment that gave it
   // (the last applied first), else the node's mark.
   SourceLocation where(const std::string& path, const YAML::Node& node) const;
-  void error(const SourceLocation& at, const std::string& path, const std::string& message);
-  void error(const std::string& path, const YAML::Node& node, const std::string& message);
-  const std::vector<std::string>& errors() const { return errors_; }
+  // Record a problem at `path`; `valid` says what would be valid, when known. The error names the
+  // plugin and parameter of the innermost About alive (a plugin's entry being read).
+  void error(const SourceLocation& at, const std::string& path, const std::string& message,
+             const std::string& valid = "");
+  void error(const std::string& path, const YAML::Node& node, const std::string& message,
+             const std::string& valid = "");
+  // A problem the plugin itself reported (origin refused_by_plugin or plugin_failed).
+  void plugin_error(const SourceLocation& at, const std::string& path, ErrorOrigin origin, const std::string& message);
+  const std::vector<ConfigError>& errors() const { return errors_; }
+
+  // While an About lives, the errors recorded concern `plugin` (and its `parameter`, when given).
+  class About {
+   public:
+    About(Checker& c, const std::string& plugin, const std::string& parameter = "");
+    ~About();
+    About(const About&) = delete;
+    About& operator=(const About&) = delete;
+
+   private:
+    Checker& c_;
+    std::string plugin_, parameter_;
+  };
 
   // Report keys not in `allowed` (with close spellings) and duplicate keys; false if a key is not in `allowed`.
   bool check_keys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed);
@@ -50,7 +71,8 @@ class Checker {
   std::filesystem::path file_;
   std::vector<std::string> overrides_;
   std::vector<std::pair<std::string, SourceLocation>> from_sweep_;
-  std::vector<std::string> errors_;
+  std::vector<ConfigError> errors_;
+  std::string plugin_, parameter_;  // of the innermost About
 };
 
 // Canonical path of a list item: item("diagnostics", 1) == "diagnostics[1]".

@@ -117,9 +117,8 @@ Result check_defaults(const Subject& s) {
   try {
     p = load_test_pipeline(s, a);
   } catch (const PipelineError& e) {
-    auto own = own_errors(e, s.kind());
     return fail("does not construct from its defaults (" + describe_assignment(s, a) + "): " +
-                join(own.empty() ? e.messages() : own, "; "));
+                error_text(own_errors(e, s.kind()), e));
   }
   Engine engine(*p);
   constexpr int steps = 10;
@@ -196,13 +195,14 @@ std::optional<Result> sweep(const Subject& s, const std::vector<Variant>& varian
       p = load_test_pipeline(s, v.params);
     } catch (const PipelineError& e) {
       const auto own = own_errors(e, s.kind());
-      const std::string m = join(own.empty() ? e.messages() : own, "; ");
-      if (m.find("refused parameter") != std::string::npos) {
+      if (std::any_of(own.begin(), own.end(), [](const ConfigError& error) {
+            return error.origin == ErrorOrigin::refused_by_plugin;
+          })) {
         ++refused;
         continue;
       }
       return fail("with " + v.label + ", inside the declared range, the plugin failed instead of constructing or "
-                  "refusing the value with a ParameterError: " + m);
+                  "refusing the value with a ParameterError: " + error_text(own, e));
     }
     if (s.kind() == PluginKind::collision_rule) {
       std::optional<BegunRule> r;
@@ -327,10 +327,9 @@ Result expect_refused(const Subject& s, const std::string& param, const std::str
   try {
     (void)load_test_pipeline(s, a);
   } catch (const PipelineError& e) {
-    for (const auto& m : own_errors(e, s.kind()))
-      if (m.find("'" + param + "'") != std::string::npos || m.find("." + param + ":") != std::string::npos ||
-          m.find("." + param + ".") != std::string::npos) {
-        note = m;
+    for (const auto& error : own_errors(e, s.kind()))
+      if (error.parameter == param) {
+        note = error.text();
         return pass("");
       }
     return fail("parameter '" + param + "' = " + value + " (" + what + ") was refused without a message naming it: " +
@@ -372,7 +371,10 @@ Result check_out_of_range(const Subject& s) {
       (void)load_test_pipeline(s, a);
       return fail("an unknown parameter 'no_such_parameter_xyz' was accepted");
     } catch (const PipelineError& e) {
-      if (own_errors(e, s.kind()).empty()) return fail("an unknown parameter was refused without a message naming it");
+      const auto own = own_errors(e, s.kind());
+      if (std::none_of(own.begin(), own.end(),
+                       [](const ConfigError& error) { return error.parameter == "no_such_parameter_xyz"; }))
+        return fail("an unknown parameter was refused without an error naming it: " + error_text(own, e));
     }
     ++n;
   }

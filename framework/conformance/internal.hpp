@@ -114,7 +114,10 @@ Assignment base_assignment(const Subject& s);
 std::string describe_assignment(const Subject& s, const Assignment& a);
 std::string slot_path(PluginKind k);
 const PluginUse& slot(const Pipeline& p, PluginKind k);
-std::vector<std::string> own_errors(const PipelineError& e, PluginKind k);
+// The errors of a refused test pipeline at the subject's slot (by the errors' key path).
+std::vector<ConfigError> own_errors(const PipelineError& e, PluginKind k);
+// Their printed lines joined by "; ", or every error's when `own` is empty.
+std::string error_text(const std::vector<ConfigError>& own, const PipelineError& e);
 std::string filler(const Subject& s, PluginKind kind);
 std::string entry_text(const std::string& plugin, const Assignment& a);
 std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment& a, std::size_t particles = 256);

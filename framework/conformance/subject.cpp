@@ -93,14 +93,20 @@ const PluginUse& slot(const Pipeline& p, PluginKind k) {
 }
 
 // The plugin's own entries among a refused pipeline's messages.
-std::vector<std::string> own_errors(const PipelineError& e, PluginKind k) {
+std::vector<ConfigError> own_errors(const PipelineError& e, PluginKind k) {
   const std::string path = slot_path(k);
-  std::vector<std::string> out;
-  for (const auto& m : e.messages())
-    if (m.find(": " + path + ":") != std::string::npos || m.find(": " + path + ".") != std::string::npos ||
-        m.find(": " + path + "[") != std::string::npos)
-      out.push_back(m);
+  std::vector<ConfigError> out;
+  for (const auto& error : e.errors())
+    if (error.path == path || error.path.rfind(path + ".", 0) == 0 || error.path.rfind(path + "[", 0) == 0)
+      out.push_back(error);
   return out;
+}
+
+std::string error_text(const std::vector<ConfigError>& own, const PipelineError& e) {
+  if (own.empty()) return join(e.messages(), "; ");
+  std::vector<std::string> lines;
+  for (const auto& error : own) lines.push_back(error.text());
+  return join(lines, "; ");
 }
 
 // Fillers for the slots the plugin does not occupy: the --context pipeline's entries, else the
