@@ -308,6 +308,15 @@ std::string without_sweep(const std::string& text) {
 
 SweepCaseLoader::SweepCaseLoader(const Pipeline& base) : base_(base), text_(without_sweep(base.source_text)) {}
 
+const PluginUse* Pipeline::use_at(const std::string& path) const {
+  for (const PluginUse* u : {&initial_state, &collision})
+    if (u->path == path) return u;
+  for (const auto* list : {&forcings, &boundaries, &diagnostics})
+    for (const auto& u : *list)
+      if (u.path == path) return &u;
+  return nullptr;
+}
+
 Pipeline SweepCaseLoader::load(const std::vector<const SweepAxis::Value*>& values) const {
   Pipeline p;
   p.file = base_.file;

@@ -152,6 +152,8 @@ struct Pipeline {
   // What plugins see of this system with `particles` particles (homogeneous: a cube of volume N/n;
   // slab: Ly given, Lx given or equal to Lz, Lx Ly Lz = N/n, 000 Eq. 4.2).
   SystemInfo system_info(std::size_t particles, std::uint32_t realization) const;
+  // The plugin entry at a key path ("collision", "forcings[0]", "boundaries.y_min"), or nullptr.
+  const PluginUse* use_at(const std::string& path) const;
 };
 
 // Read, check and resolve a pipeline. `overrides` are "key.path=value" strings (--set); `extra_plugin_paths` come first in the search path.

@@ -83,6 +83,40 @@ struct Check {
   std::function<Result(const Subject&)> run;
 };
 
+// Each kind's own checks, after the common ones.
+struct KindChecks {
+  PluginKind kind;
+  std::vector<Check> checks;
+};
+const std::vector<KindChecks>& kind_checks() {
+  static const std::vector<KindChecks> table = {
+      {PluginKind::collision_rule,
+       {{"collision.finite", check_collision_finite},
+        {"collision.mass", check_collision_mass},
+        {"collision.momentum", check_collision_momentum},
+        {"collision.energy", check_collision_energy},
+        {"collision.rate", check_collision_rate},
+        {"collision.acceptance", check_collision_acceptance},
+        {"collision.cell", check_collision_cell}}},
+      {PluginKind::forcing,
+       {{"forcing.conservation", check_forcing_conservation},
+        {"forcing.energy", check_forcing_energy},
+        {"forcing.expected_energy", check_forcing_expected_energy},
+        {"forcing.order", check_forcing_order}}},
+      {PluginKind::boundary,
+       {{"boundary.containment", check_boundary_containment},
+        {"boundary.elastic", check_boundary_elastic},
+        {"boundary.wall_flux", check_boundary_wall_flux},
+        {"boundary.accommodation", check_boundary_accommodation},
+        {"boundary.transfer", check_boundary_transfer}}},
+      {PluginKind::initial_state, {{"initial.state", check_initial_state}}},
+      {PluginKind::diagnostic,
+       {{"diagnostic.output", check_diagnostic_output},
+        {"diagnostic.particle_order", check_diagnostic_order},
+        {"diagnostic.moments_read", check_diagnostic_moments_read}}}};
+  return table;
+}
+
 std::vector<Check> checks_for(PluginKind kind) {
   std::vector<Check> c = {{"parameter_schema", check_schema},
                           {"defaults_construct", check_defaults},
@@ -93,36 +127,8 @@ std::vector<Check> checks_for(PluginKind kind) {
                           {"determinism", check_determinism},
                           {"threads", check_threads},
                           {"checkpoint", check_checkpoint}};
-  switch (kind) {
-    case PluginKind::collision_rule:
-      c.insert(c.end(), {{"collision.finite", check_collision_finite},
-                         {"collision.mass", check_collision_mass},
-                         {"collision.momentum", check_collision_momentum},
-                         {"collision.energy", check_collision_energy},
-                         {"collision.rate", check_collision_rate},
-                         {"collision.acceptance", check_collision_acceptance},
-                         {"collision.cell", check_collision_cell}});
-      break;
-    case PluginKind::forcing:
-      c.insert(c.end(), {{"forcing.conservation", check_forcing_conservation},
-                         {"forcing.energy", check_forcing_energy},
-                         {"forcing.expected_energy", check_forcing_expected_energy},
-                         {"forcing.order", check_forcing_order}});
-      break;
-    case PluginKind::boundary:
-      c.insert(c.end(), {{"boundary.containment", check_boundary_containment},
-                         {"boundary.elastic", check_boundary_elastic},
-                         {"boundary.wall_flux", check_boundary_wall_flux},
-                         {"boundary.accommodation", check_boundary_accommodation},
-                         {"boundary.transfer", check_boundary_transfer}});
-      break;
-    case PluginKind::initial_state: c.push_back({"initial.state", check_initial_state}); break;
-    case PluginKind::diagnostic:
-      c.insert(c.end(), {{"diagnostic.output", check_diagnostic_output},
-                         {"diagnostic.particle_order", check_diagnostic_order},
-                         {"diagnostic.moments_read", check_diagnostic_moments_read}});
-      break;
-  }
+  for (const auto& row : kind_checks())
+    if (row.kind == kind) c.insert(c.end(), row.checks.begin(), row.checks.end());
   return c;
 }
 

@@ -82,14 +82,8 @@ std::string describe_assignment(const Subject& s, const Assignment& a) {
 std::string slot_path(PluginKind k) { return kind_info(k).first_entry; }
 
 const PluginUse& slot(const Pipeline& p, PluginKind k) {
-  switch (k) {
-    case PluginKind::collision_rule: return p.collision;
-    case PluginKind::initial_state: return p.initial_state;
-    case PluginKind::forcing: return p.forcings.at(0);
-    case PluginKind::boundary: return p.boundaries.at(0);
-    case PluginKind::diagnostic: return p.diagnostics.at(0);
-  }
-  throw std::logic_error("bad kind");
+  if (const PluginUse* use = p.use_at(slot_path(k))) return *use;
+  throw std::logic_error("the test pipeline has no entry at " + slot_path(k));
 }
 
 // The plugin's own entries among a refused pipeline's messages.
