@@ -194,3 +194,31 @@ TEST(WorkPool, EveryPieceRunsOnceInShortAndSpacedStagesAndTheLowestErrorIsRethro
   pool.run(10, [&](std::size_t) { after.fetch_add(1); });  // the pool works after an error
   EXPECT_EQ(after.load(), 10);
 }
+
+// run_beside: the pieces run on the workers only, each once, while the caller keeps calling its
+// own task (the study's main thread polls the interrupt and the MPI exchange, which only it may
+// call); a piece's exception comes back to the caller.
+TEST(WorkPool, RunBesideKeepsTheCallerOffThePiecesAndCallsItsTaskWhileTheyRun) {
+  gdsmc::host::WorkPool pool(3);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::vector<std::atomic<int>> runs(7);
+  std::atomic<int> on_caller{0};
+  int beside = 0;
+  pool.run_beside(
+      runs.size(),
+      [&](std::size_t k) {
+        if (std::this_thread::get_id() == caller) ++on_caller;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        ++runs[k];
+      },
+      [&] { ++beside; }, std::chrono::milliseconds(1));
+  for (const auto& r : runs) EXPECT_EQ(r.load(), 1);
+  EXPECT_EQ(on_caller.load(), 0);
+  EXPECT_GE(beside, 1);  // 7 pieces of 10 ms on 2 workers: 40 ms or more of 1 ms periods
+  EXPECT_THROW(pool.run_beside(
+                   3, [](std::size_t k) { if (k == 1) throw std::runtime_error("piece 1"); }, [] {},
+                   std::chrono::milliseconds(1)),
+               std::runtime_error);
+  gdsmc::host::WorkPool alone(1);
+  EXPECT_THROW(alone.run_beside(1, [](std::size_t) {}, [] {}, std::chrono::milliseconds(1)), std::logic_error);
+}

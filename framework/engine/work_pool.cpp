@@ -1,6 +1,7 @@
 #include "engine/work_pool.hpp"
 
 #include <chrono>
+#include <stdexcept>
 
 namespace gdsmc::host {
 
@@ -66,7 +67,7 @@ void WorkPool::work() {
   }
 }
 
-void WorkPool::run_erased(std::size_t count, Trampoline call, void* piece) {
+void WorkPool::start(std::size_t count, Trampoline call, void* piece) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     call_ = call;
@@ -79,17 +80,39 @@ void WorkPool::run_erased(std::size_t count, Trampoline call, void* piece) {
     generation_.fetch_add(1, std::memory_order_release);
   }
   wake_.notify_all();
+}
+
+// Once every worker has reported back: the job's exception, if a piece threw.
+std::exception_ptr WorkPool::end_job() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  done_.wait(lock, [&] { return busy_.load(std::memory_order_acquire) == 0; });
+  piece_ = nullptr;
+  std::exception_ptr error = error_;
+  error_ = nullptr;
+  return error;
+}
+
+void WorkPool::run_erased(std::size_t count, Trampoline call, void* piece) {
+  start(count, call, piece);
   take_pieces();
-  std::exception_ptr error;
   spin_until([&] { return busy_.load(std::memory_order_acquire) == 0; }, kSpinSeconds);
-  {
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return busy_.load(std::memory_order_acquire) == 0; });
-    piece_ = nullptr;
-    error = error_;
-    error_ = nullptr;
+  if (std::exception_ptr error = end_job()) std::rethrow_exception(error);
+}
+
+void WorkPool::run_beside(std::size_t count, const std::function<void(std::size_t)>& piece,
+                          const std::function<void()>& beside, std::chrono::milliseconds period) {
+  if (workers_.empty()) throw std::logic_error("WorkPool::run_beside needs a worker thread");
+  using P = const std::function<void(std::size_t)>;
+  start(count, [](void* f, std::size_t k) { (*static_cast<P*>(f))(k); },
+        const_cast<void*>(static_cast<const void*>(&piece)));
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (done_.wait_for(lock, period, [&] { return busy_.load(std::memory_order_acquire) == 0; })) break;
+    }
+    beside();
   }
-  if (error) std::rethrow_exception(error);
+  if (std::exception_ptr error = end_job()) std::rethrow_exception(error);
 }
 
 }  // namespace gdsmc::host

@@ -4,10 +4,12 @@
 // them in piece order, so a run gives the same bits with 1, 2 or more threads.
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <type_traits>
 #include <mutex>
 #include <thread>
@@ -41,9 +43,18 @@ class WorkPool {
                const_cast<void*>(static_cast<const void*>(&piece)));
   }
 
+  // piece(k) for every k in [0, count) on the workers only (threads() >= 2), as run() takes them,
+  // while the caller calls beside() about every `period` until all have returned (the study's runs
+  // on the workers, the main thread polling the interrupt and the MPI exchange, which only it may
+  // call). Exceptions as run().
+  void run_beside(std::size_t count, const std::function<void(std::size_t)>& piece,
+                  const std::function<void()>& beside, std::chrono::milliseconds period);
+
  private:
   using Trampoline = void (*)(void*, std::size_t);
   void run_erased(std::size_t count, Trampoline call, void* piece);
+  void start(std::size_t count, Trampoline call, void* piece);
+  std::exception_ptr end_job();
   void work();
   void take_pieces();
 

@@ -1,16 +1,15 @@
 #include "study/study.hpp"
 
 #include "engine/plugin_calls.hpp"
+#include "engine/work_pool.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <exception>
 #include <iostream>
 #include <mutex>
 #include <optional>
-#include <thread>
 
 #include "study/ranks.hpp"
 #include "study/run_results.hpp"
@@ -244,7 +243,7 @@ class StudyRunner {
   std::function<void(const Progress&)> progress_of(std::size_t index);
   void name_run(std::size_t index) const;
   void done(std::size_t index);
-  void work();
+  void execute_run(std::size_t index);
   job::RunExchange::Receiver make_receiver();
   void end_exchange(StudyResult& result, const job::RunExchange::Receiver& receiver,
                     const std::exception_ptr& first_error, std::size_t first_failed);
@@ -268,8 +267,6 @@ class StudyRunner {
   std::mutex mutex_;
   std::vector<char> measured_;       // whether a finished run of the case was measured
   std::atomic<bool> stop_{false};
-  std::condition_variable idle_;
-  std::size_t next_ = 0, active_ = 0;
   std::exception_ptr received_error_;  // results from another rank that could not be read
 };
 
@@ -371,28 +368,20 @@ void StudyRunner::run_serial() {
 }
 
 // A worker thread: takes this process's runs in study order until none is left or the study stops.
-void StudyRunner::work() {
-  for (;;) {
-    std::size_t index;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (next_ == mine_.size() || stop_.load()) break;
-      index = mine_[next_++];
-    }
-    try {
-      if (sends_) exchange_->post_started(index);  // rank 0 names it if this rank dies
-      name_run(index);
-      execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, &stop_,
-              per_run_, checkpoints_, particles_);
-      done(index);
-    } catch (...) {
-      runs_[index].error = std::current_exception();
-      stop_.store(true);
-    }
+// Run `index` on a worker of the study's pool; once a run has failed (or the user interrupted),
+// the runs not yet begun are skipped.
+void StudyRunner::execute_run(std::size_t index) {
+  if (stop_.load()) return;
+  try {
+    if (sends_) exchange_->post_started(index);  // rank 0 names it if this rank dies
+    name_run(index);
+    execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, &stop_,
+            per_run_, checkpoints_, particles_);
+    done(index);
+  } catch (...) {
+    runs_[index].error = std::current_exception();
+    stop_.store(true);
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  --active_;
-  idle_.notify_all();
 }
 
 // What rank 0's main thread does with what the other ranks send: their progress to the clock, each
@@ -418,22 +407,17 @@ void StudyRunner::run_parallel(StudyResult& result) {
   // Workers stop at the user's interrupt or at the first failed run (`stop`, polled by every
   // engine), or when another rank failed or was interrupted; the main thread forwards the
   // interrupt flag while it waits, and exchanges the ranks' messages.
-  active_ = workers_;
   const job::RunExchange::Receiver receiver = make_receiver();
-  std::vector<std::thread> pool;
-  for (std::uint32_t w = 0; w < workers_; ++w) pool.emplace_back([this] { work(); });
   {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (active_ > 0) {
-      idle_.wait_for(lock, std::chrono::milliseconds(exchange_ ? 20 : 50));
-      if (interrupt_ && interrupt_->load()) stop_.store(true);
-      if (!exchange_) continue;
-      lock.unlock();
-      exchange_->poll(stop_, receiver);
-      lock.lock();
-    }
+    WorkPool pool(workers_ + 1);  // workers_ workers; this thread polls beside them
+    pool.run_beside(
+        mine_.size(), [this](std::size_t k) { execute_run(mine_[k]); },
+        [&] {
+          if (interrupt_ && interrupt_->load()) stop_.store(true);
+          if (exchange_) exchange_->poll(stop_, receiver);
+        },
+        std::chrono::milliseconds(exchange_ ? 20 : 50));
   }
-  for (auto& t : pool) t.join();
   // The first run (in study order) that failed of itself; the runs stopped because of it, or by
   // the user, were interrupted and say nothing new.
   std::exception_ptr first_error;
