@@ -303,6 +303,41 @@ inline ProcessResult run_gdsmc(const std::vector<std::string>& args, const fs::p
   return p.wait(timeout_s);
 }
 
+// A small valid pipeline (a homogeneous cooling state of 1000 particles to s = 5); the tests change
+// it with --set or the arguments.
+inline std::string small_pipeline(const std::string& run_extra = "", const std::string& stop = "{collisions_per_particle: 5}",
+                                  int particles = 1000, double alpha = 0.9, const std::string& diagnostics = "  - {plugin: temperature}\n") {
+  return "run:\n"
+         "  seed: 3\n"
+         "  particles: " + std::to_string(particles) + "\n"
+         "  time_step: {value: 0.01, unit: tau0, follow_temperature: true}\n"
+         "  stop: " + stop + "\n" + run_extra +
+         "system:\n"
+         "  density: 1.0e-3\n"
+         "  temperature: 1.0\n"
+         "initial_state: {plugin: maxwellian}\n"
+         "collision: {plugin: inelastic_hard_spheres, alpha: " + std::to_string(alpha) + "}\n"
+         "diagnostics:\n" + diagnostics +
+         "output: {file: out.h5}\n";
+}
+
+// `gdsmc <command> pipeline.yaml [args]` in a fresh directory; what it printed and what it left there.
+struct Outcome {
+  ProcessResult result;
+  std::vector<std::string> left;  // entries other than the pipeline
+};
+inline Outcome gdsmc_in_dir(const std::string& command, const std::string& yaml, const std::vector<std::string>& args,
+                            double timeout_s = 30) {
+  TempDir dir;
+  const auto file = dir.write("pipeline.yaml", yaml);
+  std::vector<std::string> argv = {command, file.string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  Outcome o;
+  o.result = run_gdsmc(argv, dir.path(), timeout_s);
+  o.left = dir.entries_except({"pipeline.yaml"});
+  return o;
+}
+
 // ---------------------------------------------------------------------------------------------
 // HDF5 read-back (C API).
 

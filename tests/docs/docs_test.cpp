@@ -1,4 +1,4 @@
-// The documentation tested against the program (issue 34): every YAML snippet and every gdsmc
+// The documentation tested against the program: every YAML snippet and every gdsmc
 // command line of README.md and docs/ goes through `gdsmc validate` (or the command's --help), the
 // h5py recipes run on the files the commands of their document write, and the dataset names a
 // plugin's documentation gives are those its output holds.
@@ -548,9 +548,9 @@ TEST(Docs, OtherDiagnosticsNameTheirDatasets) {
   expect_cited_attributes_exist(dir / "poiseuille.h5");
 }
 
-// docs/performance.md is a reference (issue 31 item 5): the current figures, what limits each and
-// how to reproduce them, in at most 200 lines, with the SPARTA deck that its comparison ran
-// (issue 27 item 5); dated series live in its history.
+// docs/performance.md is a reference: the current figures, what limits each and how to reproduce
+// them, in at most 200 lines, with the SPARTA deck that its comparison ran; dated series live in
+// its history.
 TEST(Docs, PerformanceIsAReferenceOfAtMostTwoHundredLines) {
   const std::string text = read_text(source_dir() / "docs" / "performance.md");
   const auto lines = std::count(text.begin(), text.end(), '\n');

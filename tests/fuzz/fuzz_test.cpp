@@ -1,4 +1,4 @@
-// Fuzzing of the shipped pipelines (issue 9, item 9). A fixed-seed generator mutates every
+// Fuzzing of the shipped pipelines. A fixed-seed generator mutates every
 // configs/*.yaml found at test time (so a new config is fuzzed without touching this file) and
 // runs each mutation through `gdsmc validate` and a very short `gdsmc run`, as a child process in
 // a fresh directory holding only the pipeline, with the output directed there (-o out.h5).

@@ -315,7 +315,7 @@ TEST(SteadyTest, SaveLoadContinuesIdentically) {
 }
 
 // BatchMeans' error holds over independent seeds when the batches are shorter than the correlation
-// time and the window spans few correlation times (issue 29 item 2). 200 seeds of an AR(1) series
+// time and the window spans few correlation times. 200 seeds of an AR(1) series
 // x_t = phi x_{t-1} + noise, phi = 0.98 (tau_int = (1 + phi)/(1 - phi) = 99 samples), windows of 10,
 // 20 and 81 tau_int (990-8000 samples: 61-62 batches of 16-128 samples, neighbours correlated).
 // chi2/dof of the seeds' means about their mean against the mean of their squared errors must lie

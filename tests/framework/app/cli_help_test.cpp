@@ -93,7 +93,7 @@ std::vector<std::string> with_option(const std::string& command, const OptionSpe
   return args;
 }
 
-// The installed documents name only what is installed (issue 30). A document installed in
+// The installed documents name only what is installed. A document installed in
 // <prefix>/share/doc/gdsmc that names a repository path (scripts/, configs/, tests/, framework/,
 // plugins/, bench/, docs/, sdk/, cmake/; not after a '/', so build/plugins/..., lib/gdsmc/plugins/...
 // and the HDF5 group /plugins/<role> are not such paths) must either name something the

@@ -91,7 +91,7 @@ TEST(BadInput, UnknownPluginSuggestsClosestName) {
 }
 
 // A refused pipeline prints the warnings noticed before its errors: a plugins: directory that does
-// not exist is why a plugin it should hold is unknown (issue 30; before, only the error was printed).
+// not exist is why a plugin it should hold is unknown (not only the error).
 TEST(BadInput, AMissingPluginDirectoryIsWarnedBesideTheUnknownPluginItExplains) {
   std::string yaml = replace_once(kGood, "{plugin: inelastic_hard_spheres, alpha: 0.9}", "{plugin: my_rule, alpha: 0.9}");
   yaml = "plugins: [my_plugins_dir]\n" + yaml;

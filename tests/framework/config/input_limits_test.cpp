@@ -169,6 +169,20 @@ TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
   EXPECT_LT(usage.ru_maxrss, 200 * 1024) << "KiB resident at the peak";
 }
 
+// 1e7 particles (about 570 MiB, which fits) under a 1 GB address-space limit: validate passes,
+// because it only builds the plugin objects (4e9 would not fit and is refused with the estimate:
+// AStudyThatCannotFitIsRefusedWithTheEstimateAndTheMemoryAvailable).
+TEST(MemoryCheck, ValidateDoesNotAllocateParticles) {
+  TempDir dir;
+  std::string yaml = kSmallHcsPipeline;
+  yaml.replace(yaml.find("particles: 400"), 14, "particles: 10000000");
+  const fs::path file = dir.write("pipeline.yaml", yaml);
+  const ShellResult r = shell("bash -c 'ulimit -v 1000000 && exec \"" + executable().string() + "\" validate \"" +
+                              file.string() + "\"'");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "10000000 particles")) << r.out;
+}
+
 // Memory a plugin takes for itself is not in the estimate: when it runs out anyway, the error says
 // that memory ran out and gives the estimate, in validate (begin) and during a run (record).
 TEST(MemoryCheck, RunningOutOfMemoryAnywaySaysSoWithTheEstimate) {

@@ -1,4 +1,4 @@
-// No silent unit (issue 34): `validate` says what every dimensional value written as a bare number
+// No silent unit: `validate` says what every dimensional value written as a bare number
 // was read as, with the dimensionless numbers of the system and those the diagnostics state as
 // they begin; `units: explicit` refuses bare dimensional numbers; and the last-mile messages (a
 // missing section, a misspelled stop key, --version, the help of validate --resume, inspect's

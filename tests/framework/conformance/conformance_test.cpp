@@ -1,5 +1,5 @@
 // `gdsmc conformance` on every plugin of the build, and on deliberately bad test plugins
-// (tests/plugins/conformance_*), each of which must fail with a message naming the plugin and the
+// (tests/test_plugins/conformance_*), each of which must fail with a message naming the plugin and the
 // broken property.
 #include <sys/wait.h>
 #include <unistd.h>
@@ -319,4 +319,21 @@ TEST(Conformance, ForcingExpectedEnergy) {
                            "/gdsmc_drag.so' --only forcing.expected_energy");
   EXPECT_EQ(drag.status, 0) << drag.out;
   EXPECT_EQ(line_of(drag.out, "forcing.expected_energy").rfind("SKIP", 0), 0u) << drag.out;
+}
+
+// The runner's abi_version check and the loader refuse a file for the same reason, in the same
+// words (one implementation of the check).
+TEST(Conformance, AbiCheckIsTheLoaders) {
+  const fs::path file = test_plugin("conformance_wrong_abi");
+  std::string loader_message;
+  try {
+    (void)gdsmc::host::load_plugin(file);
+  } catch (const gdsmc::host::PluginLoadError& e) {
+    loader_message = e.what();
+  }
+  ASSERT_FALSE(loader_message.empty());
+  const std::string reason = loader_message.substr(file.string().size() + 2);  // after "<file>: "
+  const Outcome r = run("conformance '" + file.string() + "' --only abi_version");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_TRUE(gdsmc::test::contains(line_of(r.out, "abi_version"), reason)) << "'" << reason << "' not in:\n" << r.out;
 }

@@ -1,8 +1,7 @@
-// Issue 30 item 2: no unbounded work from a pipeline that validates. Case counts and memory are
-// estimated before anything is expanded or allocated, absurd work per step is refused with the
-// number, the memory estimate counts what realizations keep, and a plugin call that does not
-// return after the first SIGINT ends the run anyway. Each test failed on 3598d7e's code (it ran out
-// of memory, hung, or named nothing).
+// No unbounded work from a pipeline that validates: case counts and memory are estimated before
+// anything is expanded or allocated, absurd work per step is refused with the number, the memory
+// estimate counts what realizations keep, and a plugin call that does not return after the first
+// SIGINT ends the run anyway (instead of running out of memory, hanging, or naming nothing).
 #include <gtest/gtest.h>
 
 #include <fcntl.h>

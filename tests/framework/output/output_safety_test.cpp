@@ -1,4 +1,4 @@
-// Output safety (issue 9): a failed write exits 1 with one message saying the results are lost;
+// Output safety: a failed write exits 1 with one message saying the results are lost;
 // output paths are checked before the first step (run and validate alike); gdsmc writes over
 // nothing that is not its output (devices, pipes, directories, the pipeline, plugin libraries)
 // and says what it replaces; temporaries are named so users recognise them, removed on failure

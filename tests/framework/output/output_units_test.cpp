@@ -1,4 +1,4 @@
-// The units of outputs (issue 31 item 5): one vocabulary (gdsmc/physics/units.hpp), one spelling
+// The units of outputs: one vocabulary (gdsmc/physics/units.hpp), one spelling
 // per unit, and every unit attribute that the shipped pipelines write spelled as it spells it.
 #include <gtest/gtest.h>
 

@@ -1,6 +1,5 @@
 // The plugin search path: a broken library anywhere on it costs a warning naming it and why, never
-// the process (issue 9, item 5), and a missing directory or a shadowed plugin is never silent
-// (item 6).
+// the process, and a missing directory or a shadowed plugin is never silent.
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
@@ -197,7 +196,7 @@ TEST(PluginPath, ChildProcessReportsCrashesExitsAndHangs) {
   EXPECT_LT(seconds, 10.0);
 }
 
-// Item 6: validate and run warn about a `plugins:` entry or --plugin-path that does not exist and
+// validate and run warn about a `plugins:` entry or --plugin-path that does not exist and
 // about a plugin shadowed by another of the same name, and the output records which library ran.
 TEST(PluginPath, MissingDirectoriesAndShadowedPluginsAreWarnedAbout) {
   TempDir dir;

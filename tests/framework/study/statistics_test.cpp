@@ -1,4 +1,4 @@
-// Honest error bars (issue 8 item 6, issue 29 item 2): the host's steady averages and their errors
+// Honest error bars: the host's steady averages and their errors
 // (batch means of one realization, the scatter of several), tau_int, and the seed check of every
 // error against the scatter of independent realizations (framework/study/statistics.cpp).
 #include <gtest/gtest.h>
@@ -120,7 +120,7 @@ TEST(ErrorBars, SeveralRealizationsTakeTheSteadyErrorFromTheScatterOfTheirOwnMea
   EXPECT_NE(scalar_item(avg[0], "x.steady_stderr").doc.find("K = 5 realizations"), std::string::npos);
 }
 
-// The seed check of an error (issue 29 item 2): chi2/dof of K values about their mean against
+// The seed check of an error: chi2/dof of K values about their mean against
 // their own errors, and its central 95 % band, checked against chi2 tables and by hand.
 TEST(ErrorBars, SeedCheckBandIsTheCentral95PercentOfChiSquaredPerDof) {
   // chi2 quantiles: 19 dof 8.9065 (2.5 %), 32.8523 (97.5 %); 4 dof 0.4844, 11.1433.
@@ -227,7 +227,7 @@ TEST(ErrorBars, TheHostsSteadyErrorsOfOneRealizationAreCheckedAgainstTheRealizat
 // end widened by the Student-t variance of z-scores whose errors come from B batches; and the
 // scatter of the means over the mean squared error in the plain interval. Seeds 5-11 gave z-score
 // chi^2 = 112-181 and scatter chi^2 = 98-156 (mean 130 = 1.10 x 119) for 119 degrees of freedom.
-// The errors before issue 8 (batch length not checked against the correlation time) are printed.
+// The errors of plain batch means (batch length not checked against the correlation time) are printed.
 TEST(ErrorBars, SteadyErrorsOfIndependentRealizationsHaveUnitVarianceZScores) {
   TempDir dir;
   const char* yaml = R"(run:
@@ -257,7 +257,7 @@ diagnostics: [cumulants]
     se[r] = scalar_named(d[0], "a2.steady_stderr");
     ASSERT_TRUE(std::isfinite(se[r]) && se[r] > 0) << scalar_item(d[0], "a2.steady_stderr").doc;
     if (r == 0) std::printf("%s\n", scalar_item(d[0], "a2.steady_stderr").doc.c_str());
-    // The estimate before issue 8 (BatchMeans: up to 64 batches, length not checked), for the record.
+    // Plain batch means (BatchMeans: up to 64 batches, length not checked), for the record.
     BatchMeans before;
     std::vector<double> window;
     const auto& a2 = series(e, "cumulants", "a2");
@@ -292,7 +292,7 @@ diagnostics: [cumulants]
               "  sum of squared z-scores chi^2 = %.1f for %.0f degrees of freedom (99.9%% interval [%.1f, %.1f],"
               " x %.3f for Student's t)\n"
               "  scatter of the means / mean squared error: chi^2 = %.1f (99.9%% interval [%.1f, %.1f])\n"
-              "  with the batch-means error before issue 8: chi^2 = %.1f\n",
+              "  with the plain batch-means error: chi^2 = %.1f\n",
               K, fewest_batches, chi2, nu, quantile(-z), quantile(z), t_inflation, chi2_pooled, quantile(-z), quantile(z),
               chi2_before);
   ASSERT_GE(fewest_batches, 8u) << "the test needs well-estimated errors";

@@ -1,12 +1,14 @@
 // Host pipeline features with no physics in them: realizations, sweeps, the steady-state stop and
-// steady averages (framework/study.cpp, framework/engine.cpp).
+// steady averages, the cases of a sweep (framework/study/, framework/engine/engine.cpp).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include <gdsmc/physics/series.hpp>
 
 #include "output/hdf5_file.hpp"
+#include "study/cases.hpp"
 #include "study/statistics.hpp"
 #include "study/study.hpp"
 #include "test_support.hpp"
@@ -344,6 +346,33 @@ TEST(Study, ProgressReportsCoverTheWholeStudy) {
     }
     EXPECT_TRUE(saw_later_run);
     EXPECT_NEAR(seen.back().fraction, 1.0, 1e-9);
+  }
+}
+
+// A window on the other clock (t) that the run never reaches: the summary warns, and the NaN
+// datasets say why in their description.
+TEST(Study, ASteadyWindowNeverReachedIsWarnedAboutAndDescribed) {
+  TempDir dir;
+  const auto file = dir.write("pipeline.yaml", small_pipeline("  average_after: {time: 1000}\n", "{collisions_per_particle: 1}"));
+  const ProcessResult r = run_gdsmc({"run", file.string()}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_TRUE(contains(r.out, "warning: run.average_after: the steady window t/tau0 >= 1000 holds no record (the last is at "
+                              "t/tau0 = ")) << r.describe();
+  h5::File f(dir / "out.h5");
+  EXPECT_TRUE(std::isnan(h5::read_scalar(f.id(), "/diagnostics/temperature/temperature.steady_mean")));
+  EXPECT_TRUE(contains(h5::read_string_attribute(f.id(), "/diagnostics/temperature/temperature.steady_mean", "description"),
+                       "NaN: no record reached the window"));
+}
+
+// The cases of a sweep share the base pipeline's plugin registry: each library is loaded once.
+TEST(Study, SweepCasesShareTheBasePipelinesRegistry) {
+  TempDir dir;
+  const host::Pipeline base = load_yaml(dir, kSmallHcsPipeline + "sweep:\n  collision.alpha: [0.5, 0.7, 0.9]\n");
+  const auto cases = host::expand_cases(base);
+  ASSERT_EQ(cases.size(), 3u);
+  for (const auto& c : cases) {
+    EXPECT_EQ(c.pipeline.registry.get(), base.registry.get()) << c.label;
+    EXPECT_EQ(c.pipeline.collision.plugin, base.collision.plugin) << c.label;  // the same loaded library
   }
 }
 

@@ -322,7 +322,7 @@ TEST(HcsPhysics, CumulantA2Alpha07) { check_a2(0.7); }
 
 // The cooling rate is a collision integral of the distribution: for phi = phi_M (1 + a2 S2 + a3 S3)
 // exactly zeta*/zeta*_M = <V12^3>/<V12^3>_0 = 1 + 3a2/16 + a3/64 + 9a2^2/1024 + 15 a2 a3/2048
-// + 35 a3^2/16384 (scripts/hcs_sonine_moments.py; the first four terms are the relation of issue 29).
+// + 35 a3^2/16384 (scripts/hcs_sonine_moments.py).
 // Two independent measurements of one run meet here: cooling_rate's zeta tau / zeta0 tau from the
 // energy the collisions remove (000 Eq. 2.9), and hcs_theory's 1 + 3a2/16 + a3/64 + 9a2^2/1024 from
 // the sampled a2, a3 (000 Eqs. 4.17-4.18), both averaged over s in [5, 40]. At alpha = 0.3 the
