@@ -13,6 +13,7 @@
 
 #include "app/commands.hpp"
 #include "engine/engine.hpp"
+#include "output/hdf5_reader.hpp"
 
 namespace gdsmc::host {
 
@@ -40,70 +41,16 @@ namespace {
 
 constexpr int kPipelineLines = 12;
 
-// An HDF5 identifier closed on scope exit.
-struct Id {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  Id(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
-  Id(const Id&) = delete;
-  ~Id() {
-    if (id >= 0) close(id);
-  }
-  operator hid_t() const { return id; }
-};
+using h5::Handle;
 
 // An attribute of obj as text (a string as is, a number with `format`); empty if absent.
 std::string attribute(hid_t obj, const std::string& name, const char* format = "%.10g") {
-  if (H5Aexists(obj, name.c_str()) <= 0) return "";
-  Id a(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose);
-  if (a < 0) return "";
-  Id type(H5Aget_type(a), H5Tclose);
-  if (H5Tget_class(type) == H5T_STRING) {
-    if (H5Tis_variable_str(type) > 0) {
-      Id mem(H5Tcopy(H5T_C_S1), H5Tclose);
-      H5Tset_size(mem, H5T_VARIABLE);
-      H5Tset_cset(mem, H5Tget_cset(type));
-      char* s = nullptr;
-      if (H5Aread(a, mem, &s) < 0 || !s) return "";
-      std::string out = s;
-      H5free_memory(s);
-      return out;
-    }
-    std::string buf(H5Tget_size(type), '\0');
-    if (H5Aread(a, type, buf.data()) < 0) return "";
-    return buf.substr(0, buf.find('\0'));
-  }
-  double v = 0;
-  if (H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0) return "";
+  if (const auto text = h5::text_attribute(obj, name)) return *text;
+  const auto value = h5::number_attribute(obj, name);
+  if (!value) return "";
   char text[64];
-  std::snprintf(text, sizeof text, format, v);
+  std::snprintf(text, sizeof text, format, *value);
   return text;
-}
-
-std::vector<std::string> attribute_names(hid_t obj) {
-  std::vector<std::string> names;
-  auto cb = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-    return 0;
-  };
-  H5Aiterate2(obj, H5_INDEX_NAME, H5_ITER_INC, nullptr, cb, &names);
-  return names;
-}
-
-std::vector<std::string> members(hid_t group) {
-  std::vector<std::string> names;
-  auto cb = [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-    return 0;
-  };
-  H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, cb, &names);
-  return names;
-}
-
-bool has_group(hid_t loc, const std::string& path) {
-  if (H5Lexists(loc, path.c_str(), H5P_DEFAULT) <= 0) return false;
-  H5O_info_t info;
-  return H5Oget_info_by_name(loc, path.c_str(), &info, H5P_DEFAULT) >= 0 && info.type == H5O_TYPE_GROUP;
 }
 
 void field(const std::string& name, const std::string& value) {
@@ -119,12 +66,12 @@ void field(const std::string& name, const std::string& value) {
 
 // The plugins of /plugins under `root` (the file, or /cases/<k>).
 void print_plugins(hid_t root, const std::string& indent) {
-  if (!has_group(root, "plugins")) return;
-  Id plugins(H5Gopen2(root, "plugins", H5P_DEFAULT), H5Gclose);
-  for (const auto& role : members(plugins)) {
-    Id g(H5Gopen2(plugins, role.c_str(), H5P_DEFAULT), H5Gclose);
+  if (!h5::is_group(root, "plugins")) return;
+  Handle plugins(H5Gopen2(root, "plugins", H5P_DEFAULT), H5Gclose);
+  for (const auto& role : h5::members(plugins)) {
+    Handle g(H5Gopen2(plugins, role.c_str(), H5P_DEFAULT), H5Gclose);
     std::string params;
-    for (const auto& a : attribute_names(g))
+    for (const auto& a : h5::attribute_names(g))
       if (a.rfind("param.", 0) == 0) params += (params.empty() ? "" : ", ") + a.substr(6) + "=" + attribute(g, a);
     std::string line = indent + role;
     line += std::string(line.size() < indent.size() + 16 ? indent.size() + 16 - line.size() : 1, ' ');
@@ -140,8 +87,8 @@ void print_plugins(hid_t root, const std::string& indent) {
 }
 
 void print_run(hid_t root) {
-  if (!has_group(root, "run")) return;
-  Id run(H5Gopen2(root, "run", H5P_DEFAULT), H5Gclose);
+  if (!h5::is_group(root, "run")) return;
+  Handle run(H5Gopen2(root, "run", H5P_DEFAULT), H5Gclose);
   auto number = [&](const char* name) { return attribute(run, name, "%.6g"); };
   // The counts are realization 0's; the wall time is that of every realization (output-format.md).
   const std::string realizations = attribute(run, "realizations", "%.0f");
@@ -171,15 +118,12 @@ std::vector<Entry> datasets(hid_t file) {
   auto cb = [](hid_t group, const char* name, const H5L_info_t*, void* data) -> herr_t {
     H5O_info_t info;
     if (H5Oget_info_by_name(group, name, &info, H5P_DEFAULT) < 0 || info.type != H5O_TYPE_DATASET) return 0;
-    Id d(H5Dopen2(group, name, H5P_DEFAULT), H5Dclose);
-    Id space(H5Dget_space(d), H5Sclose);
-    Id type(H5Dget_type(d), H5Tclose);
-    const int rank = H5Sget_simple_extent_ndims(space);
-    std::vector<hsize_t> dims(rank > 0 ? rank : 0);
-    if (rank > 0) H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-    std::string shape = rank == 0 ? "scalar" : "[";
-    for (int k = 0; k < rank; ++k) shape += (k ? " x " : "") + std::to_string(dims[k]);
-    if (rank > 0) shape += "]";
+    Handle d(H5Dopen2(group, name, H5P_DEFAULT), H5Dclose);
+    Handle type(H5Dget_type(d), H5Tclose);
+    const std::vector<hsize_t> dims = h5::shape(d);
+    std::string shape = dims.empty() ? "scalar" : "[";
+    for (std::size_t k = 0; k < dims.size(); ++k) shape += (k ? " x " : "") + std::to_string(dims[k]);
+    if (!dims.empty()) shape += "]";
     if (H5Tget_class(type) == H5T_STRING) shape += " text";
     const std::string unit = attribute(d, "unit");
     static_cast<std::vector<Entry>*>(data)->push_back(
@@ -205,11 +149,11 @@ int cmd_inspect(int argc, char** argv) {
   if (!fs::exists(path, ec)) return std::cerr << "gdsmc inspect: " << path << ": no such file" << expected << "\n", 1;
   if (!fs::is_regular_file(path, ec))
     return std::cerr << "gdsmc inspect: " << path << ": not a regular file" << expected << "\n", 1;
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  if (H5Fis_hdf5(path.c_str()) <= 0)
+  if (!h5::is_hdf5(path))
     return std::cerr << "gdsmc inspect: " << path << ": not an HDF5 file" << expected << "\n", 1;
-  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (file < 0) return std::cerr << "gdsmc inspect: " << path << ": cannot open it as HDF5" << expected << "\n", 1;
+  const Handle file = h5::open_read_only(path);
+  if (!file)
+    return std::cerr << "gdsmc inspect: " << path << ": cannot open it as HDF5" << expected << "\n", 1;
   if (H5Aexists(file, "gdsmc_version") <= 0 || H5Aexists(file, "seed") <= 0)
     return std::cerr << "gdsmc inspect: " << path
                      << ": an HDF5 file but not a gdsmc output: its root has no gdsmc_version and seed attributes "
@@ -234,14 +178,14 @@ int cmd_inspect(int argc, char** argv) {
             << (shown < text.size() ? "; the first " + std::to_string(shown) + ", --long for all" : "") << "):\n";
   for (std::size_t k = 0; k < shown; ++k) std::cout << "    | " << text[k] << "\n";
 
-  if (has_group(file, "cases")) {
-    Id cases(H5Gopen2(file, "cases", H5P_DEFAULT), H5Gclose);
-    std::vector<std::string> names = members(cases);  // by name: 0, 1, 10, 2 ... -> by number
+  if (h5::is_group(file, "cases")) {
+    Handle cases(H5Gopen2(file, "cases", H5P_DEFAULT), H5Gclose);
+    std::vector<std::string> names = h5::members(cases);  // by name: 0, 1, 10, 2 ... -> by number
     std::stable_sort(names.begin(), names.end(),
                      [](const std::string& a, const std::string& b) { return a.size() != b.size() ? a.size() < b.size() : a < b; });
     std::cout << "  sweep: " << names.size() << " cases (/cases/<k>; /summary has one row per case)\n";
     for (const auto& k : names) {
-      Id c(H5Gopen2(cases, k.c_str(), H5P_DEFAULT), H5Gclose);
+      Handle c(H5Gopen2(cases, k.c_str(), H5P_DEFAULT), H5Gclose);
       std::cout << "  case " << k << ": " << attribute(c, "case") << "\n";
       print_run(c);
       print_plugins(c, "    ");

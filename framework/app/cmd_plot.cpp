@@ -1,7 +1,5 @@
 // `gdsmc plot`: runs the plotter, scripts/gdsmc_plot.py (Python 3 with h5py, numpy, matplotlib),
 // which the build copies beside the executable and `cmake --install` puts in share/gdsmc/.
-#include <fcntl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -9,9 +7,11 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "app/commands.hpp"
+#include "util/subprocess.hpp"
 
 namespace gdsmc::host {
 
@@ -110,28 +110,18 @@ int cmd_plot(int argc, char** argv) {
 bool plot_output(const fs::path& output, bool quiet, std::string& error) {
   std::vector<std::string> command;
   if (!plot_command(output, "", command, error)) return false;
-  std::vector<char*> cargv = c_argv(command);
-  std::cout.flush();
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    error = std::string("cannot start the plotter: ") + std::strerror(errno);
+  SubprocessOptions options;
+  if (quiet) options.stdout_file = "/dev/null";
+  ExitStatus status;
+  try {
+    Subprocess plotter(command, options);
+    status = plotter.wait();
+  } catch (const std::system_error& e) {
+    error = "cannot start the plotter: " + e.code().message();
     return false;
   }
-  if (pid == 0) {
-    if (quiet) {
-      const int null = ::open("/dev/null", O_WRONLY);
-      if (null >= 0) ::dup2(null, STDOUT_FILENO);
-    }
-    ::execv(cargv[0], cargv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
-  error = "the plotter (" + command[1] + ") " +
-          (WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
-                             : "was killed by signal " + std::to_string(WTERMSIG(status)));
+  if (status.exit_code == 0) return true;
+  error = "the plotter (" + command[1] + ") " + status.text();
   return false;
 }
 

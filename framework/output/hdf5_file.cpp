@@ -5,6 +5,8 @@
 
 #include <gdsmc/physics/units.hpp>
 
+#include "output/hdf5_reader.hpp"
+
 namespace gdsmc::host {
 
 namespace fs = std::filesystem;
@@ -336,34 +338,11 @@ void write_hdf5(const fs::path& file, const StudyOutput& out) {
 
 std::optional<std::string> read_root_text(const fs::path& file, const std::string& name) {
   init_hdf5();
-  if (H5Fis_hdf5(file.c_str()) <= 0) return std::nullopt;
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) return std::nullopt;
-  std::optional<std::string> text;
-  if (H5Aexists(f, name.c_str()) > 0) {
-    const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
-    const hid_t type = a >= 0 ? H5Aget_type(a) : -1;
-    if (type >= 0 && H5Tget_class(type) == H5T_STRING) {
-      if (H5Tis_variable_str(type) > 0) {
-        const hid_t mem = H5Tcopy(H5T_C_S1);
-        H5Tset_size(mem, H5T_VARIABLE);
-        H5Tset_cset(mem, H5Tget_cset(type));
-        char* s = nullptr;
-        if (H5Aread(a, mem, &s) >= 0 && s) {
-          text = s;
-          H5free_memory(s);
-        }
-        H5Tclose(mem);
-      } else {
-        std::string buf(H5Tget_size(type), '\0');
-        if (H5Aread(a, type, buf.data()) >= 0) text = buf.substr(0, buf.find('\0'));
-      }
-    }
-    if (type >= 0) H5Tclose(type);
-    if (a >= 0) H5Aclose(a);
-  }
+  if (!h5::is_hdf5(file)) return std::nullopt;
+  const h5::Handle f = h5::open_read_only(file);
+  if (!f) return std::nullopt;
+  std::optional<std::string> text = h5::text_attribute(f, name);
   H5Eclear2(H5E_DEFAULT);
-  H5Fclose(f);
   return text;
 }
 
