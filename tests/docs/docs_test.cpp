@@ -415,13 +415,8 @@ void expect_datasets_documented(const fs::path& file, std::map<std::string, std:
 
 // The attribute names of `object`.
 std::vector<std::string> attribute_names(hid_t file, const std::string& object) {
-  std::vector<std::string> names;
-  auto cb = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-    return 0;
-  };
-  H5Aiterate_by_name(file, object.c_str(), H5_INDEX_NAME, H5_ITER_INC, nullptr, cb, &names, H5P_DEFAULT);
-  return names;
+  if (!exists(file, object)) return {};
+  return gdsmc::host::h5::attribute_names(open_object(file, object));
 }
 
 // Every `/run/NAME` and `/plugins/ROLE@NAME` the documents cite (NAME may be a family: <stage>,

@@ -27,19 +27,9 @@ Outcome sh(const std::string& cmd) { return gdsmc::test::shell(cmd); }
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 std::vector<double> read(const fs::path& file, const std::string& dataset) {
-  std::vector<double> v;
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) return v;
-  if (H5Lexists(f, dataset.c_str(), H5P_DEFAULT) > 0) {
-    const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
-    const hid_t s = H5Dget_space(d);
-    v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(s)));
-    H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Sclose(s);
-    H5Dclose(d);
-  }
-  H5Fclose(f);
-  return v;
+  const gdsmc::host::h5::Handle f = gdsmc::host::h5::open_read_only(file);
+  if (!f || !gdsmc::host::h5::exists(f, dataset)) return {};
+  return gdsmc::host::h5::read_doubles(f, dataset);
 }
 
 bool all_finite(const std::vector<double>& v) {

@@ -152,21 +152,13 @@ TEST(MemoryCheck, ValidateNeverHoldsTheParticlesItEstimates) {
   TempDir dir;
   const fs::path file = dir.write("pipeline.yaml", replace_once(kSmallHcsPipeline, "particles: 400", "particles: 10000000"));
   const std::string out = (dir / "verdict").string();
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0 || ::dup2(fd, 1) < 0) ::_exit(127);
-    ::unsetenv("GDSMC_PLUGIN_PATH");
-    ::execl(executable().c_str(), "gdsmc", "validate", file.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  int status = 0;
-  rusage usage{};
-  ASSERT_EQ(::wait4(pid, &status, 0, &usage), pid);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_text(out);
+  host::SubprocessOptions options;
+  options.stdout_file = out;
+  options.unset_environment = {"GDSMC_PLUGIN_PATH"};
+  host::Subprocess validate({executable().string(), "validate", file.string()}, options);
+  ASSERT_EQ(validate.wait().exit_code, 0) << read_text(out);
   EXPECT_TRUE(contains(read_text(out), "about 267 MiB of memory")) << read_text(out);
-  EXPECT_LT(usage.ru_maxrss, 200 * 1024) << "KiB resident at the peak";
+  EXPECT_LT(validate.usage().ru_maxrss, 200 * 1024) << "KiB resident at the peak";
 }
 
 // 1e7 particles (about 570 MiB, which fits) under a 1 GB address-space limit: validate passes,

@@ -166,26 +166,16 @@ struct Peak {
 };
 Peak peak_of(const TempDir& dir, const std::vector<std::string>& args) {
   const std::string out = (dir / "stdout").string();
-  std::vector<std::string> argv_s = {"gdsmc"};
-  argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string exe = gdsmc::test::executable().string(), cwd = dir.path().string();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0 || ::dup2(fd, 1) < 0 || ::chdir(cwd.c_str()) != 0) ::_exit(127);
-    ::unsetenv("GDSMC_PLUGIN_PATH");
-    ::execv(exe.c_str(), argv.data());
-    ::_exit(127);
-  }
+  std::vector<std::string> argv = {gdsmc::test::executable().string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  gdsmc::host::SubprocessOptions options;
+  options.cwd = dir.path();
+  options.stdout_file = out;
+  options.unset_environment = {"GDSMC_PLUGIN_PATH"};
+  gdsmc::host::Subprocess child(argv, options);
   Peak p;
-  int status = 0;
-  rusage usage{};
-  if (pid < 0 || ::wait4(pid, &status, 0, &usage) != pid) return p;
-  p.kib = usage.ru_maxrss;
-  p.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  p.status = child.wait().exit_code;
+  p.kib = child.usage().ru_maxrss;
   p.out = gdsmc::test::read_text(out);
   std::filesystem::remove(out);
   return p;

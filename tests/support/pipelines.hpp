@@ -1,0 +1,75 @@
+// Test support: small pipelines, and the host in-process (load a pipeline, read what an engine's
+// diagnostics hold).
+#pragma once
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "config/pipeline.hpp"
+#include "engine/engine.hpp"
+#include "plugins/loader.hpp"
+#include "plugins/registry.hpp"
+#include "support/files.hpp"
+
+namespace gdsmc::test {
+
+// A homogeneous cooling state small enough for a test to run in a fraction of a second.
+inline const std::string kSmallHcsPipeline = R"(run:
+  seed: 3
+  particles: 400
+  time_step: {value: 0.02, unit: tau0}
+  stop: {collisions_per_particle: 1}
+system: {density: 1.0e-3}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+diagnostics: [temperature]
+output: {file: out.h5}
+)";
+
+// A small valid pipeline (a homogeneous cooling state of 1000 particles to s = 5); the tests change
+// it with --set or the arguments.
+inline std::string small_pipeline(const std::string& run_extra = "", const std::string& stop = "{collisions_per_particle: 5}",
+                                  int particles = 1000, double alpha = 0.9, const std::string& diagnostics = "  - {plugin: temperature}\n") {
+  return "run:\n"
+         "  seed: 3\n"
+         "  particles: " + std::to_string(particles) + "\n"
+         "  time_step: {value: 0.01, unit: tau0, follow_temperature: true}\n"
+         "  stop: " + stop + "\n" + run_extra +
+         "system:\n"
+         "  density: 1.0e-3\n"
+         "  temperature: 1.0\n"
+         "initial_state: {plugin: maxwellian}\n"
+         "collision: {plugin: inelastic_hard_spheres, alpha: " + std::to_string(alpha) + "}\n"
+         "diagnostics:\n" + diagnostics +
+         "output: {file: out.h5}\n";
+}
+
+// Load a pipeline written from `yaml` into <dir>/<name>, with the in-tree plugins on the search
+// path. An Engine keeps a reference to the pipeline: keep the pipeline alive while it runs.
+inline host::Pipeline load_yaml(const TempDir& dir, const std::string& yaml, const std::vector<std::string>& overrides = {},
+                                const std::string& name = "pipeline.yaml") {
+  const fs::path file = dir.write(name, yaml);
+  return host::load_pipeline(file, overrides, {plugin_dir()});
+}
+
+// What the diagnostic group `group`, its series `column` or its scalar `name` holds after a run
+// (throws if missing).
+inline const host::DiagnosticOutput& diagnostic(const host::Engine& e, const std::string& group) {
+  for (const auto& d : e.diagnostics())
+    if (d.group() == group) return d;
+  throw std::runtime_error("no diagnostic group '" + group + "'");
+}
+inline const std::vector<double>& series(const host::Engine& e, const std::string& group, const std::string& column) {
+  const auto& d = diagnostic(e, group);
+  for (const auto& c : d.columns)
+    if (c.name == column) return c.values;
+  throw std::runtime_error("no series '" + column + "' in group '" + group + "'");
+}
+inline double scalar(const host::Engine& e, const std::string& group, const std::string& name) {
+  const auto& d = diagnostic(e, group);
+  for (const auto& s : d.scalars)
+    if (s.name == name) return s.value;
+  throw std::runtime_error("no scalar '" + name + "' in group '" + group + "'");
+}
+
+}  // namespace gdsmc::test
