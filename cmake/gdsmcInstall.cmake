@@ -45,7 +45,7 @@ install(TARGETS gdsmc EXPORT gdsmcTargets RUNTIME DESTINATION ${CMAKE_INSTALL_BI
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/gdsmc_plot.py DESTINATION share/gdsmc)
 
 # In-tree plugins: every MODULE library made by gdsmc_add_plugin() under plugins/<kind>/<name>
-# (test plugins under tests/plugins are not installed).
+# (test plugins under tests/test_plugins are not installed).
 file(GLOB _gdsmc_plugin_dirs LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/plugins/*/*)
 set(_gdsmc_plugin_targets "")
 foreach(dir IN LISTS _gdsmc_plugin_dirs)
@@ -84,7 +84,8 @@ install(FILES ${PROJECT_BINARY_DIR}/gdsmcConfig.cmake ${PROJECT_BINARY_DIR}/gdsm
 # An installed document names only what is installed: a repository path (scripts/, configs/,
 # tests/, docs/ not installed here, ...) says "in the source tree" in its paragraph, or the
 # document says "every path named in this document is in the source tree" in its first paragraph
-# (tests/cli_help_test.cpp, InstalledDocumentation.NamesOnlyWhatIsInstalledOrSaysItIsInTheSourceTree).
+# (tests/framework/app/cli_help_test.cpp,
+# InstalledDocumentation.NamesOnlyWhatIsInstalledOrSaysItIsInTheSourceTree).
 set(GDSMC_INSTALLED_DOCS user-guide.md output-format.md references.md plugin-author-guide.md bgk-usf.md
                          cluster.md scaling.md)
 foreach(doc IN LISTS GDSMC_INSTALLED_DOCS)

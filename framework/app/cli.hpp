@@ -13,7 +13,8 @@ namespace gdsmc::host {
 // conformance/runner.cpp; `gdsmc help` takes none). run and validate accept the same options, so
 // that a run's command line can be checked by changing the command word; plugins accepts only
 // --plugin-path and --help; plot --out and --help; inspect --long and --help. The main help (app/main.cpp) lists every one of them, which
-// tests/cli_help_test.cpp checks against these tables. Returns an empty table for any other word.
+// tests/framework/app/cli_help_test.cpp checks against these tables. Returns an empty table for
+// any other word.
 const std::vector<OptionSpec>& command_options(const std::string& command);
 
 // The options of run, validate and plugins.

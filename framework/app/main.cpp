@@ -16,8 +16,8 @@ using namespace gdsmc::host;
 
 namespace {
 
-// Every option of every command: tests/cli_help_test.cpp checks this text against the option
-// tables of the parsers (app/cli.cpp command_options, conformance/runner.cpp parse_config), each
+// Every option of every command: tests/framework/app/cli_help_test.cpp checks this text against
+// the option tables of the parsers (app/cli.cpp command_options, conformance/runner.cpp parse_config), each
 // option inside its command's section (a section starts with a line "gdsmc COMMAND").
 const char* kMainHelp = R"(gdsmc — Direct Simulation Monte Carlo of granular gases, with plugins.
 

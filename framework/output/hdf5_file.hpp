@@ -48,7 +48,8 @@ class OutputFile {
   // store (no second copy of them), and returns the datasets naming where they are. Runs on
   // several threads call it at once: the calls are serialized (the HDF5 library is not
   // thread-safe; unserialized, two first calls both created the staging group and one failed with
-  // "name already exists", once in a clean-clone CI run of tests/threads_test.cpp at --threads 3).
+  // "name already exists", once in a clean-clone CI run of tests/framework/study/threads_test.cpp
+  // at --threads 3).
   std::vector<ParticleDataset> stage_particles(const std::vector<ParticleColumn>& columns);
 
   // stage_particles as the engine takes it (Engine::output, through run_study): the final

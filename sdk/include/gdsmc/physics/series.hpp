@@ -65,7 +65,7 @@ class WindowAverage {
 // exp(-W/tau_W) < tau_W / sqrt(W n), tau_W = S / ln((2 tau_s + 1)/(2 tau_s - 1)), tau_s = tau(W)/2 and
 // S = 1.5), then corrected for the bias of subtracting the values' own mean: times 1 + (2W + 1)/n.
 // Over independent seeds of AR(1) series its errors of the mean hold to about 10 % in variance from
-// 10 autocorrelation times up, and are about 1.3 times too small at 5 (tests/physics_toolkit_test.cpp);
+// 10 autocorrelation times up, and are about 1.3 times too small at 5 (tests/sdk/physics_toolkit_test.cpp);
 // the old Sokal window without the correction was 2.1 and 3.2 times too small there. 1 for fewer
 // than 2 values or no spread; never below 1/n.
 inline double integrated_autocorrelation_time(const double* v, std::size_t n) {
@@ -148,7 +148,7 @@ class BatchMeans {
   // than the correlation time of the samples are correlated, and its bias correction stands for
   // the batches' own mean). Over independent seeds of AR(1) series the variance of the means is
   // 1.0-1.1 times the mean squared error from 10 autocorrelation times up and 1.3 times at 5
-  // (tests/physics_toolkit_test.cpp): below about 10 autocorrelation times, realizations give the
+  // (tests/sdk/physics_toolkit_test.cpp): below about 10 autocorrelation times, realizations give the
   // honest error. NaN with fewer than 4 batches.
   double standard_error() const {
     if (batches_ < 4) return std::nan("");
