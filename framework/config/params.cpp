@@ -110,34 +110,34 @@ bool check_entry_keys(Checker& c, const Pipeline& p, const YAML::Node& map, cons
 }
 
 // A real parameter given as a number (reference units) or as {value, unit}.
-bool convert_real(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
-                  const std::string& who, PluginUse& use) {
+std::optional<double> convert_real(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v,
+                                   const std::string& sub, const std::string& who) {
   const SourceLocation at = c.where(sub, v);
   std::optional<double> value;
   double reference_value = 0;
   if (v.IsMap()) {
     if (spec.dimension.dimensionless()) {
       c.error(sub, v, who + " is dimensionless: give a plain number");
-      return false;
+      return std::nullopt;
     }
     c.check_keys(v, sub, {"value", "unit"});
     if (!v["value"] || !v["unit"]) {
       c.error(sub, v, who + ": expected {value: NUMBER, unit: UNIT}");
-      return false;
+      return std::nullopt;
     }
     auto num = c.real(v["value"], sub + ".value");
-    if (!num) return false;
+    if (!num) return std::nullopt;
     std::string why;
     value = to_reduced(*num, v["unit"].Scalar(), spec.dimension, unit_scales(p), why);
     if (!value) {
       c.error(sub + ".unit", v["unit"], "unknown unit '" + v["unit"].Scalar() + "' for " + who + ": " + why);
-      return false;
+      return std::nullopt;
     }
     reference_value = *value / reference_factor(spec.dimension, p);
   } else {
     auto num = c.real(v, sub);
-    if (!num) return false;
-    if (!spec.dimension.dimensionless() && !read_bare(c, p, sub, v, *num, spec.dimension)) return false;
+    if (!num) return std::nullopt;
+    if (!spec.dimension.dimensionless() && !read_bare(c, p, sub, v, *num, spec.dimension)) return std::nullopt;
     reference_value = *num;
     value = *num * reference_factor(spec.dimension, p);
   }
@@ -146,56 +146,18 @@ bool convert_real(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::No
   if (low || high) {
     c.error(at, sub, "value " + value_text(reference_value) + " is out of range for " + who,
             spec.range_text() + (spec.dimension.dimensionless() ? "" : " in " + reference_unit(spec.dimension)));
-    return false;
+    return std::nullopt;
   }
-  use.params.set(spec.name, *value, at);
-  return true;
+  return value;
 }
 
 // One given parameter value, checked against its spec and stored in reduced units.
 bool convert_param(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v, const std::string& sub,
                    const std::string& name, PluginUse& use) {
-  const SourceLocation at = c.where(sub, v);
-  const std::string who = "parameter '" + spec.name + "' of " + plugin_ref(name, *use.plugin);
-  switch (spec.type) {
-    case ParamType::real:
-      return convert_real(c, p, spec, v, sub, who, use);
-    case ParamType::integer: {
-      auto num = c.integer(v, sub);
-      if (!num) return false;
-      const double d = static_cast<double>(*num);
-      if ((spec.min && (spec.min_inclusive ? d < *spec.min : d <= *spec.min)) ||
-          (spec.max && (spec.max_inclusive ? d > *spec.max : d >= *spec.max))) {
-        c.error(at, sub, "value " + std::to_string(*num) + " is out of range for " + who, spec.range_text());
-        return false;
-      }
-      use.params.set(spec.name, *num, at);
-      return true;
-    }
-    case ParamType::boolean: {
-      auto b = c.boolean(v, sub);
-      if (!b) return false;
-      use.params.set(spec.name, *b, at);
-      return true;
-    }
-    case ParamType::string:
-    case ParamType::choice: {
-      if (!v.IsScalar()) {
-        c.error(sub, v, who + ": expected text, got " + Checker::describe(v));
-        return false;
-      }
-      const std::string s = v.Scalar();
-      if (spec.type == ParamType::choice && std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end()) {
-        auto close = closest_names(s, spec.choices);
-        c.error(sub, v, "'" + s + "' is not valid for " + who,
-                spec.range_text() + (close.empty() ? "" : " (did you mean " + join(close, ", ") + "?)"));
-        return false;
-      }
-      use.params.set(spec.name, s, at);
-      return true;
-    }
-  }
-  return false;
+  const std::optional<ParamValue> value =
+      read_value(c, p, spec, v, sub, "parameter '" + spec.name + "' of " + plugin_ref(name, *use.plugin));
+  if (value) use.params.set(spec.name, *value, c.where(sub, v));
+  return value.has_value();
 }
 
 // A parameter the entry does not give: its default in reduced units, or an error when it has none.
@@ -232,6 +194,45 @@ bool test_construct(Checker& c, const LoadedPlugin& lp, const std::string& path,
 }
 
 }  // namespace
+
+std::optional<ParamValue> read_value(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v,
+                                     const std::string& sub, const std::string& who) {
+  switch (spec.type) {
+    case ParamType::real:
+      if (auto value = convert_real(c, p, spec, v, sub, who)) return *value;
+      return std::nullopt;
+    case ParamType::integer: {
+      auto num = c.integer(v, sub);
+      if (!num) return std::nullopt;
+      const double d = static_cast<double>(*num);
+      if ((spec.min && (spec.min_inclusive ? d < *spec.min : d <= *spec.min)) ||
+          (spec.max && (spec.max_inclusive ? d > *spec.max : d >= *spec.max))) {
+        c.error(c.where(sub, v), sub, "value " + std::to_string(*num) + " is out of range for " + who, spec.range_text());
+        return std::nullopt;
+      }
+      return *num;
+    }
+    case ParamType::boolean:
+      if (auto b = c.boolean(v, sub)) return *b;
+      return std::nullopt;
+    case ParamType::string:
+    case ParamType::choice: {
+      if (!v.IsScalar()) {
+        c.error(sub, v, who + ": expected text, got " + Checker::describe(v));
+        return std::nullopt;
+      }
+      const std::string s = v.Scalar();
+      if (spec.type == ParamType::choice && std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end()) {
+        auto close = closest_names(s, spec.choices);
+        c.error(sub, v, "'" + s + "' is not valid for " + who,
+                spec.range_text() + (close.empty() ? "" : " (did you mean " + join(close, ", ") + "?)"));
+        return std::nullopt;
+      }
+      return s;
+    }
+  }
+  return std::nullopt;
+}
 
 std::optional<PluginUse> check_plugin(Checker& c, Pipeline& p, const YAML::Node& node, const std::string& path,
                                       PluginKind kind) {

@@ -21,4 +21,12 @@ namespace gdsmc::host {
 std::optional<PluginUse> check_plugin(Checker& c, Pipeline& p, const YAML::Node& node, const std::string& path,
                                       PluginKind kind);
 
+// One value at `sub` read against `spec`, as every plugin parameter and every key of the host's
+// own schema (config/host_schema.hpp) is: its type, its unit ({value, unit} or a bare number in
+// the reference unit, converted to reduced units), its range and its choices (with the closest
+// spellings). `who` names it in errors ("parameter 'alpha' of ...", "run.particles"). Returns
+// nullopt after recording the problem in `c`.
+std::optional<ParamValue> read_value(Checker& c, Pipeline& p, const ParamSpec& spec, const YAML::Node& v,
+                                     const std::string& sub, const std::string& who);
+
 }  // namespace gdsmc::host

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "config/host_schema.hpp"
 #include "config/sections.hpp"
 #include "config/work_limits.hpp"
 #include "util/text.hpp"
@@ -280,69 +281,15 @@ void check_average_window(Checker& c, const YAML::Node& run, Pipeline& p) {
     warn("time", *p.average_after_time_tau0, *p.stop_time_tau0);
 }
 
-// run.sampling: bracketed or after_step.
-void parse_sampling(Checker& c, const YAML::Node& sm, Pipeline& p) {
-  if (sm.IsScalar() && sm.Scalar() == "bracketed") p.sampling_bracketed = true;
-  else if (sm.IsScalar() && sm.Scalar() == "after_step") p.sampling_bracketed = false;
-  else
-    c.error("run.sampling", sm,
-            "valid: bracketed (the default: a diagnostic that supports it samples the state before and after "
-            "the collision stage of each sampled step, so that stresses and fluxes carry no O(dt) bias from "
-            "sampling at one end of the splitting) or after_step (every diagnostic once, after the step's "
-            "collisions and forcings: the rule before SDK 6.1)");
-}
-
-// run.candidate_pairs (distinct or squared) and run.pair_selection (weighted, auto or uniform).
-void parse_pairs(Checker& c, const YAML::Node& run, Pipeline& p) {
-  if (const YAML::Node cp = run["candidate_pairs"]) {
-    if (cp.IsScalar() && cp.Scalar() == "squared") p.candidate_pairs_squared = true;
-    else if (!(cp.IsScalar() && cp.Scalar() == "distinct"))
-      c.error("run.candidate_pairs", cp,
-              "valid: distinct (N_c (N_c - 1)/2 pairs per cell, the default: the Boltzmann collision rate whatever "
-              "the cell's occupation) or squared (N_c^2/2, as paper 000 Eq. 4.13 writes it: 1/N_c more collisions)");
-  }
-  if (const YAML::Node ps = run["pair_selection"]) {
-    if (ps.IsScalar() && ps.Scalar() == "uniform") p.pair_selection = 0;
-    else if (ps.IsScalar() && ps.Scalar() == "weighted") p.pair_selection = 1;
-    else if (ps.IsScalar() && ps.Scalar() == "auto") p.pair_selection = 2;
-    else
-      c.error("run.pair_selection", ps,
-              "valid: weighted (a slab layer, or a homogeneous system of one group, draws its pairs in "
-              "proportion to their particles' peculiar speeds, kept current through the step, so a hot particle "
-              "raises only its own pairs' bounds: 68-72 % of the candidates accepted in paper 004's channels; a "
-              "pass over the layer every step), auto (the default: weighted in slab layers, and in a homogeneous "
-              "system of one group once one majorant would accept below 30 %) or uniform (every pair of a group "
-              "alike, against one majorant: 11-32 % accepted); homogeneous sub-populations and general kernels "
-              "always draw uniform pairs; see the user guide");
-  }
-}
-
 }  // namespace
 
 void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
   if (!run.IsMap()) {
     c.error("run", run, "expected a mapping");
   } else {
-    c.check_keys(run, "run", {"seed", "particles", "time_step", "stop", "sample_every", "record_every", "moments_every",
-                              "realizations", "average_after", "candidate_pairs", "pair_selection", "threads",
-                              "subpopulation", "checkpoint", "sampling"});
-    if (const YAML::Node sm = run["sampling"]) parse_sampling(c, sm, p);
+    c.check_keys(run, "run", run_section().keys());
+    read_host_values(c, run, run_section(), p);
     if (const YAML::Node cp = run["checkpoint"]) parse_checkpoint(c, cp, p);
-    parse_pairs(c, run, p);
-    if (run["realizations"]) {
-      if (auto v = c.integer(run["realizations"], "run.realizations")) {
-        if (*v < 1 || *v > 100000) c.error("run.realizations", run["realizations"], "realizations must be between 1 and 100000");
-        else p.realizations = static_cast<std::uint32_t>(*v);
-      }
-    }
-    if (run["threads"]) {
-      if (auto v = c.integer(run["threads"], "run.threads")) {
-        if (*v < 0 || *v > 4096)
-          c.error("run.threads", run["threads"],
-                  "threads must be between 0 (every core) and 4096 (1: one run at a time; results do not depend on it)");
-        else p.threads = static_cast<std::uint32_t>(*v);
-      }
-    }
     if (const YAML::Node sp = run["subpopulation"]) {
       if (sp.IsScalar() && sp.Scalar() == "all") {
         p.subpopulation = 0;
@@ -355,20 +302,7 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
       }
     }
     if (const YAML::Node aa = run["average_after"]) parse_average_after(c, aa, p);
-    if (run["seed"]) {
-      if (auto v = c.integer(run["seed"], "run.seed")) {
-        if (*v < 0) c.error("run.seed", run["seed"], "seed must be >= 0");
-        else p.seed = static_cast<std::uint64_t>(*v);
-      }
-    }
-    if (!run["particles"]) {
-      c.error("run", run, "missing required key 'particles' (number of simulated particles, >= 2)");
-    } else if (auto v = c.integer(run["particles"], "run.particles")) {
-      if (*v < 2 || *v > 4000000000LL)
-        c.error("run.particles", run["particles"], "particles must be between 2 and 4e9, got " + std::to_string(*v));
-      else
-        p.particles = static_cast<std::size_t>(*v);
-    }
+    if (!run["particles"]) c.error("run", run, "missing required key 'particles' (number of simulated particles, >= 2)");
     if (!run["time_step"]) {
       c.error("run", run, "missing required key 'time_step' (e.g. {value: 0.01, unit: tau0, follow_temperature: true})");
     } else {
@@ -378,15 +312,6 @@ void parse_run(Checker& c, const YAML::Node& run, Pipeline& p) {
       c.error("run", run, "missing required key 'stop' (e.g. {collisions_per_particle: 50} or {time: 100})");
     } else {
       parse_stop(c, run["stop"], p);
-    }
-    for (auto [key, field] : {std::pair{"sample_every", &p.sample_every}, std::pair{"record_every", &p.record_every},
-                              std::pair{"moments_every", &p.moments_every}}) {
-      if (!run[key]) continue;
-      const std::string sub = std::string("run.") + key;
-      if (auto v = c.integer(run[key], sub)) {
-        if (*v < 1) c.error(sub, run[key], std::string(key) + " must be a whole number of steps >= 1");
-        else *field = static_cast<std::uint64_t>(*v);
-      }
     }
     check_step(c, run, p);
     if (run["average_after"]) check_average_window(c, run, p);

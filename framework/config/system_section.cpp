@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "config/host_schema.hpp"
 #include "config/sections.hpp"
 #include "util/text.hpp"
 
@@ -155,11 +156,6 @@ void parse_domain(Checker& c, const YAML::Node& sys, Pipeline& p) {
     if (*m < 1 || *m > 100000000) c.error("system.layers", sys["layers"], "layers must be between 1 and 1e8");
     else p.layers = static_cast<std::size_t>(*m);
   }
-  if (sys["bins"])
-    if (auto b = c.integer(sys["bins"], "system.bins")) {
-      if (*b < 1 || *b > 100000000) c.error("system.bins", sys["bins"], "bins must be between 1 and 1e8");
-      else p.bins = static_cast<std::size_t>(*b);
-    }
 }
 
 // Every scale the host derives from n, sigma, T0, N and the time step must be a normal finite
@@ -226,18 +222,9 @@ void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
   if (!sys.IsMap()) {
     c.error("system", sys, "expected a mapping");
   } else {
-    c.check_keys(sys, "system", {"density", "mean_free_path", "sigma", "temperature", "domain", "box", "layers", "bins"});
+    c.check_keys(sys, "system", system_section().keys());
+    read_host_values(c, sys, system_section(), p);
     bool have_density = false;
-    if (sys["sigma"])
-      if (auto v = c.real(sys["sigma"], "system.sigma")) {
-        if (*v <= 0) c.error("system.sigma", sys["sigma"], "sigma must be > 0");
-        else p.sigma = *v;
-      }
-    if (sys["temperature"])
-      if (auto v = c.real(sys["temperature"], "system.temperature")) {
-        if (*v <= 0) c.error("system.temperature", sys["temperature"], "the initial temperature T0 must be > 0");
-        else p.temperature = *v;
-      }
     if (sys["density"] && sys["mean_free_path"]) {
       c.error("system", sys, "give either density or mean_free_path, not both");
     } else if (sys["density"]) {
@@ -270,7 +257,8 @@ void parse_output(Checker& c, const YAML::Node& out, Pipeline& p) {
   if (!out.IsMap()) {
     c.error("output", out, "expected {file: NAME.h5}");
   } else {
-    c.check_keys(out, "output", {"file", "particles", "realizations", "plots"});
+    c.check_keys(out, "output", output_section().keys());
+    read_host_values(c, out, output_section(), p);
     if (const YAML::Node f = out["file"]) {
       if (f.IsScalar() && !f.Scalar().empty()) {
         p.output_file = f.Scalar();
@@ -280,12 +268,6 @@ void parse_output(Checker& c, const YAML::Node& out, Pipeline& p) {
                                       (f.IsScalar() ? std::string("an empty name") : Checker::describe(f)));
       }
     }
-    if (out["particles"])
-      if (auto b = c.boolean(out["particles"], "output.particles")) p.output_particles = *b;
-    if (out["realizations"])
-      if (auto b = c.boolean(out["realizations"], "output.realizations")) p.output_realizations = *b;
-    if (out["plots"])
-      if (auto b = c.boolean(out["plots"], "output.plots")) p.output_plots = *b;
   }
 }
 

@@ -77,7 +77,7 @@ TEST(SystemValues, NumbersOutOfRangeSayWhatIsWrong) {
     std::string set, says;
   };
   const std::vector<Case> cases = {
-      {"run.particles=9223372036854775807", "particles must be between 2 and 4e9, got 9223372036854775807"},
+      {"run.particles=9223372036854775807", "value 9223372036854775807 is out of range for run key 'particles' (the number of simulated particles N); valid: [2, 4000000000]"},
       {"run.particles=9223372036854775808", "'9223372036854775808' is out of range: whole numbers must be between"},
       {"run.seed=1e19", "'1e19' is out of range: whole numbers must be between -9.2e18 and 9.2e18"},
       {"system.sigma=1e400", "'1e400' is out of range: numbers must be at most about 1.8e308"},
