@@ -105,14 +105,23 @@ void WorkPool::run_beside(std::size_t count, const std::function<void(std::size_
   using P = const std::function<void(std::size_t)>;
   start(count, [](void* f, std::size_t k) { (*static_cast<P*>(f))(k); },
         const_cast<void*>(static_cast<const void*>(&piece)));
+  std::exception_ptr beside_error;
   for (;;) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
       if (done_.wait_for(lock, period, [&] { return busy_.load(std::memory_order_acquire) == 0; })) break;
     }
-    beside();
+    try {
+      beside();
+    } catch (...) {
+      beside_error = std::current_exception();
+      failed_.store(true, std::memory_order_relaxed);  // no further piece starts; the running ones end
+      break;
+    }
   }
-  if (std::exception_ptr error = end_job()) std::rethrow_exception(error);
+  std::exception_ptr error = end_job();  // the workers are done with `piece` before it goes
+  if (beside_error) std::rethrow_exception(beside_error);
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace gdsmc::host

@@ -46,7 +46,8 @@ class WorkPool {
   // piece(k) for every k in [0, count) on the workers only (threads() >= 2), as run() takes them,
   // while the caller calls beside() about every `period` until all have returned (the study's runs
   // on the workers, the main thread polling the interrupt and the MPI exchange, which only it may
-  // call). Exceptions as run().
+  // call). Exceptions as run(); when beside() throws, no further piece starts, and its exception
+  // is rethrown once the pieces begun have returned.
   void run_beside(std::size_t count, const std::function<void(std::size_t)>& piece,
                   const std::function<void()>& beside, std::chrono::milliseconds period);
 

@@ -219,6 +219,18 @@ TEST(WorkPool, RunBesideKeepsTheCallerOffThePiecesAndCallsItsTaskWhileTheyRun) {
                    3, [](std::size_t k) { if (k == 1) throw std::runtime_error("piece 1"); }, [] {},
                    std::chrono::milliseconds(1)),
                std::runtime_error);
+  // The caller's task throws: no further piece starts, and its exception comes back once the pieces
+  // begun have returned (200 pieces of 5 ms on 2 workers would take 0.5 s).
+  std::atomic<int> started{0};
+  EXPECT_THROW(pool.run_beside(
+                   200,
+                   [&](std::size_t) {
+                     ++started;
+                     std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                   },
+                   [] { throw std::runtime_error("beside"); }, std::chrono::milliseconds(1)),
+               std::runtime_error);
+  EXPECT_LT(started.load(), 200);
   gdsmc::host::WorkPool alone(1);
   EXPECT_THROW(alone.run_beside(1, [](std::size_t) {}, [] {}, std::chrono::milliseconds(1)), std::logic_error);
 }
