@@ -16,11 +16,13 @@ Reads the layout of output-format.md (installed in share/doc/gdsmc; docs/ in the
   - histograms {edges, values} as steps, with their _stderr companion as error bars;
   - other arrays (1-D against the index, 2-D as an image); the scalars of a group as a table;
   - a sweep's /summary: every quantity against the swept parameter(s), with its error.
-Theory written by a diagnostic (names with a token theory, sonine, haff, bgk, local_equilibrium
-or maxwellian, e.g. temperature_haff, a2_sonine, theory_kappa_over_kappa0, bgk_eta_star) is drawn
-as lines on the figure of the measured quantity of the same name without that token.
+Theory written by a diagnostic (a dataset with the attributes role = "theory", theory_of = the
+measured datasets it is theory for, separated by commas, and equation; OutputSink::theory) is drawn
+as lines on the figures of those measured quantities, and on a figure of its own when theory_of is
+empty; the names of the datasets play no part.
 Axis labels carry each dataset's `unit` attribute. Prints the path of each file written; each
-PNG's Description text says "y axis: log|linear; steady means: NAMES|none".
+PNG's Description text says what it shows: "y axis: log|linear; steady means: NAMES|none; theory:
+NAMES|none" for a series, "theory: NAMES|none" for a histogram or a sweep quantity.
 Needs the Debian packages python3-h5py, python3-numpy and python3-matplotlib (Agg backend).
 """
 import argparse
@@ -45,7 +47,6 @@ try:
 except ImportError:
     MISSING.append("python3-matplotlib")
 
-THEORY_TOKENS = ("theory", "sonine", "haff", "bgk", "local_equilibrium", "maxwellian")
 MAX_PROFILE_RECORDS = 6
 
 
@@ -56,21 +57,33 @@ class Failure(Exception):
 # ---------------------------------------------------------------------------------------------
 # Names and labels
 
-def theory_base(name):
-    """The measured name a theory name belongs to ('a2_sonine' -> 'a2'), or None if `name` is not
-    theory. A token right after 'over' (or 'over_elastic') is a normalisation, not theory
-    ('eta_over_elastic_sonine' is measured)."""
-    tokens = name.split("_")
-    for token in THEORY_TOKENS:
-        parts = token.split("_")
-        for i in range(len(tokens) - len(parts) + 1):
-            before = tokens[:i]
-            while before and before[-1] == "elastic":
-                before = before[:-1]
-            if tokens[i:i + len(parts)] == parts and not (before and before[-1] == "over"):
-                rest = tokens[:i] + tokens[i + len(parts):]
-                return "_".join(rest) if rest else name
-    return None
+def theory_of(obj):
+    """The measured names a dataset is theory for (its attributes role = "theory" and theory_of,
+    written by OutputSink::theory; [] when it has no measured twin), or None if it is not theory."""
+    if attr(obj, "role") != "theory":
+        return None
+    return [n.strip() for n in str(attr(obj, "theory_of")).split(",") if n.strip()]
+
+
+def names_or_none(names):
+    """The names for a figure's Description text: 'a, b', or 'none'."""
+    return ", ".join(names) if names else "none"
+
+
+def pair_figures(names, theory, key):
+    """{figure: ([measured names], [theory names])} in the order first seen: a measured name goes on
+    the figure key(name), a theory name (theory: {name: [measured]}) on the figures of the measured
+    names it is theory for, or on a figure of its own, key(name), when none of them is in `names`."""
+    figures = {}
+    for n in names:
+        if n not in theory:
+            figures.setdefault(key(n), ([], []))[0].append(n)
+    for n in names:
+        if n in theory:
+            keys = [key(m) for m in theory[n] if m in names and m not in theory] or [key(n)]
+            for k in dict.fromkeys(keys):
+                figures.setdefault(k, ([], []))[1].append(n)
+    return figures
 
 
 def measured_base(name):
@@ -147,7 +160,11 @@ class Group:
         self.all_stationary = declared.strip() == "all"
         self.stationary = {n.strip() for n in declared.split(",") if n.strip()}
         self.series, self.profiles, self.arrays, self.scalars, self.histograms = [], [], [], [], []
+        self.theory = {}  # {name: [measured names]} of the datasets marked as theory
         for name, obj in g.items():
+            measured = theory_of(obj)
+            if measured is not None:
+                self.theory[name] = measured
             if name in ("time", "collisions_per_particle", "bin_centre", "realizations"):
                 continue
             if isinstance(obj, h5py.Group):
@@ -189,18 +206,14 @@ class Group:
         return out
 
 
-def by_base(names, scalars=()):
-    """{base: ([measured names], [theory names], [theory scalars])} in the order first seen."""
-    groups = {}
-    for n in names:
-        tb = theory_base(n)
-        base = tb if tb is not None else measured_base(n)
-        groups.setdefault(base, ([], [], []))[1 if tb is not None else 0].append(n)
-    for n in scalars:
-        tb = theory_base(n)
-        if tb is not None and tb in groups:
-            groups[tb][2].append(n)
-    return groups
+def series_figures(grp):
+    """{figure: ([measured series], [theory series], [theory scalars])}: the measured series by
+    measured_base, the theory series and scalars on the figures of the series they are theory for."""
+    figures = {k: (m, t, []) for k, (m, t) in pair_figures(grp.series, grp.theory, measured_base).items()}
+    for n in grp.scalars:
+        for k in dict.fromkeys(measured_base(m) for m in grp.theory.get(n, ()) if m in grp.series and m not in grp.theory):
+            figures[k][2].append(n)
+    return figures
 
 
 LOG_DECADES = 2.0  # a series spanning at least this many decades gets a logarithmic axis
@@ -217,7 +230,7 @@ def spans_decades(arrays):
 
 
 def plot_series(grp, title, prefix, w):
-    groups = by_base(grp.series, grp.scalars)
+    groups = series_figures(grp)
     panels = [("t", grp.time, attr(grp.g["time"], "unit"))]
     if grp.s is not None:
         panels.append(("s", grp.s, "1"))
@@ -268,8 +281,8 @@ def plot_series(grp, title, prefix, w):
         axes[0].legend(fontsize=7, loc="best")
         fig.suptitle("%s: %s" % (title, base), fontsize=10)
         fig.tight_layout()
-        w.save(fig, "%s%s" % (prefix, base), "y axis: %s; steady means: %s" %
-               ("log" if log_y else "linear", ", ".join(drawn) if drawn else "none"))
+        w.save(fig, "%s%s" % (prefix, base), "y axis: %s; steady means: %s; theory: %s" %
+               ("log" if log_y else "linear", ", ".join(drawn) if drawn else "none", names_or_none(theory + theory_scalars)))
     return used_scalars
 
 
@@ -303,8 +316,8 @@ def plot_profiles(grp, title, prefix, w):
 
 
 def plot_histograms(grp, title, prefix, w):
-    measured = [h for h in grp.histograms if theory_base(h) is None]
-    theory = [h for h in grp.histograms if theory_base(h) is not None]
+    measured = [h for h in grp.histograms if h not in grp.theory]
+    theory = [h for h in grp.histograms if h in grp.theory]
     overlaid = set()
     for name in measured:
         h = grp.g[name]
@@ -316,11 +329,10 @@ def plot_histograms(grp, title, prefix, w):
             centres = 0.5 * (edges[1:] + edges[:-1])
             ax.errorbar(centres, values, yerr=se["values"][()], fmt="none", ecolor="C0", alpha=0.5, lw=0.8,
                         label="± 1 s.e. (realizations)")
-        for t in theory:
-            base = theory_base(t)
-            if name == base or name.startswith(base + "_"):
-                ax.stairs(grp.g[t]["values"][()], grp.g[t]["edges"][()], ls="--", lw=1.4, label=t)
-                overlaid.add(t)
+        drawn = [t for t in theory if name in grp.theory[t]]
+        for t in drawn:
+            ax.stairs(grp.g[t]["values"][()], grp.g[t]["edges"][()], ls="--", lw=1.4, label=t)
+            overlaid.add(t)
         xdesc = attr(grp.g, "edges")
         xlab = label(xdesc if xdesc else "edges", h["edges"])
         ax.set_xlabel(xlab)
@@ -329,7 +341,7 @@ def plot_histograms(grp, title, prefix, w):
         ax.legend(fontsize=7)
         ax.set_title("%s: %s\n%s" % (title, name, attr(h, "description")[:100]), fontsize=9)
         fig.tight_layout()
-        w.save(fig, "%s%s" % (prefix, name))
+        w.save(fig, "%s%s" % (prefix, name), "theory: %s" % names_or_none(drawn))
     for t in theory:
         if t not in overlaid:
             h = grp.g[t]
@@ -433,8 +445,9 @@ def plot_summary(f, w):
         x = np.array([cats.index(v) for v in values[x_axis]], dtype=float)
         ticks = cats
 
-    # Quantities: {diagnostic: {name: (dataset, error dataset or None)}}
-    quantities = {}
+    # Quantities: {diagnostic: {name: (dataset, error dataset or None)}}; theory: {diagnostic: {name:
+    # [measured names]}} of the columns marked as theory (their theory_of names columns "<diagnostic>.<name>")
+    quantities, theory = {}, {}
     for n in s:
         if n in axes or "." not in n:
             continue
@@ -451,15 +464,14 @@ def plot_summary(f, w):
             if err is None and rest.endswith("_mean"):
                 err = s.get(n[:-len("_mean")] + "_standard_error")
         quantities.setdefault(diag, {})[rest] = (s[n], err)
+        measured = theory_of(s[n])
+        if measured is not None:
+            theory.setdefault(diag, {})[rest] = [m.split(".", 1)[1] for m in measured if m.startswith(diag + ".")]
 
     for diag, q in quantities.items():
         short = {name: name[:-len(".steady_mean")] if name.endswith(".steady_mean") else name for name in q}
-        groups = {}
-        for name in q:
-            tb = theory_base(short[name])
-            base = tb if tb is not None else measured_base(short[name])
-            groups.setdefault(base, ([], []))[1 if tb is not None else 0].append(name)
-        for base, (measured, theory) in groups.items():
+        groups = pair_figures(list(q), theory.get(diag, {}), lambda name: measured_base(short[name]))
+        for base, (measured, theory_names) in groups.items():
             fig, ax = plt.subplots(figsize=(6.5, 4.2))
             for li, line in enumerate(lines):
                 idx = np.array([k for k in range(n_cases) if line_key[k] == line])
@@ -471,11 +483,11 @@ def plot_summary(f, w):
                     kind = " (steady)" if name.endswith(".steady_mean") else ""
                     ax.errorbar(x[order] + 0.0, y[order], yerr=yerr, fmt="o-" if mi == 0 else "s:", ms=4, capsize=2,
                                 color="C%d" % li, label=" ".join(p for p in (line, short[name] + kind) if p))
-                for ti, name in enumerate(theory):
+                for ti, name in enumerate(theory_names):
                     d, _ = q[name]
                     ax.plot(x[order], d[()].astype(float)[order], ("--", "-.", ":")[ti % 3], color="C%d" % li, lw=1.2,
                             label=" ".join(p for p in (line, short[name]) if p))
-            unit_of = q[(measured or theory)[0]][0]
+            unit_of = q[(measured or theory_names)[0]][0]
             ax.set_ylabel(label(base, unit_of))
             ax.set_xlabel(label(x_axis, s[x_axis]))
             if ticks is not None:
@@ -485,7 +497,7 @@ def plot_summary(f, w):
             ax.legend(fontsize=7)
             ax.set_title("sweep summary: %s: %s (error bars: 1 s.e.)" % (diag, base), fontsize=10)
             fig.tight_layout()
-            w.save(fig, "summary-%s-%s" % (diag, base))
+            w.save(fig, "summary-%s-%s" % (diag, base), "theory: %s" % names_or_none(theory_names))
 
 
 # ---------------------------------------------------------------------------------------------

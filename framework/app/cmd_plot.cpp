@@ -29,9 +29,10 @@ file written:
   - other arrays, and the scalars of each diagnostic as a table;
   - a sweep: every case's diagnostics (files case<k>-...), and every quantity of /summary against
     the swept parameter, with its error bars (files summary-...).
-Theory a diagnostic wrote (names with theory, sonine, haff, bgk, local_equilibrium or maxwellian,
-e.g. temperature_haff, a2_sonine, theory_kappa_over_kappa0) is drawn as lines on the figure of
-the measured quantity. Axis labels give the units of the datasets' `unit` attributes.
+Theory a diagnostic wrote (a dataset with the attributes role = "theory", theory_of and equation;
+e.g. temperature_haff with theory_of = temperature) is drawn as lines on the figures of the
+measured quantities named by theory_of, or on its own figure when it names none. Axis labels give
+the units of the datasets' `unit` attributes.
 
 Options:
   --out DIR              write the PNG files in DIR (default: OUTPUT_plots/ beside OUTPUT.h5,

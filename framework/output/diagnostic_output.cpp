@@ -10,9 +10,12 @@ void DiagnosticOutput::check_name(const std::string& name) const {
       name == "bin_centre")
     throw std::runtime_error("diagnostic '" + group_ + "' used an invalid output name '" + name +
                              "' (non-empty, no '/', not 'time', 'collisions_per_particle' or 'bin_centre')");
+  if (written(name)) throw std::runtime_error("diagnostic '" + group_ + "' wrote '" + name + "' twice");
+}
+
+bool DiagnosticOutput::written(const std::string& name) const {
   auto taken = [&](const auto& v) { return std::any_of(v.begin(), v.end(), [&](const auto& e) { return e.name == name; }); };
-  if (taken(columns) || taken(profiles) || taken(arrays) || taken(histograms) || taken(scalars))
-    throw std::runtime_error("diagnostic '" + group_ + "' wrote '" + name + "' twice");
+  return taken(columns) || taken(profiles) || taken(arrays) || taken(histograms) || taken(scalars);
 }
 
 std::size_t DiagnosticOutput::series(const std::string& name, const std::string& unit, const std::string& doc) {
@@ -63,6 +66,47 @@ void DiagnosticOutput::scalar(const std::string& name, double value, const std::
 }
 void DiagnosticOutput::attribute(const std::string& name, const std::string& value) { attributes[name] = value; }
 void DiagnosticOutput::summary(const std::string& line) { summary_->push_back(line); }
+
+std::vector<std::string> split_names(const std::string& list) {
+  std::vector<std::string> names;
+  std::size_t start = 0;
+  for (std::size_t comma = 0; comma != std::string::npos; start = comma + 1) {
+    comma = list.find(',', start);
+    std::string name = list.substr(start, comma == std::string::npos ? comma : comma - start);
+    name.erase(0, name.find_first_not_of(' '));
+    name.erase(name.find_last_not_of(' ') + 1);
+    if (!name.empty()) names.push_back(name);
+  }
+  return names;
+}
+
+void DiagnosticOutput::theory(const std::string& dataset, const std::string& measured, const std::string& equation) {
+  const std::string what = "diagnostic '" + group_ + "' marked '" + dataset + "' as theory";
+  if (!written(dataset)) throw std::runtime_error(what + ", but it wrote no dataset of that name (write it first)");
+  if (theory_tags.count(dataset)) throw std::runtime_error(what + " twice");
+  if (equation.empty()) throw std::runtime_error(what + " without its equation (cite it, e.g. \"002 Eq. 27\")");
+  std::string list;
+  for (const std::string& m : split_names(measured)) {
+    if (m == dataset || !written(m))
+      throw std::runtime_error(what + " of '" + m + "', " +
+                               (m == dataset ? std::string("itself") : "which it has not written (write the measured dataset first)"));
+    list += (list.empty() ? "" : ",") + m;
+  }
+  theory_tags[dataset] = TheoryTag{list, equation};
+}
+
+void DiagnosticOutput::tag_steady_means() {
+  const std::string suffix = ".steady_mean";
+  std::map<std::string, TheoryTag> derived;
+  for (const auto& [name, tag] : theory_tags) {
+    if (!written(name + suffix)) continue;
+    std::string list;
+    for (const std::string& m : split_names(tag.measured))
+      if (written(m + suffix)) list += (list.empty() ? "" : ",") + m + suffix;
+    derived[name + suffix] = TheoryTag{list, tag.equation};
+  }
+  theory_tags.insert(derived.begin(), derived.end());
+}
 
 void DiagnosticOutput::begin_record(double time_tau0, double s) {
   time.push_back(time_tau0);
@@ -146,6 +190,12 @@ void DiagnosticOutput::save(StateWriter& out) const {
     out.write("attribute.name", k);
     out.write("attribute.value", v);
   }
+  out.write("theory_tags", static_cast<std::uint64_t>(theory_tags.size()));  // SDK 6.3 on
+  for (const auto& [k, t] : theory_tags) {
+    out.write("theory.name", k);
+    out.write("theory.measured", t.measured);
+    out.write("theory.equation", t.equation);
+  }
 }
 
 void DiagnosticOutput::load(StateReader& in) {
@@ -200,6 +250,17 @@ void DiagnosticOutput::load(StateReader& in) {
     in.read("attribute.name", key);
     in.read("attribute.value", value);
     attributes[key] = value;
+  }
+  // A checkpoint from before SDK 6.3 has no tags: those made in begin() stay.
+  if (in.peek_name() != "theory_tags") return;
+  theory_tags.clear();
+  for (std::size_t k = read_count(in, "theory_tags"); k > 0; --k) {
+    std::string name;
+    TheoryTag t;
+    in.read("theory.name", name);
+    in.read("theory.measured", t.measured);
+    in.read("theory.equation", t.equation);
+    theory_tags[name] = t;
   }
 }
 

@@ -35,6 +35,11 @@ class DiagnosticOutput final : public OutputSink {
     std::string name, unit, doc;
     double value;
   };
+  // A dataset marked as theory (OutputSink::theory): the measured datasets it is theory for (names
+  // separated by commas, or "") and the equation it cites.
+  struct TheoryTag {
+    std::string measured, equation;
+  };
 
   DiagnosticOutput(std::string group, std::vector<std::string>* summary) : group_(std::move(group)), summary_(summary) {}
 
@@ -49,6 +54,7 @@ class DiagnosticOutput final : public OutputSink {
   void scalar(const std::string& name, double value, const std::string& unit, const std::string& doc) override;
   void attribute(const std::string& name, const std::string& value) override;
   void summary(const std::string& line) override;
+  void theory(const std::string& dataset, const std::string& measured, const std::string& equation) override;
 
   // The sampling bins along y of the profiles, their centres in lambda0 (SystemInfo::bins of them).
   // The host calls this before Diagnostic::begin; a profile declared without it is refused.
@@ -59,6 +65,10 @@ class DiagnosticOutput final : public OutputSink {
   void begin_record(double time_tau0, double s);
   // Throws if a record left a series or a profile with other than one append per record.
   void check_record(const std::string& plugin) const;
+
+  // The host's steady means of theory: "<X>.steady_mean" of a theory series or profile X becomes
+  // theory for "<M>.steady_mean" of its measured M (those that have one), with X's equation.
+  void tag_steady_means();
 
   // Checkpoints: everything written so far (not the realizations, which exist only in a study's
   // averages), replaced wholesale on load.
@@ -74,14 +84,19 @@ class DiagnosticOutput final : public OutputSink {
   std::vector<Histogram> histograms;
   std::vector<Scalar> scalars;
   std::map<std::string, std::string> attributes;
+  std::map<std::string, TheoryTag> theory_tags;  // by dataset name
   // Each realization's own output (output.realizations), written under <group>/realizations/<k>.
   std::vector<DiagnosticOutput> realizations;
 
  private:
   void check_name(const std::string& name) const;
+  bool written(const std::string& name) const;
   std::string group_;
   std::vector<std::string>* summary_;
 };
+
+// The names of a list separated by commas ("a2, a2_mean"), spaces around them and empty entries dropped.
+std::vector<std::string> split_names(const std::string& list);
 
 // The centres of the sampling bins along y, in lambda0: the argument of DiagnosticOutput::set_bins.
 std::vector<double> bin_centres_lambda0(const SystemInfo& system);

@@ -177,6 +177,15 @@ class Writer {
     return Id(H5Gopen2(parent, path.c_str(), H5P_DEFAULT), H5Gclose, "open group " + path);
   }
 
+  // The attributes of a theory dataset (OutputSink::theory) on the object `name` of g: a dataset,
+  // or a histogram's group.
+  void theory_tag(hid_t g, const std::string& name, const DiagnosticOutput::TheoryTag& tag) const {
+    Id obj(H5Oopen(g, name.c_str(), H5P_DEFAULT), H5Oclose, "open " + name);
+    attr_string(obj, "role", "theory");
+    attr_string(obj, "theory_of", tag.measured);
+    attr_string(obj, "equation", tag.equation);
+  }
+
   // One diagnostic's datasets (and its host columns) into g.
   void diagnostic(hid_t g, const DiagnosticOutput& d) const {
     for (const auto& [k, v] : d.attributes) attr_string(g, k, v);
@@ -200,6 +209,7 @@ class Writer {
       dataset(hg, "edges", h.edges, {h.edges.size()}, h.edge_unit, "bin edges");
       dataset(hg, "values", h.values, {h.values.size()}, h.value_unit, h.doc);
     }
+    for (const auto& [name, tag] : d.theory_tags) theory_tag(g, name, tag);
   }
 
   void write_case(hid_t file_id, const CaseOutput& out) const {
@@ -270,6 +280,7 @@ class Writer {
       for (const auto& col : out.summary) {
         if (col.values.empty() && !col.labels.empty()) string_dataset(g, col.name, col.labels, col.doc);
         else dataset(g, col.name, col.values, {col.values.size()}, col.unit, col.doc);
+        if (!col.theory.equation.empty()) theory_tag(g, col.name, col.theory);
       }
     }
     if (H5Lexists(file, kStaging, H5P_DEFAULT) > 0) check(H5Ldelete(file, kStaging, H5P_DEFAULT), "remove group " + std::string(kStaging));

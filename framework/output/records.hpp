@@ -51,6 +51,7 @@ struct SummaryColumn {
   std::string name, unit, doc;
   std::vector<double> values;       // numeric column, or
   std::vector<std::string> labels;  // text column (when values is empty)
+  DiagnosticOutput::TheoryTag theory;  // a theory scalar's tag, its measured as columns "<group>.<name>"
 };
 
 struct StudyOutput {

@@ -222,6 +222,7 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
     const DiagnosticOutput& first = runs[0][d];
     DiagnosticOutput out(first.group(), summary);
     out.attributes = first.attributes;
+    out.theory_tags = first.theory_tags;
     out.attributes["realizations"] = std::to_string(K);
     std::size_t records = first.time.size();
     for (const auto& r : runs) records = std::min(records, r[d].time.size());
@@ -440,6 +441,7 @@ void add_steady_averages(std::vector<DiagnosticOutput>& diagnostics, std::option
     const std::size_t limit = d.time.size();
     add_steady_series(d, own, window, limit);
     add_steady_profiles(d, own, window, limit);
+    d.tag_steady_means();
   }
 }
 

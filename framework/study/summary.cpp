@@ -27,7 +27,7 @@ namespace {
 // A sweep axis as a column: numeric when every value reads as a number, else text.
 SummaryColumn axis_column(const std::vector<StudyCase>& cases, std::size_t a) {
   const auto& first = cases.front();
-  SummaryColumn col{first.axis_values[a].first, "", "sweep axis " + first.axis_values[a].first, {}, {}};
+  SummaryColumn col{first.axis_values[a].first, "", "sweep axis " + first.axis_values[a].first, {}, {}, {}};
   bool numeric = true;
   std::vector<double> numbers;
   for (const auto& c : cases) {
@@ -54,7 +54,12 @@ std::vector<SummaryColumn> summary_table(const std::vector<StudyCase>& cases, co
   const auto& d0 = outputs.front().diagnostics;
   for (std::size_t d = 0; d < d0.size(); ++d)
     for (std::size_t s = 0; s < d0[d].scalars.size(); ++s) {
-      SummaryColumn col{d0[d].group() + "." + d0[d].scalars[s].name, d0[d].scalars[s].unit, d0[d].scalars[s].doc, {}, {}};
+      SummaryColumn col{d0[d].group() + "." + d0[d].scalars[s].name, d0[d].scalars[s].unit, d0[d].scalars[s].doc, {}, {}, {}};
+      if (const auto tag = d0[d].theory_tags.find(d0[d].scalars[s].name); tag != d0[d].theory_tags.end()) {
+        col.theory.equation = tag->second.equation;
+        for (const std::string& m : split_names(tag->second.measured))
+          col.theory.measured += (col.theory.measured.empty() ? "" : ",") + d0[d].group() + "." + m;
+      }
       for (const auto& c : outputs) {
         const auto& scalars = c.diagnostics[d].scalars;
         col.values.push_back(s < scalars.size() ? scalars[s].value : std::nan(""));

@@ -43,7 +43,7 @@ struct BgkSteady {
 class BgkUsfTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "bgk_usf_theory";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary =
       "BGK-like kinetic model of USF (refs. [4, 7] of paper 000): steady a*, stresses, a2, a3 and the transient";
   static constexpr const char* documentation =
@@ -125,6 +125,9 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
               out.series("temperature", "T0", "measured T/T0"),
               out.series("minus_Pxy_over_nT", "1", "measured -P_xy/nT"),
               out.series("N1_over_nT", "1", "measured (P_xx - P_yy)/nT")};
+      for (const char* n : {"temperature", "minus_Pxy_over_nT", "N1_over_nT"})
+        out.theory(std::string(n) + "_bgk", n, "docs/bgk-usf.md, Secs. 2 and 4");
+      for (const char* n : {"a_star_bgk", "eta_star_bgk", "s0_bgk"}) out.theory(n, "", "docs/bgk-usf.md, Secs. 2 and 4");
     }
   }
 
@@ -202,9 +205,15 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
                  std::string("measured ") + docs[k] + " averaged over the averaging window");
       out.scalar("measured_" + n + "_standard_error", measured_[k].standard_error(), k == 8 ? "T0" : "1",
                  "batch-means standard error");
+      // The steady value is theory for the measured mean and, at long times, for the series.
+      const bool series = transient_ && (k == 1 || k == 2 || k == 8);
+      out.theory("bgk_" + n, "measured_" + n + "_mean" + (series ? ", " + n : ""),
+                 k == 6 || k == 7 ? "docs/bgk-usf.md, Sec. 5" : "docs/bgk-usf.md, Sec. 3");
     }
     out.scalar("bgk_x", st_.x, "1", "zeta0/(beta nu) of the model");
     out.scalar("bgk_beta", beta_, "1", "beta used in the model");
+    out.theory("bgk_x", "", "docs/bgk-usf.md, Sec. 3");
+    out.theory("bgk_beta", "", "beta = (1+alpha)/2, 000 Sec. V.B (or the beta_model / the rule's rate_factor)");
     char buf[400];
     std::snprintf(buf, sizeof buf, "bgk_usf_theory: alpha = %g, beta = %g: steady BGK (docs/bgk-usf.md) vs measured in the averaging window (%zu samples):",
                   alpha_, beta_, measured_[0].count());

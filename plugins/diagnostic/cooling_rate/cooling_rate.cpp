@@ -13,7 +13,7 @@ namespace {
 class CoolingRate final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cooling_rate";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary = "Cooling rate zeta from the collisional energy loss, beside zeta0 (Eqs. 2.9, 2.16)";
   static constexpr const char* documentation =
       "Between consecutive samples the host's running sum of the kinetic-energy change declared by\n"
@@ -60,6 +60,8 @@ class CoolingRate final : public gdsmc::Diagnostic {
     ids_[2] = out.series("zeta_tau", "1", "zeta times tau(T) = lambda0/sqrt(2T/m)");
     ids_[3] = out.series("zeta0_tau", "1", "zeta0 times tau(T) = 2(1-alpha^2)/(3 sqrt(pi))");
     ids_[4] = out.series("zeta_over_zeta0", "1", "zeta/zeta0 (= <V12^3>/<V12^3>_0 for IHS, Eq. 2.10)");
+    out.theory("zeta0", "zeta", "000 Eq. 2.16");
+    out.theory("zeta0_tau", "zeta_tau", "000 Eq. 2.16");
   }
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
     const double T = ctx.moments->local.temperature;

@@ -54,7 +54,7 @@ double zeta_ratio_bilinear(double a2, double a3) {
 class HcsTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "hcs_theory";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary =
       "Haff's law, first- and second-Sonine a2, a3 of the HCS and the cooling rate's cumulant expansion, beside the measured T, a2, a3";
   static constexpr const char* documentation =
@@ -117,6 +117,13 @@ class HcsTheory final : public gdsmc::Diagnostic {
                           {"zeta_ratio_from_cumulants", "1", "1 + 3a2/16 + a3/64 + 9a2^2/1024 from the measured a2, a3 (issue 29)"},
                           {"zeta_ratio_from_cumulants_bilinear", "1", "the same + 15 a2 a3/2048 + 35 a3^2/16384 (all of mu_2 for a_k = 0, k >= 4)"},
                           {"tail_rate", "1", "A of the HCS tail phi ~ exp(-A c), c = V/sqrt(2T/m): 3 pi / mu_2 (van Noije & Ernst 1998)"}});
+    out.theory("temperature_haff", "temperature", "001 Eqs. 2.14-2.15");
+    out.theory("a2_sonine", "a2", "001 Eq. 2.16");
+    out.theory("a2_second_sonine", "a2", "second Sonine, scripts/hcs_sonine_moments.py");
+    out.theory("a3_second_sonine", "a3", "second Sonine, scripts/hcs_sonine_moments.py");
+    out.theory("zeta_ratio_second_sonine", "zeta_ratio_from_cumulants, zeta_ratio_from_cumulants_bilinear",
+               "000 Eq. 2.10 at the second-Sonine a2, a3");
+    out.theory("tail_rate", "", "van Noije & Ernst, Granular Matter 1, 57 (1998)");
   }
 
   double haff(double t) const {

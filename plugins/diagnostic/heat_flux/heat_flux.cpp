@@ -65,7 +65,7 @@ double sonine_prefactor(int k, double a) {
 class HeatFlux final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "heat_flux";
-  static constexpr const char* version = "1.2.1";
+  static constexpr const char* version = "1.2.2";
   static constexpr const char* summary =
       "Heat-flux state of paper 001: q_x, kappa'/kappa0 (or kappa/kappa0), b_k (Eqs. 3.10, 3.12), g1, phi, beta1 and first-Sonine theory";
   static constexpr const char* documentation =
@@ -274,6 +274,20 @@ class HeatFlux final : public gdsmc::Diagnostic {
     samples_ = 0;
   }
 
+  // The first-Sonine scalars of begin() as theory, once the measured means exist (finish).
+  static void tag_theory(gdsmc::OutputSink& out) {
+    out.theory("theory_conductivity_over_kappa0", "conductivity_over_kappa0, conductivity_over_kappa0_mean",
+               "001 Eqs. 2.41-2.42, 2.47");
+    out.theory("theory_b1", "b1_full, b1_marginal, b1_full_mean, b1_marginal_mean", "001 Eq. 2.45");
+    out.theory("theory_a2", "", "001 Eq. 2.16");
+    out.theory("theory_zeta0_over_nu0", "", "001 Eq. 2.14");
+    out.theory("theory_nu_kappa_over_nu0", "", "001 Eq. 2.46");
+    out.theory("theory_kappa_prime_over_kappa0", "", "001 Eqs. 2.42, 2.47");
+    out.theory("theory_kappa_over_kappa0", "", "001 Eqs. 2.41, 2.47");
+    out.theory("theory_mu_n_over_T_kappa0", "", "001 Eq. 2.38");
+    out.theory("elastic_reference_kappa_over_kappa0", "", "001 Ref. 37");
+  }
+
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
     for (int k = 0; k < kColumns; ++k) {
       out.scalar(names_[k] + "_mean", steady_[k].mean(), units_[k], "steady mean over the samples of the averaging window: " + docs_[k]);
@@ -281,6 +295,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
                  "batch-means standard error of " + names_[k] + "_mean (NaN with fewer than 4 batches)");
     }
     out.scalar("samples_in_window", static_cast<double>(window_samples_), "1", "samples accumulated in the averaging window");
+    tag_theory(out);
     const double nan = std::nan("");
     const double M = total_;  // particle samples in the window
     const double fraction_outside = M > 0 ? outside_ / M : nan;

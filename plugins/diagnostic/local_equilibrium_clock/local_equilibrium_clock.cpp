@@ -10,7 +10,7 @@ namespace {
 class LocalEquilibriumClock final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "local_equilibrium_clock";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.2.1";
   static constexpr const char* summary =
       "s0(t) = (beta/sqrt(pi)) int dt/tau(T) (Eq. 3.13; layer sum of Eq. 3.11 in a slab) beside the measured s(t), and s/s0";
   static constexpr const char* documentation =
@@ -47,6 +47,7 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
                           {"s", "1", "measured collisions per particle"},
                           {"s_over_s0", "1", "s/s0 (Fig. 6)"},
                           {"s_over_beta", "1", "s/beta (the EHS clock s'/beta of Figs. 3-5)"}});
+    out.theory("s0", "s", "000 Eqs. 3.11, 3.13");
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.10g", beta_);
     out.attribute("beta", buf);
@@ -79,6 +80,7 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
   }
   void finish(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
     out.scalar("s0_final", s0_, "1", "s0 at the last sample");
+    out.theory("s0_final", "", "000 Eqs. 3.11, 3.13");
     out.scalar("s_over_s0_final", ctx.collisions_per_particle() / s0_, "1", "s/s0 at the end of the run");
     char buf[200];
     std::snprintf(buf, sizeof buf, "local_equilibrium_clock: s = %.4g, s0 = %.4g, s/s0 = %.4f (beta = %g)",

@@ -11,7 +11,7 @@ namespace {
 class ShearRheology final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "shear_rheology";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary = "USF rheology: a* = a tau_eta, -P_xy/nT, normal stress differences, eta*, Psi_1, Psi_2";
   static constexpr const char* documentation =
       "Uses the shear rate a published as 'shear_rate' (uniform_shear forcing, or a lees_edwards\n"
@@ -94,6 +94,8 @@ class ShearRheology final : public gdsmc::Diagnostic {
       out.scalar("eta_star_thermostatted_bgk", ce * gdsmc::thermostatted_shear_viscosity_ratio(avg_[1].mean()), "1",
                  "eta_star_chapman_enskog times eta(a*)/eta(0) of a thermostatted elastic gas (Grad/BGK, "
                  "1 - 4a*^2/3 + ...) at a_star_mean: the value for elastic USF at fixed T");
+      out.theory("eta_star_chapman_enskog", "eta_star, eta_star_mean", "Chapman-Enskog, 1.016034 eta0 (000 Eq. 2.18)");
+      out.theory("eta_star_thermostatted_bgk", "eta_star, eta_star_mean", "Grad/BGK thermostatted USF, 1 - 4a*^2/3 + ...");
     }
     char buf[400];
     std::snprintf(buf, sizeof buf,

@@ -12,7 +12,7 @@ namespace {
 class VelocityMarginals final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "velocity_marginals";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary = "Steady marginals g_x^(+-)(C_x), g_y^(+-)(C_y), F(C) as histograms (Eqs. 3.18-3.20)";
   static constexpr const char* documentation =
       "Reduced velocities C = V / sqrt(2T/m) at the current T (paper 000, Eqs. 3.16, 5.2), with f* normalized\n"
@@ -113,6 +113,9 @@ class VelocityMarginals final : public gdsmc::Diagnostic {
     out.histogram("g_local_equilibrium", sym_edges, gle, "1", "1", "bin average of exp(-C^2)/(2 sqrt(pi)), g^(+-) of a Maxwellian");
     out.histogram("F", edges, scaled(F_, norm), "1", "1", "F(C) = C^2 int dC_hat f*(C) (Eq. 3.20)");
     out.histogram("F_local_equilibrium", edges, Fle, "1", "1", "bin average of 4 C^2 exp(-C^2)/sqrt(pi)");
+    out.theory("g_local_equilibrium", "g_x_plus, g_x_minus, g_y_plus, g_y_minus, g_x_plus_symmetrized, g_y_plus_symmetrized",
+               "000 Eqs. 3.18-3.19 of a Maxwellian");
+    out.theory("F_local_equilibrium", "F", "000 Eq. 3.20 of a Maxwellian");
     out.attribute("edges", doc_c);
     out.scalar("samples", static_cast<double>(samples_), "1", "samples accumulated (in the averaging window)");
     const double tot = total_ > 0 ? total_ : 1.0;

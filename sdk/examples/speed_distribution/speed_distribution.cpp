@@ -14,7 +14,7 @@ namespace {
 class SpeedDistribution final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "speed_distribution";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.2.1";
   static constexpr const char* summary = "Histogram of the reduced speed c = |V|/sqrt(2T/m) against the Maxwellian";
   static constexpr const char* documentation =
       "At every sample, the reduced speeds c = |v - u| / sqrt(2T/m) of all particles are binned on\n"
@@ -26,7 +26,8 @@ class SpeedDistribution final : public gdsmc::Diagnostic {
       "                                (Maxwellian: 2/sqrt(pi) = 1.128)\n"
       "  series  tail_fraction [1]     fraction of particles with c > c_tail\n"
       "  histogram speed_pdf           probability density of c over all samples, edges in [1]\n"
-      "  array   maxwellian_pdf [1]    4/sqrt(pi) c^2 exp(-c^2) at the bin centres, for comparison\n"
+      "  array   maxwellian_pdf [1]    4/sqrt(pi) c^2 exp(-c^2) at the bin centres, marked as theory of\n"
+      "                                speed_pdf (OutputSink::theory)\n"
       "  scalar  samples [1]           number of samples accumulated in the histogram\n"
       "  scalar  overflow_fraction [1] fraction of speeds at or beyond c_max (not in the histogram)";
   static std::vector<gdsmc::ParamSpec> parameters() {
@@ -78,6 +79,7 @@ class SpeedDistribution final : public gdsmc::Diagnostic {
     }
     out.histogram("speed_pdf", edges, pdf, "1", "1", "probability density of the reduced speed c over all samples");
     out.array("maxwellian_pdf", maxwell, {bins_}, "1", "Maxwellian density 4/sqrt(pi) c^2 exp(-c^2) at the bin centres");
+    out.theory("maxwellian_pdf", "speed_pdf", "Maxwell's speed distribution");  // SDK 6.3: gdsmc plot pairs them
     out.scalar("samples", static_cast<double>(samples_), "1", "samples accumulated in speed_pdf");
     out.scalar("overflow_fraction", total_ > 0 ? overflow_ / total_ : 0.0, "1", "fraction of speeds >= c_max");
     char buf[160];

@@ -38,6 +38,14 @@ class GDSMC_API OutputSink {
   virtual void attribute(const std::string& name, const std::string& value) = 0;
   // A line for the end-of-run summary printed by `gdsmc run`.
   virtual void summary(const std::string& line) = 0;
+
+  // SDK 6.3 (appended: a minor version). Marks `dataset` (a series, profile, array, histogram or
+  // scalar this diagnostic already declared or wrote) as theory for the measured `measured` of the
+  // same group (a name, several separated by commas, or "" when there is no measured twin), citing
+  // `equation` ("002 Eq. 27"). Call it once per theory dataset, after it and its measured twins
+  // exist. The host writes the attributes role = "theory", theory_of and equation on the dataset;
+  // `gdsmc plot` and the report scripts pair theory with measurement by them alone.
+  virtual void theory(const std::string& dataset, const std::string& measured, const std::string& equation) = 0;
 };
 
 }  // namespace gdsmc

@@ -90,7 +90,17 @@ bool has(const std::vector<std::string>& files, const std::string& name) {
   return std::find(files.begin(), files.end(), name) != files.end();
 }
 
+// The tag OutputSink::theory wrote on a dataset: "role | theory_of | equation", or "" untagged.
+std::string theory_tag(const fs::path& file, const std::string& dataset) {
+  const h5::File f(file);
+  if (!h5::has_attribute(f.id(), dataset, "role")) return "";
+  return h5::read_string_attribute(f.id(), dataset, "role") + " | " + h5::read_string_attribute(f.id(), dataset, "theory_of") +
+         " | " + h5::read_string_attribute(f.id(), dataset, "equation");
+}
+
 }  // namespace
+
+std::string description(const fs::path& png);
 
 TEST(Plot, HomogeneousSeriesWithErrorsTheoryAndScalars) {
   TempDir dir;
@@ -103,9 +113,19 @@ TEST(Plot, HomogeneousSeriesWithErrorsTheoryAndScalars) {
                            "hcs_theory-a2.png",             // a2 with a2_sonine
                            "hcs_theory-scalars.png"})       // the scalars
     EXPECT_TRUE(has(files, name)) << name << " not in: " << join(files);
-  // The theory series are drawn on the measured quantity's figure, not on their own.
+  // The theory series are drawn on the measured quantity's figure, not on their own: paired by
+  // the tags the diagnostic wrote (names play no part).
   EXPECT_FALSE(has(files, "hcs_theory-temperature_haff.png")) << join(files);
   EXPECT_FALSE(has(files, "hcs_theory-a2_sonine.png")) << join(files);
+  EXPECT_EQ(theory_tag(dir / "out.h5", "/diagnostics/hcs_theory/a2_sonine"), "theory | a2 | 001 Eq. 2.16");
+  EXPECT_EQ(theory_tag(dir / "out.h5", "/diagnostics/hcs_theory/temperature_haff"), "theory | temperature | 001 Eqs. 2.14-2.15");
+  EXPECT_EQ(theory_tag(dir / "out.h5", "/diagnostics/hcs_theory/a2_sonine.steady_mean"),
+            "theory | a2.steady_mean | 001 Eq. 2.16");  // the host's steady mean of a theory series
+  EXPECT_EQ(theory_tag(dir / "out.h5", "/diagnostics/hcs_theory/a2"), "");  // measured: no tag
+  EXPECT_EQ(theory_tag(dir / "out.h5", "/diagnostics/hcs_theory/a2_sonine_stderr"), "");
+  EXPECT_EQ(description(dir / "out_plots" / "hcs_theory-a2.png"),
+            "y axis: linear; steady means: none; theory: a2_second_sonine, a2_sonine");
+  EXPECT_NE(description(dir / "out_plots" / "hcs_theory-temperature.png").find("; theory: temperature_haff"), std::string::npos);
 }
 
 TEST(Plot, SlabProfilesAndHistograms) {
@@ -119,6 +139,11 @@ TEST(Plot, SlabProfilesAndHistograms) {
                            "velocity_marginals-g_x_plus.png"})
     EXPECT_TRUE(has(files, name)) << name << " not in: " << join(files);
   EXPECT_FALSE(has(files, "velocity_marginals-F_local_equilibrium.png")) << join(files);
+  // Histograms are paired by the tags on their groups.
+  EXPECT_EQ(theory_tag(dir / "slab.h5", "/diagnostics/velocity_marginals/F_local_equilibrium"),
+            "theory | F | 000 Eq. 3.20 of a Maxwellian");
+  EXPECT_EQ(description(dir / "figs" / "velocity_marginals-F.png"), "theory: F_local_equilibrium");
+  EXPECT_EQ(description(dir / "figs" / "velocity_marginals-g_y_minus.png"), "theory: g_local_equilibrium");
 }
 
 // What a figure shows, from the Description text the plotter writes into its PNG.
@@ -154,7 +179,7 @@ output: {file: hcs.h5}
 )";
   run_pipeline(dir, hcs, "hcs.h5");
   plot(dir, {"hcs.h5", "--out", "hcs"});
-  EXPECT_EQ(description(dir / "hcs" / "temperature-temperature.png"), "y axis: log; steady means: none");
+  EXPECT_EQ(description(dir / "hcs" / "temperature-temperature.png"), "y axis: log; steady means: none; theory: none");
 
   const std::string usf = R"(run:
   seed: 3
@@ -200,6 +225,11 @@ TEST(Plot, SweepSummaryAgainstTheSweptParameter) {
                            "case0-temperature-temperature.png",  // each case's own figures
                            "case1-hcs_theory-a2.png"})
     EXPECT_TRUE(has(files, name)) << name << " not in: " << join(files);
+  // A theory scalar's /summary column names the measured columns it is theory for.
+  EXPECT_EQ(theory_tag(dir / "sweep.h5", "/summary/hcs_theory.a2_sonine.steady_mean"),
+            "theory | hcs_theory.a2.steady_mean | 001 Eq. 2.16");
+  EXPECT_EQ(description(dir / "sweep_plots" / "summary-hcs_theory-a2.png"), "theory: a2_second_sonine.steady_mean, a2_sonine.steady_mean");
+  EXPECT_FALSE(has(files, "summary-hcs_theory-a2_sonine.png")) << join(files);
 }
 
 TEST(Plot, OutputPlotsTrueDrawsAfterTheRun) {

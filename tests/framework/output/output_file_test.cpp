@@ -215,6 +215,54 @@ TEST(Output, ProfileRecordsAreCheckedAndNamed) {
   EXPECT_THROW(d.profile("velocity", "1", "declared twice"), std::runtime_error);
 }
 
+// OutputSink::theory (SDK 6.3): the tag becomes the attributes role, theory_of and equation of the
+// dataset (a histogram's group included), survives a checkpoint, and is refused for a dataset or
+// a measured twin not yet written, twice, or without its equation.
+TEST(Output, TheoryTagsAreAttributesOfTheirDatasets) {
+  std::vector<std::string> summary;
+  gdsmc::host::DiagnosticOutput d("theory", &summary);
+  d.series("T", "T0", "measured");
+  d.series("T_haff", "T0", "Haff's law");
+  d.scalar("T_mean", 1.0, "T0", "measured mean");
+  d.histogram("g", {0, 1, 2}, {0.5, 0.5}, "1", "1", "measured");
+  d.histogram("g_maxwell", {0, 1, 2}, {0.6, 0.4}, "1", "1", "theory");
+  d.scalar("rate", 2.0, "1", "theory without a measured twin");
+  EXPECT_THROW(d.theory("T_sonine", "T", "001 Eq. 2.16"), std::runtime_error);  // not written
+  EXPECT_THROW(d.theory("T_haff", "T_later", "001 Eq. 2.15"), std::runtime_error);  // twin not written
+  EXPECT_THROW(d.theory("T_haff", "T_haff", "001 Eq. 2.15"), std::runtime_error);  // itself
+  EXPECT_THROW(d.theory("T_haff", "T", ""), std::runtime_error);  // no equation
+  d.theory("T_haff", " T , T_mean ", "001 Eqs. 2.14-2.15");
+  EXPECT_THROW(d.theory("T_haff", "T", "001 Eq. 2.15"), std::runtime_error);  // twice
+  d.theory("g_maxwell", "g", "Maxwell");
+  d.theory("rate", "", "van Noije & Ernst 1998");
+
+  gdsmc::BufferStateWriter saved;
+  d.save(saved);
+  gdsmc::host::DiagnosticOutput resumed("theory", &summary);
+  resumed.series("T", "T0", "measured");
+  resumed.series("T_haff", "T0", "Haff's law");
+  gdsmc::BufferStateReader in(saved.bytes());
+  resumed.load(in);
+  ASSERT_EQ(resumed.theory_tags.size(), 3u);
+  EXPECT_EQ(resumed.theory_tags.at("T_haff").measured, "T,T_mean");
+
+  gdsmc::host::StudyOutput out;
+  out.cases.emplace_back();
+  out.cases[0].diagnostics = {resumed};
+  TempDir dir;
+  gdsmc::host::write_hdf5(dir / "theory.h5", out);
+  h5::File h(dir / "theory.h5");
+  const hid_t f = h.id();
+  const std::string g = "/diagnostics/theory/";
+  EXPECT_EQ(h5::read_string_attribute(f, g + "T_haff", "role"), "theory");
+  EXPECT_EQ(h5::read_string_attribute(f, g + "T_haff", "theory_of"), "T,T_mean");
+  EXPECT_EQ(h5::read_string_attribute(f, g + "T_haff", "equation"), "001 Eqs. 2.14-2.15");
+  EXPECT_EQ(h5::read_string_attribute(f, g + "g_maxwell", "theory_of"), "g");
+  EXPECT_EQ(h5::read_string_attribute(f, g + "rate", "theory_of"), "");
+  EXPECT_EQ(h5::read_string_attribute(f, g + "rate", "equation"), "van Noije & Ernst 1998");
+  for (const char* measured : {"T", "T_mean", "g"}) EXPECT_FALSE(h5::has_attribute(f, g + measured, "role")) << measured;
+}
+
 // A diagnostic that throws in finish(): exit 1, the plugin named, and no file under the final
 // name (nor a partial one).
 TEST(Output, FailedRunLeavesNoFile) {
