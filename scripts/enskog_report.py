@@ -20,48 +20,19 @@ from report_figures import band, paper_hline, paper_points, plt, runs_line, save
 
 # 002, Sec. 3: crossing densities from Eqs. 16-18, (phi0^k, phi0) per alpha.
 PAPER_CROSSING = {0.9: (0.12, 0.09), 0.8: (0.13, 0.09), 0.6: (0.15, 0.10)}
-# Converged Chapman-Enskog viscosity of elastic hard spheres over its first Sonine value
-# (Chapman and Cowling, The Mathematical Theory of Non-uniform Gases, 3rd ed., Sec. 10.21:
-# [eta]_infinity = 1.016034 [eta]_1).
-ETA_CE_OVER_SONINE = 1.016034
 FIGDIR = "enskog-viscosity"  # under DOCDIR
 FIG34_ALPHAS = (0.9, 0.8, 0.6)  # the curves of Fig. 3
 FIG34_PHIS = (0.0, 0.2, 0.4)  # the curves of Fig. 4
+DIAGNOSTIC = "enskog_shear_viscosity"
 
 
-def chi_cs(phi):
-    return (1 - phi / 2) / (1 - phi) ** 3
-
-
-def c0(alpha):
-    return 32 * (1 - alpha) * (1 - 2 * alpha ** 2) / (81 - 17 * alpha + 30 * alpha ** 2 * (1 - alpha))
-
-
-def eta_k(alpha, phi):
-    chi = chi_cs(phi)
-    return (1 - 0.4 * phi * chi * (1 + alpha) * (1 - 3 * alpha)) / (
-        chi * (1 + alpha) * (16 * (13 - alpha) - 3 * (4 - 3 * alpha) * c0(alpha)) / 384)
-
-
-def eta(alpha, phi):
-    chi = chi_cs(phi)
-    return eta_k(alpha, phi) * (1 + 0.8 * phi * chi * (1 + alpha)) + 384 / (25 * np.pi) * phi ** 2 * chi * (1 + alpha) * (
-        1 - c0(alpha) / 32)
-
-
-def theory_crossing(alpha, kinetic):
-    """phi where the first-Sonine eta(alpha, phi)/eta(1, phi) crosses 1 (bisection on (1e-4, 0.5))."""
-    f = (lambda p: eta_k(alpha, p) / eta_k(1, p) - 1) if kinetic else (lambda p: eta(alpha, p) / eta(1, p) - 1)
-    lo, hi = 1e-4, 0.5
-    if f(lo) * f(hi) > 0:
-        return float("nan")
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if f(lo) * f(mid) <= 0:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
+def require_theory(dataset, what):
+    """The values of a dataset the diagnostic wrote as theory (attribute role = "theory"): the theory
+    of paper 002 is computed once, by the diagnostic (gdsmc/physics/kinetic_theory.hpp), never here."""
+    if dataset is None or dataset.attrs.get("role") not in ("theory", b"theory"):
+        sys.exit(f"enskog_report.py: the output has no {what} tagged as theory: it was written before "
+                 f"{DIAGNOSTIC} 1.4.0 wrote the first-Sonine theory; run scripts/validate-enskog-viscosity again")
+    return np.array(dataset[()], dtype=float)
 
 
 def fmt(m, e=float("nan"), digits=4):
@@ -101,6 +72,23 @@ def main():
         def col(name):
             key = "enskog_shear_viscosity." + name
             return np.array(s[key][:], dtype=float) if key in s else np.full(n_cases, np.nan)
+
+        def theory(name):
+            """A theory scalar of the diagnostic, one value per case (the /summary column)."""
+            return require_theory(s.get(DIAGNOSTIC + "." + name), name)
+
+        def case_theory(k, name):
+            """A theory array of the diagnostic in case k (a first-Sonine curve)."""
+            return require_theory(f[f"cases/{k}/diagnostics/{DIAGNOSTIC}"].get(name), name)
+
+        def of_alpha(values, a):
+            """The value of a per-case theory column at restitution a (the same in every case of that alpha)."""
+            return next(v for v, x in zip(values, alpha) if abs(x - a) < 1e-9)
+
+        # The first-Sonine theory of 002 (Eqs. 16-18), as the diagnostic wrote it for each case.
+        sonine_k, sonine, chi = theory("eta_k_sonine_ratio"), theory("eta_sonine_ratio"), theory("contact_value")
+        c0_of, crossing_k, crossing_0 = theory("c0"), theory("eta_k_sonine_crossing_phi"), theory("eta_sonine_crossing_phi")
+        eta_ce_over_sonine = theory("eta_chapman_enskog_over_sonine")[0]
 
         def err(name):
             return col(name + "_stderr")
@@ -217,8 +205,8 @@ def main():
                 if np.isfinite(b) and x0 is not None:
                     xx = np.array([0, x0])
                     ax.plot(xx, y0 + b * xx, color="k", linewidth=1.0, label="fit y_NS + b Kn² over the window")
-            ax.axhline(eta_k(a, p) / eta_k(1, p), color="C3", linestyle="--", linewidth=1.2,
-                       label=f"first Sonine, Eqs. 16, 18: {eta_k(a, p) / eta_k(1, p):.4f}")
+            ax.axhline(sonine_k[k], color="C3", linestyle="--", linewidth=1.2,
+                       label=f"first Sonine, Eqs. 16, 18: {sonine_k[k]:.4f}")
             mark_window(ax, k)
             ax.set_xlim(0, None)
             ax.set_ylim(0.7, 1.15)
@@ -241,15 +229,15 @@ def main():
 
         def figure_3():
             fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
-            grid = np.linspace(1e-4, 0.52, 300)
-            for ax, name, theory, sym, crossing_index in (
-                    (axes[0], "eta_k_over_elastic_sonine_ns", eta_k, r"\eta^k", 0),
-                    (axes[1], "eta_over_elastic_sonine_ns", eta, r"\eta", 1)):
+            for ax, name, curve, sym, crossing_index in (
+                    (axes[0], "eta_k_over_elastic_sonine_ns", "eta_k_sonine_ratio_vs_phi", r"\eta^k", 0),
+                    (axes[1], "eta_over_elastic_sonine_ns", "eta_sonine_ratio_vs_phi", r"\eta", 1)):
                 for a, colour, m in zip(FIG34_ALPHAS, ("C0", "C1", "C2"), markers):
                     x, y, e = ns_points(name, a=a)
                     ax.errorbar(x, y, yerr=e, fmt=m, color=colour, capsize=3, markersize=6, label=f"DSMC, α = {a:g}")
-                    ax.plot(grid, theory(a, grid) / theory(1, grid), color=colour, linewidth=1.2,
-                            label=f"first Sonine, α = {a:g}")
+                    k = of_alpha(range(n_cases), a)
+                    ax.plot(f[f"cases/{k}/diagnostics/{DIAGNOSTIC}/sonine_phi_grid"][()], case_theory(k, curve),
+                            color=colour, linewidth=1.2, label=f"first Sonine, α = {a:g}")
                 ax.axhline(1.0, color="0.5", linewidth=0.8)
                 xs = [PAPER_CROSSING[a][crossing_index] for a in FIG34_ALPHAS]
                 crossing = paper_points(ax, xs, [1.0] * len(xs), marker="|", markersize=14,
@@ -271,15 +259,14 @@ def main():
 
         def figure_4():
             fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
-            grid = np.linspace(0.58, 1.0, 200)
-            for ax, name, theory, sym in ((axes[0], "eta_k_over_elastic_sonine_ns", eta_k, r"\eta^k"),
-                                          (axes[1], "eta_over_elastic_sonine_ns", eta, r"\eta")):
+            for ax, name, curve, sym in ((axes[0], "eta_k_over_elastic_sonine_ns", "eta_k_sonine_ratio_vs_alpha", r"\eta^k"),
+                                         (axes[1], "eta_over_elastic_sonine_ns", "eta_sonine_ratio_vs_alpha", r"\eta")):
                 for p, colour, m in zip(FIG34_PHIS, ("C0", "C1", "C2"), markers):
                     x, y, e = ns_points(name, p=p)
-                    pt = max(p, 1e-4)
                     ax.errorbar(x, y, yerr=e, fmt=m, color=colour, capsize=3, markersize=6, label=f"DSMC, φ = {p:g}")
-                    ax.plot(grid, theory(grid, pt) / theory(1, pt), color=colour, linewidth=1.2,
-                            label=f"first Sonine, φ = {p:g}")
+                    k = next(j for j in range(n_cases) if abs(phi[j] - p) < 1e-9)
+                    ax.plot(f[f"cases/{k}/diagnostics/{DIAGNOSTIC}/sonine_alpha_grid"][()], case_theory(k, curve),
+                            color=colour, linewidth=1.2, label=f"first Sonine, φ = {p:g}")
                 ax.axhline(1.0, color="0.5", linewidth=0.8)
                 ax.set_xlabel("coefficient of restitution α")
                 ax.set_ylabel(r"$" + sym + r"(\alpha,\phi)\,/\," + sym + r"(1,\phi)$  (first Sonine, elastic)")
@@ -323,11 +310,10 @@ def main():
                 k = case(a, p)
                 if k is None:
                     continue
-                pt = max(p, 1e-4)
                 rk, ek = col("eta_k_over_elastic_sonine_ns")[k], err("eta_k_over_elastic_sonine_ns")[k]
                 r, e = col("eta_over_elastic_sonine_ns")[k], err("eta_over_elastic_sonine_ns")[k]
-                sk, st = eta_k(a, pt) / eta_k(1, pt), eta(a, pt) / eta(1, pt)
-                w(f"| {p:g} | {chi_cs(pt):.4f} | {fmt(rk, ek)} | {sk:.4f} | {100 * (rk / sk - 1):+.1f}% | {fmt(r, e)} | "
+                sk, st = sonine_k[k], sonine[k]
+                w(f"| {p:g} | {chi[k]:.4f} | {fmt(rk, ek)} | {sk:.4f} | {100 * (rk / sk - 1):+.1f}% | {fmt(r, e)} | "
                   f"{st:.4f} | {100 * (r / st - 1):+.1f}% | {fmt(col('eta_k_ns')[k], err('eta_k_ns')[k])} | "
                   f"{fmt(col('eta_ns')[k], err('eta_ns')[k])} | "
                   f"{fmt(col('eta_over_elastic_sonine_mean')[k], err('eta_over_elastic_sonine_mean')[k])} |")
@@ -342,14 +328,13 @@ def main():
             cells = []
             for p in (0.0, 0.2, 0.4):
                 k = case(a, p)
-                pt = max(p, 1e-4)
                 if k is None:
                     cells += ["-"] * 4
                     continue
                 cells += [fmt(col("eta_k_over_elastic_sonine_ns")[k], err("eta_k_over_elastic_sonine_ns")[k]),
-                          f"{eta_k(a, pt) / eta_k(1, pt):.4f}",
+                          f"{sonine_k[k]:.4f}",
                           fmt(col("eta_over_elastic_sonine_ns")[k], err("eta_over_elastic_sonine_ns")[k]),
-                          f"{eta(a, pt) / eta(1, pt):.4f}"]
+                          f"{sonine[k]:.4f}"]
             w(f"| {a:g} | " + " | ".join(cells) + " |")
         w("\nFig. 4, the intercepts of this table (± realization standard error) beside the first-Sonine lines:\n")
         w(figure_4())
@@ -383,20 +368,20 @@ def main():
             vals_k, errs_k, vals, errs, th_k, th = [], [], [], [], [], []
             for p in grid:
                 k = case(a, p)
-                pt = max(p, 1e-4)
                 vals_k.append(col("eta_k_over_elastic_sonine_ns")[k] if k is not None else np.nan)
                 errs_k.append(err("eta_k_over_elastic_sonine_ns")[k] if k is not None else np.nan)
                 vals.append(col("eta_over_elastic_sonine_ns")[k] if k is not None else np.nan)
                 errs.append(err("eta_over_elastic_sonine_ns")[k] if k is not None else np.nan)
-                th_k.append(eta_k(a, pt) / eta_k(1, pt))
-                th.append(eta(a, pt) / eta(1, pt))
+                th_k.append(sonine_k[k] if k is not None else np.nan)
+                th.append(sonine[k] if k is not None else np.nan)
             xk, ek = crossing(vals_k, errs_k)
             x, e = crossing(vals, errs)
             gk, _ = crossing(th_k, [0] * len(grid))
             g0, _ = crossing(th, [0] * len(grid))
             pk, p0 = PAPER_CROSSING[a]
-            crossings[a] = ((xk, ek), (x, e), (theory_crossing(a, True), theory_crossing(a, False)))
-            w(f"| {a:g} | ({pk}, {p0}) | ({theory_crossing(a, True):.3f}, {theory_crossing(a, False):.3f}) | "
+            tk, t0 = of_alpha(crossing_k, a), of_alpha(crossing_0, a)
+            crossings[a] = ((xk, ek), (x, e), (tk, t0))
+            w(f"| {a:g} | ({pk}, {p0}) | ({tk:.3f}, {t0:.3f}) | "
               f"({gk:.3f}, {g0:.3f}) | {fmt(xk, ek, 3)} | {fmt(x, e, 3)} |")
 
         # --- Fig. 1 left.
@@ -425,10 +410,10 @@ def main():
             w(figure_1_left(k))
         w("\n## Fig. 1 (right): the cumulant c relative to the HCS value, α = 0.9, φ = 0.2, 0.3, 0.4\n")
         ch, che = hcs_c_of.get(0.9, (np.nan, np.nan))
-        w(f"c0(0.9) of Eq. 18 = {c0(0.9):.5f}; measured in the HCS (IHS, N = 10⁵, s = 10..50; c = 2 a2 in 002's "
+        w(f"c0(0.9) of Eq. 18 = {of_alpha(c0_of, 0.9):.5f}; measured in the HCS (IHS, N = 10⁵, s = 10..50; c = 2 a2 in 002's "
           f"convention, f = f_M[1 + (c/4)(V*⁴ − 5V*² + 15/4)]) = {fmt(ch, che, 5)}. "
           f"The columns divide by Eq. 18's value (the diagnostic's c_over_c0); c/c0_measured = c_over_c0 × "
-          f"{c0(0.9) / ch:.4f}. The paper: c/c0 → 1 as Kn → 0.\n")
+          f"{of_alpha(c0_of, 0.9) / ch:.4f}. The paper: c/c0 → 1 as Kn → 0.\n")
         for p in (0.2, 0.3, 0.4):
             k = case(0.9, p)
             if k is not None:
@@ -440,16 +425,16 @@ def main():
               "record ± its realization standard error (small markers), inside it the records (faint line) and their "
               "means over blocks of 16 records ± the scatter of the block / 4 (large markers). Dotted: c = c0 of Eq. 18; "
               "dashed: c = the c0 measured in the HCS, the state the paper's c/c0 → 1 refers to.\n")
-            w(figure_1_right(fig1_cases, ch / c0(0.9)))
+            w(figure_1_right(fig1_cases, ch / of_alpha(c0_of, 0.9)))
         w("\n### Measured HCS cumulants (the reservoir's state) against Eq. 18\n")
         w("| α | c0 Eq. 18 | c0 measured (HCS) |")
         w("|---|---|---|")
         for a in sorted(hcs_c_of, reverse=True):
-            w(f"| {a:g} | {c0(a):.5f} | {fmt(*hcs_c_of[a], 5)} |")
+            w(f"| {a:g} | {of_alpha(c0_of, a):.5f} | {fmt(*hcs_c_of[a], 5)} |")
         w("\n## Fig. 2: η^k/η^k(1, φ) against Kn², α = 0.8, φ = 0.2\n")
         k = case(0.8, 0.2)
         if k is not None:
-            w(f"Sonine (the dotted line of the figure is the measured plateau): {eta_k(0.8, 0.2) / eta_k(1, 0.2):.4f}; "
+            w(f"Sonine (the dotted line of the figure is the measured plateau): {sonine_k[k]:.4f}; "
               f"DSMC plateau (intercept) {fmt(col('eta_k_over_elastic_sonine_ns')[k], err('eta_k_over_elastic_sonine_ns')[k])}.\n")
             transient_table(k, ["eta_k_over_elastic_sonine", "eta_over_elastic_sonine"], ["η^k/η^k(1,φ)", "η/η(1,φ)"])
             w("\nThe records as in Fig. 1 (right): single records ± realization standard error before the fit window, "
@@ -465,8 +450,8 @@ def main():
             r, e = col("eta_ns")[k], err("eta_ns")[k]
             w(f"At α = 1, φ = 0 the measured η/η0 (η0 = (5/16σ²)√(mT/π), the first Sonine value) is "
               f"{fmt(r, e)}. The converged Chapman–Enskog viscosity of hard spheres is "
-              f"{ETA_CE_OVER_SONINE} η0 (Chapman & Cowling §10.21). Difference: {100 * (r / ETA_CE_OVER_SONINE - 1):+.2f}% "
-              f"= {(r - ETA_CE_OVER_SONINE) / e:+.1f} standard errors.\n")
+              f"{eta_ce_over_sonine:.7g} η0 (Chapman & Cowling §10.21). Difference: {100 * (r / eta_ce_over_sonine - 1):+.2f}% "
+              f"= {(r - eta_ce_over_sonine) / e:+.1f} standard errors.\n")
         w("\n## Resolved pipeline\n")
         w("```yaml\n" + pipeline.strip() + "\n```")
 
@@ -475,11 +460,10 @@ def main():
         dev = []  # (|delta|, text) of every case against the first Sonine theory
         for k in range(n_cases):
             a, p = alpha[k], phi[k]
-            pt = max(p, 1e-4)
-            for name, theory, sym in (("eta_k_over_elastic_sonine_ns", eta_k, "η^k"),
-                                      ("eta_over_elastic_sonine_ns", eta, "η")):
+            for name, ratio, sym in (("eta_k_over_elastic_sonine_ns", sonine_k, "η^k"),
+                                     ("eta_over_elastic_sonine_ns", sonine, "η")):
                 v, e = col(name)[k], err(name)[k]
-                st = theory(a, pt) / theory(1, pt)
+                st = ratio[k]
                 if np.isfinite(v):
                     dev.append((abs(v / st - 1), f"{sym} at α = {a:g}, φ = {p:g}: {100 * (v / st - 1):+.1f} % "
                                                  f"({fmt(v, e)} against {st:.4f})"))
@@ -502,16 +486,16 @@ def main():
         k = case(1.0, 0.0)
         if k is not None:
             r, e = col("eta_ns")[k], err("eta_ns")[k]
-            z_ce, z_1 = (r - ETA_CE_OVER_SONINE) / e, (r - 1) / e
+            z_ce, z_1 = (r - eta_ce_over_sonine) / e, (r - 1) / e
             w(f"- The dilute elastic η/η0 = {fmt(r, e, 3)} sits {abs(z_ce):.1f} standard errors "
-              f"{'below' if z_ce < 0 else 'above'} the converged value {ETA_CE_OVER_SONINE:.3f}" +
+              f"{'below' if z_ce < 0 else 'above'} the converged value {eta_ce_over_sonine:.3f}" +
               (" and is consistent with it, but not precise enough to tell it apart from the first Sonine value 1 "
                f"({z_1:+.1f} standard errors)." if abs(z_ce) < 2 and abs(z_1) < 2 else f" and {z_1:+.1f} from 1."))
-        hc = [(a, c, e) for a, (c, e) in hcs_c_of.items() if abs(c0(a)) > 0.01]
+        hc = [(a, c, e, of_alpha(c0_of, a)) for a, (c, e) in hcs_c_of.items() if abs(of_alpha(c0_of, a)) > 0.01]
         if hc:
             w("- The fourth cumulant c is 2 a2 in the convention of paper 002. The c0 measured in the HCS against "
-              "Eq. 18: " + "; ".join(f"α = {a:g}: {fmt(c, e, 4)} against {c0(a):.4f} ({100 * (c / c0(a) - 1):+.0f} %)"
-                                     for a, c, e in sorted(hc, reverse=True)) +
+              "Eq. 18: " + "; ".join(f"α = {a:g}: {fmt(c, e, 4)} against {c0:.4f} ({100 * (c / c0 - 1):+.0f} %)"
+                                     for a, c, e, c0 in sorted(hc, reverse=True)) +
               ". Eq. 18 is an estimate (α = 0.7, where c0 of Eq. 18 is near 0, is left out).")
     print("\n".join(out))
 

@@ -362,3 +362,28 @@ TEST(BatchMeans, ErrorOfCorrelatedBatchesMatchesTheScatterOverSeeds) {
 }
 
 }  // namespace
+
+// The first-Sonine Enskog theory of paper 002 (kinetic_theory.hpp), the one place the diagnostic
+// and the validation report take it from: values worked by hand, the elastic limits, and the
+// crossing densities of 002 Sec. 3 (given there to two decimals).
+TEST(EnskogTheory, ContactValueCumulantViscositiesAndCrossings) {
+  EXPECT_DOUBLE_EQ(gdsmc::carnahan_starling_contact_value(0.0), 1.0);
+  EXPECT_DOUBLE_EQ(gdsmc::carnahan_starling_contact_value(0.2), 0.9 / 0.512);
+  EXPECT_DOUBLE_EQ(gdsmc::enskog_hcs_cumulant(1.0), 0.0);
+  EXPECT_DOUBLE_EQ(gdsmc::enskog_hcs_cumulant(0.5), 32.0 * 0.5 * 0.5 / (81.0 - 8.5 + 3.75));
+  // Dilute elastic gas: eta^k = eta = eta0 (Eqs. 16-17 at phi = 0, alpha = 1, chi = 1).
+  EXPECT_DOUBLE_EQ(gdsmc::enskog_kinetic_viscosity(1.0, 0.0, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(gdsmc::enskog_viscosity(1.0, 0.0, 1.0), 1.0);
+  // Dense elastic gas, phi = 0.2 (c0 = 0): eta^k = (1 + 1.6 phi chi)/chi (Eq. 16), eta of Eq. 17.
+  const double chi = 0.9 / 0.512, phi = 0.2;
+  const double eta_k = (1.0 + 1.6 * phi * chi) / chi;
+  EXPECT_NEAR(gdsmc::enskog_kinetic_viscosity(1.0, phi, chi), eta_k, 1e-14);
+  EXPECT_NEAR(gdsmc::enskog_viscosity(1.0, phi, chi), eta_k * (1.0 + 1.6 * phi * chi) + 768.0 / (25.0 * M_PI) * phi * phi * chi,
+              1e-14);
+  const double paper[3][3] = {{0.9, 0.12, 0.09}, {0.8, 0.13, 0.09}, {0.6, 0.15, 0.10}};  // alpha, phi0^k, phi0
+  for (const auto& row : paper) {
+    EXPECT_NEAR(gdsmc::enskog_viscosity_crossing(row[0], true), row[1], 0.006) << "alpha = " << row[0];
+    EXPECT_NEAR(gdsmc::enskog_viscosity_crossing(row[0], false), row[2], 0.006) << "alpha = " << row[0];
+  }
+  EXPECT_TRUE(std::isnan(gdsmc::enskog_viscosity_crossing(1.0, true)));  // no crossing: the ratio is 1
+}

@@ -5,11 +5,9 @@
 #include <string>
 
 #include <gdsmc/gdsmc.hpp>
+#include <gdsmc/physics/kinetic_theory.hpp>
 
 namespace {
-
-// Carnahan-Starling contact value chi(phi) = (1 - phi/2) / (1 - phi)^3 (002, after Eq. 18).
-double carnahan_starling(double phi) { return (1.0 - 0.5 * phi) / ((1.0 - phi) * (1.0 - phi) * (1.0 - phi)); }
 
 // Random close packing is not a limit of the Enskog theory, but no hard-sphere state exists beyond
 // the close packing of spheres, pi / (3 sqrt 2); the Carnahan-Starling pole phi = 1 lies beyond it.
@@ -83,7 +81,7 @@ struct EnskogHardSpheres {
       throw std::runtime_error("system.density and system.sigma give the packing fraction phi = (pi/6) n sigma^3 = " +
                                std::to_string(phi) + "; an Enskog gas needs 0 < phi < " + std::to_string(kClosePacking) +
                                " (close packing; the Carnahan-Starling pole is phi = 1)");
-    chi = given_chi > 0 ? given_chi : carnahan_starling(phi);
+    chi = given_chi > 0 ? given_chi : gdsmc::carnahan_starling_contact_value(phi);  // 002, after Eq. 18
     const double* a = board.find("shear_rate");
     if (sheared && !a)
       throw gdsmc::ParameterError("sheared", "no plugin publishes 'shear_rate': add the uniform_shear forcing (the "

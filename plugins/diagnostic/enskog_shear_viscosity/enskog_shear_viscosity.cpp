@@ -14,21 +14,21 @@
 
 namespace {
 
-// c0(alpha): the HCS fourth cumulant estimate of 002 Eq. (18).
-double hcs_cumulant(double alpha) {
-  return 32.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha * alpha) / (81.0 - 17.0 * alpha + 30.0 * alpha * alpha * (1.0 - alpha));
-}
-// eta^k / eta0 in the first Sonine approximation (Eq. 16).
-double sonine_kinetic_viscosity(double alpha, double phi, double chi) {
-  const double c0 = hcs_cumulant(alpha);
-  return (1.0 - 0.4 * phi * chi * (1.0 + alpha) * (1.0 - 3.0 * alpha)) /
-         (chi * (1.0 + alpha) * (16.0 * (13.0 - alpha) - 3.0 * (4.0 - 3.0 * alpha) * c0) / 384.0);
-}
-// eta / eta0 in the first Sonine approximation (Eq. 17).
-double sonine_viscosity(double alpha, double phi, double chi) {
-  const double c0 = hcs_cumulant(alpha);
-  return sonine_kinetic_viscosity(alpha, phi, chi) * (1.0 + 0.8 * phi * chi * (1.0 + alpha)) +
-         384.0 / (25.0 * M_PI) * phi * phi * chi * (1.0 + alpha) * (1.0 - c0 / 32.0);
+using gdsmc::enskog_hcs_cumulant;
+using gdsmc::enskog_kinetic_viscosity;
+using gdsmc::enskog_viscosity;
+
+// The grids of the first-Sonine curves of 002 Figs. 3-4: phi at the run's alpha, alpha at its phi.
+constexpr double kPhiGridFirst = 1e-4, kPhiGridLast = 0.52, kAlphaGridFirst = 0.58, kAlphaGridLast = 1.0;
+constexpr std::size_t kPhiGridPoints = 300, kAlphaGridPoints = 200;
+
+// n points from first to last, evenly spaced (numpy's linspace).
+std::vector<double> linspace(double first, double last, std::size_t n) {
+  std::vector<double> x(n);
+  const double step = (last - first) / static_cast<double>(n - 1);
+  for (std::size_t k = 0; k < n; ++k) x[k] = first + static_cast<double>(k) * step;
+  x[n - 1] = last;
+  return x;
 }
 
 // y = b0 + b1 x by least squares from streamed sums (no storage): the intercept is the
@@ -81,7 +81,7 @@ class PlateauFit {
 class EnskogShearViscosity final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "enskog_shear_viscosity";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.4.0";
   static constexpr const char* summary =
       "Modified USF (002): kinetic + collisional P_ij, eta(t) = -P_xy/a, Kn(t), c(t)/c0, first-Sonine eta and the NS plateau";
   static constexpr const char* documentation =
@@ -117,7 +117,12 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
       "Pc_yx_over_nT, P_xy_over_nT [1], eta_k, eta_c, eta [eta0(T)], eta_k_over_elastic_sonine,\n"
       "eta_over_elastic_sonine, c, c_over_c0 [1], zeta [1/tau0]; scalars packing_fraction,\n"
       "contact_value, c0, eta_k_sonine, eta_sonine, eta_k_sonine_elastic, eta_sonine_elastic,\n"
-      "eta_k_sonine_ratio, eta_sonine_ratio [1] (written as the run begins), and for <name> = eta_k,\n"
+      "eta_k_sonine_ratio, eta_sonine_ratio, eta_k_sonine_crossing_phi, eta_sonine_crossing_phi (phi0^k and\n"
+      "phi0 of Sec. 3 at this alpha), eta_chapman_enskog_over_sonine (1.016034) [1] and the arrays\n"
+      "sonine_phi_grid (300 phi in [1e-4, 0.52]) with eta_k_sonine_ratio_vs_phi, eta_sonine_ratio_vs_phi\n"
+      "(at this alpha, Carnahan-Starling chi), sonine_alpha_grid (200 alpha in [0.58, 1]) with\n"
+      "eta_k_sonine_ratio_vs_alpha, eta_sonine_ratio_vs_alpha (at this phi and chi): the curves of Figs. 3-4\n"
+      "(written as the run begins; every theory dataset tagged role = theory with its equation), and for <name> = eta_k,\n"
       "eta [eta0(T)], eta_k_over_elastic_sonine, eta_over_elastic_sonine [1]: <name>_ns,\n"
       "<name>_ns_error, <name>_slope, <name>_slope_error, <name>_mean, <name>_standard_error.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
@@ -149,9 +154,9 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
     particles_ = static_cast<double>(sys.particles);
     t0_ = sys.initial_temperature;
     tau0_ = sys.time_unit0;
-    c0_ = hcs_cumulant(alpha_);
-    elastic_k_ = sonine_kinetic_viscosity(1.0, phi_, chi_);
-    elastic_ = sonine_viscosity(1.0, phi_, chi_);
+    c0_ = enskog_hcs_cumulant(alpha_);
+    elastic_k_ = enskog_kinetic_viscosity(1.0, phi_, chi_);
+    elastic_ = enskog_viscosity(1.0, phi_, chi_);
     const std::vector<std::array<const char*, 3>> cols = {
         {"temperature", "T0", "T/T0"},
         {"Kn", "1", "Kn = a sigma / (12 phi chi sqrt(T/m)) (002, Sec. 3)"},
@@ -182,14 +187,67 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
     put("packing_fraction", phi_, "phi = (pi/6) n sigma^3");
     put("contact_value", chi_, "chi(phi)");
     put("c0", c0_, "HCS fourth cumulant c0(alpha), Eq. 18");
-    put("eta_k_sonine", sonine_kinetic_viscosity(alpha_, phi_, chi_), "first-Sonine eta^k(alpha, phi)/eta0, Eq. 16");
-    put("eta_sonine", sonine_viscosity(alpha_, phi_, chi_), "first-Sonine eta(alpha, phi)/eta0, Eq. 17");
+    put("eta_k_sonine", enskog_kinetic_viscosity(alpha_, phi_, chi_), "first-Sonine eta^k(alpha, phi)/eta0, Eq. 16");
+    put("eta_sonine", enskog_viscosity(alpha_, phi_, chi_), "first-Sonine eta(alpha, phi)/eta0, Eq. 17");
     put("eta_k_sonine_elastic", elastic_k_, "first-Sonine eta^k(1, phi)/eta0");
     put("eta_sonine_elastic", elastic_, "first-Sonine eta(1, phi)/eta0");
-    put("eta_k_sonine_ratio", sonine_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_,
+    put("eta_k_sonine_ratio", enskog_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_,
         "first-Sonine eta^k(alpha, phi)/eta^k(1, phi): the theory line of Figs. 3-4 (left)");
-    put("eta_sonine_ratio", sonine_viscosity(alpha_, phi_, chi_) / elastic_,
+    put("eta_sonine_ratio", enskog_viscosity(alpha_, phi_, chi_) / elastic_,
         "first-Sonine eta(alpha, phi)/eta(1, phi): the theory line of Figs. 3-4 (right)");
+    put("eta_k_sonine_crossing_phi", gdsmc::enskog_viscosity_crossing(alpha_, true),
+        "phi0^k: where the first-Sonine eta^k(alpha, phi)/eta^k(1, phi) crosses 1 at this alpha (Sec. 3; NaN if nowhere in (1e-4, 0.5))");
+    put("eta_sonine_crossing_phi", gdsmc::enskog_viscosity_crossing(alpha_, false),
+        "phi0: where the first-Sonine eta(alpha, phi)/eta(1, phi) crosses 1 at this alpha (Sec. 3; NaN if nowhere in (1e-4, 0.5))");
+    put("eta_chapman_enskog_over_sonine", gdsmc::chapman_enskog_viscosity_factor,
+        "converged Chapman-Enskog eta of elastic hard spheres over its first Sonine value (Chapman & Cowling Sec. 10.21)");
+    write_sonine_curves(out);
+  }
+
+  // The first-Sonine ratios of Figs. 3-4 as curves: against phi at this alpha (Carnahan-Starling
+  // chi at each phi), and against alpha at this phi and chi.
+  void write_sonine_curves(gdsmc::OutputSink& out) const {
+    const std::vector<double> phis = linspace(kPhiGridFirst, kPhiGridLast, kPhiGridPoints);
+    const std::vector<double> alphas = linspace(kAlphaGridFirst, kAlphaGridLast, kAlphaGridPoints);
+    std::vector<double> k_phi(phis.size()), t_phi(phis.size()), k_alpha(alphas.size()), t_alpha(alphas.size());
+    for (std::size_t j = 0; j < phis.size(); ++j) {
+      const double chi = gdsmc::carnahan_starling_contact_value(phis[j]);
+      k_phi[j] = enskog_kinetic_viscosity(alpha_, phis[j], chi) / enskog_kinetic_viscosity(1.0, phis[j], chi);
+      t_phi[j] = enskog_viscosity(alpha_, phis[j], chi) / enskog_viscosity(1.0, phis[j], chi);
+    }
+    for (std::size_t j = 0; j < alphas.size(); ++j) {
+      k_alpha[j] = enskog_kinetic_viscosity(alphas[j], phi_, chi_) / elastic_k_;
+      t_alpha[j] = enskog_viscosity(alphas[j], phi_, chi_) / elastic_;
+    }
+    out.array("sonine_phi_grid", phis, {phis.size()}, "1", "packing fractions phi of the curves *_vs_phi");
+    out.array("eta_k_sonine_ratio_vs_phi", k_phi, {phis.size()}, "1",
+              "first-Sonine eta^k(alpha, phi)/eta^k(1, phi) at this alpha on sonine_phi_grid, Carnahan-Starling chi (Fig. 3 left)");
+    out.array("eta_sonine_ratio_vs_phi", t_phi, {phis.size()}, "1",
+              "first-Sonine eta(alpha, phi)/eta(1, phi) at this alpha on sonine_phi_grid, Carnahan-Starling chi (Fig. 3 right)");
+    out.array("sonine_alpha_grid", alphas, {alphas.size()}, "1", "restitution coefficients alpha of the curves *_vs_alpha");
+    out.array("eta_k_sonine_ratio_vs_alpha", k_alpha, {alphas.size()}, "1",
+              "first-Sonine eta^k(alpha, phi)/eta^k(1, phi) at this phi and chi on sonine_alpha_grid (Fig. 4 left)");
+    out.array("eta_sonine_ratio_vs_alpha", t_alpha, {alphas.size()}, "1",
+              "first-Sonine eta(alpha, phi)/eta(1, phi) at this phi and chi on sonine_alpha_grid (Fig. 4 right)");
+  }
+
+  // The theory of begin() marked as theory (OutputSink::theory), once the measured values exist.
+  static void tag_theory(gdsmc::OutputSink& out) {
+    out.theory("contact_value", "", "002, after Eq. 18 (Carnahan-Starling, unless the rule was given chi)");
+    out.theory("c0", "c", "002 Eq. 18");
+    out.theory("eta_k_sonine", "eta_k, eta_k_ns, eta_k_mean", "002 Eqs. 16, 18");
+    out.theory("eta_sonine", "eta, eta_ns, eta_mean", "002 Eqs. 16-18");
+    out.theory("eta_k_sonine_elastic", "", "002 Eq. 16 at alpha = 1");
+    out.theory("eta_sonine_elastic", "", "002 Eqs. 16-17 at alpha = 1");
+    out.theory("eta_k_sonine_ratio", "eta_k_over_elastic_sonine, eta_k_over_elastic_sonine_ns, eta_k_over_elastic_sonine_mean",
+               "002 Eqs. 16, 18");
+    out.theory("eta_sonine_ratio", "eta_over_elastic_sonine, eta_over_elastic_sonine_ns, eta_over_elastic_sonine_mean",
+               "002 Eqs. 16-18");
+    out.theory("eta_k_sonine_crossing_phi", "", "002 Sec. 3, Eqs. 16, 18");
+    out.theory("eta_sonine_crossing_phi", "", "002 Sec. 3, Eqs. 16-18");
+    out.theory("eta_chapman_enskog_over_sonine", "", "Chapman & Cowling Sec. 10.21");
+    for (const char* curve : {"eta_k_sonine_ratio_vs_phi", "eta_k_sonine_ratio_vs_alpha"}) out.theory(curve, "", "002 Eqs. 16, 18");
+    for (const char* curve : {"eta_sonine_ratio_vs_phi", "eta_sonine_ratio_vs_alpha"}) out.theory(curve, "", "002 Eqs. 16-18");
   }
 
   void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
@@ -265,8 +323,9 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
       out.scalar(n + "_standard_error", means_[k].standard_error(), unit, "batch-means standard error of the mean");
       if (k < 2) line += ", " + n + "(Kn->0) = " + number(r(0)) + " +- " + number(r(1));
     }
-    line += " (first Sonine: " + number(sonine_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_) + ", " +
-            number(sonine_viscosity(alpha_, phi_, chi_) / elastic_) + "; " + std::to_string(fits_[0].count()) + " records)";
+    tag_theory(out);
+    line += " (first Sonine: " + number(enskog_kinetic_viscosity(alpha_, phi_, chi_) / elastic_k_) + ", " +
+            number(enskog_viscosity(alpha_, phi_, chi_) / elastic_) + "; " + std::to_string(fits_[0].count()) + " records)";
     out.summary(line);
   }
   void save_state(gdsmc::StateWriter& out) const override {

@@ -1,5 +1,5 @@
-// gdsmc SDK: the local-equilibrium formulas of paper 000 that several plugins use, in one place
-// (reduced units, m = 1 unless given).
+// gdsmc SDK: the local-equilibrium formulas of paper 000 and the first-Sonine Enskog viscosity of
+// paper 002 that plugins use, in one place (reduced units, m = 1 unless given).
 #pragma once
 #include <cmath>
 
@@ -35,6 +35,49 @@ inline double thermostatted_shear_viscosity_ratio(double a_star) {
     if (std::fabs(step) <= 1e-16 * (1.0 + g)) break;
   }
   return 1.0 / ((1.0 + g) * (1.0 + g));
+}
+
+// Carnahan-Starling contact value chi(phi) = (1 - phi/2) / (1 - phi)^3 (002, after Eq. 18).
+inline double carnahan_starling_contact_value(double phi) {
+  return (1.0 - 0.5 * phi) / ((1.0 - phi) * (1.0 - phi) * (1.0 - phi));
+}
+
+// c0(alpha): the HCS fourth cumulant estimate of 002 Eq. 18 (c = 2 a2).
+inline double enskog_hcs_cumulant(double alpha) {
+  return 32.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha * alpha) / (81.0 - 17.0 * alpha + 30.0 * alpha * alpha * (1.0 - alpha));
+}
+
+// eta^k / eta0 of the Enskog gas in the first Sonine approximation (002 Eq. 16), chi the contact value.
+inline double enskog_kinetic_viscosity(double alpha, double phi, double chi) {
+  const double c0 = enskog_hcs_cumulant(alpha);
+  return (1.0 - 0.4 * phi * chi * (1.0 + alpha) * (1.0 - 3.0 * alpha)) /
+         (chi * (1.0 + alpha) * (16.0 * (13.0 - alpha) - 3.0 * (4.0 - 3.0 * alpha) * c0) / 384.0);
+}
+
+// eta / eta0, kinetic and collisional parts, in the first Sonine approximation (002 Eq. 17).
+inline double enskog_viscosity(double alpha, double phi, double chi) {
+  const double c0 = enskog_hcs_cumulant(alpha);
+  return enskog_kinetic_viscosity(alpha, phi, chi) * (1.0 + 0.8 * phi * chi * (1.0 + alpha)) +
+         384.0 / (25.0 * M_PI) * phi * phi * chi * (1.0 + alpha) * (1.0 - c0 / 32.0);
+}
+
+// The packing fraction at which the first-Sonine eta^k(alpha, phi)/eta^k(1, phi) (kinetic) or
+// eta(alpha, phi)/eta(1, phi) crosses 1, with the Carnahan-Starling chi (002 Sec. 3: phi0^k, phi0):
+// bisection on (1e-4, 0.5); NaN if the ratio does not change sign there (alpha = 1 included).
+inline double enskog_viscosity_crossing(double alpha, bool kinetic) {
+  auto f = [alpha, kinetic](double phi) {
+    const double chi = carnahan_starling_contact_value(phi);
+    return kinetic ? enskog_kinetic_viscosity(alpha, phi, chi) / enskog_kinetic_viscosity(1.0, phi, chi) - 1.0
+                   : enskog_viscosity(alpha, phi, chi) / enskog_viscosity(1.0, phi, chi) - 1.0;
+  };
+  double lo = 1e-4, hi = 0.5;
+  if (!(f(lo) * f(hi) < 0)) return std::nan("");
+  for (int k = 0; k < 80; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    if (f(lo) * f(mid) <= 0) hi = mid;
+    else lo = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 // P(x) = erf(x) - 2x exp(-x^2)/sqrt(pi): the fraction of a Maxwellian with speed below
