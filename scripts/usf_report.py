@@ -15,6 +15,7 @@ DOCDIR/usf/*.png, DOCDIR being docs/validation unless given.
 Needs Debian's python3-h5py, python3-numpy and python3-matplotlib."""
 import argparse
 import os
+import sys
 
 import h5py
 import numpy as np
@@ -137,8 +138,14 @@ def finite(e):
     return np.where(np.isfinite(e), e, 0.0)
 
 
-def beta(alpha):
-    return 0.5 * (1.0 + alpha)
+def beta(g):
+    """beta of the EHS rate (000 Eq. 2.21) as the run wrote it: bgk_usf_theory's bgk_beta (the rule's
+    published rate_factor), read from the case group g rather than computed here."""
+    d = g["diagnostics"].get("bgk_usf_theory")
+    if d is None or "bgk_beta" not in d:
+        sys.exit(f"usf_report.py: {g.file.filename}:{g.name} has no diagnostics/bgk_usf_theory/bgk_beta: "
+                 "an output without the bgk_usf_theory diagnostic; run it with bgk_usf_theory")
+    return float(d["bgk_beta"][()])
 
 
 def sweep_cases(f):
@@ -384,7 +391,7 @@ def evolution_figure(C, alphas, rows, bgk, title, name, docdir, paper=None, clip
                     if g is None:
                         continue
                     _, s, v = series(g, diag, col)
-                    s = s / (beta(al) if m == "EHS" else 1.0)
+                    s = s / (beta(g) if m == "EHS" else 1.0)
                     keep = s > 0
                     ax.plot(s[keep], sign * v[keep], color=COLOUR[sh], linestyle=LINESTYLE[m], linewidth=1.0,
                             label=f"{m}, aτ⁰ = {sh:g}")
@@ -455,7 +462,7 @@ def figure_13(C, docdir):
             if g is None:
                 continue
             _, s, v = series(g, "speed_ratios", f"R{l}")
-            s = s / (beta(0.5) if m == "EHS" else 1.0)
+            s = s / (beta(g) if m == "EHS" else 1.0)
             keep = s > 0
             ax.plot(s[keep], v[keep], color="C3" if m == "IHS" else "C0", linestyle=LINESTYLE[m], linewidth=1.0, label=m)
         paper_hline(ax, PAPER_R[l], label=f"paper: R{chr(0x2080 + l)} ≈ {PAPER_R[l]:g} (steady)")
@@ -479,7 +486,7 @@ def figure_5(C, docdir):
                 if g is None:
                     continue
                 t, s, _ = series(g, "collision_count", "collisions_per_particle")
-                s = s / (beta(al) if m == "EHS" else 1.0)
+                s = s / (beta(g) if m == "EHS" else 1.0)
                 keep = t > 0
                 ax.plot(t[keep], s[keep], color=c, linestyle=LINESTYLE[m], linewidth=1.1,
                         label=f"α = {al:g}, {'s (IHS)' if m == 'IHS' else 's′/β (EHS)'}")
@@ -512,7 +519,7 @@ def figure_10(C, P, docdir):
                 continue
             _, s, eta = series(g, "shear_rheology", "eta_star")
             _, _, ast = series(g, "shear_rheology", "a_star")
-            s = s / (beta(0.5) if m == "EHS" else 1.0)
+            s = s / (beta(g) if m == "EHS" else 1.0)
             keep = (s >= 2) & (s <= 50)
             ax.plot(ast[keep], eta[keep], color=colours[m], linestyle=LINESTYLE[m], linewidth=0.9,
                     label=f"{m}" if sh == 0.1 else None)
@@ -642,7 +649,7 @@ def fmt_me(m, e, d=3):
 
 def clock(g, m, al, r):
     """s (IHS) or s'/beta (EHS) of realization r's records."""
-    return r["collisions_per_particle"][()] / (beta(al) if m == "EHS" else 1.0)
+    return r["collisions_per_particle"][()] / (beta(g) if m == "EHS" else 1.0)
 
 
 def eta_fit(a, eta, amax, order):
@@ -754,7 +761,7 @@ def collision_ratio(C):
         for r in realizations(g, "local_equilibrium_clock"):
             s, s0 = r["s"][()], r["s0"][()]
             ends.append(float(r["s_over_s0_final"][()]))
-            i = int(np.searchsorted(s, 60.0 * (beta(al) if m == "EHS" else 1.0)))
+            i = int(np.searchsorted(s, 60.0 * (beta(g) if m == "EHS" else 1.0)))
             rates.append(float((s[-1] - s[i]) / (s0[-1] - s0[i])))
         out[(m, al, sh)] = (ends, rates)
     return out
