@@ -1,7 +1,8 @@
-// The physics toolkit's per-bin moment accumulator (gdsmc/physics/bins.hpp) and steady-state test
-// (gdsmc/physics/steady.hpp): merging is exact under the order rule, the moments are those of a
-// constructed set of particles, and the steady test tells a stationary noisy series from a
-// drifting one. No host, no plugin: fast.
+// The physics toolkit's per-bin moment accumulator (gdsmc/physics/bins.hpp), steady-state test
+// (gdsmc/physics/steady.hpp) and error estimators (series.hpp, jackknife.hpp): merging is exact
+// under the order rule, the moments are those of a constructed set of particles, the steady test
+// tells a stationary noisy series from a drifting one, and the errors match their scatter or the
+// exact value. No host, no plugin: fast.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -359,6 +360,40 @@ TEST(BatchMeans, ErrorOfCorrelatedBatchesMatchesTheScatterOverSeeds) {
     EXPECT_LT(corrected, quantile(z)) << samples << " samples";
     EXPECT_GT(independent, quantile(z)) << samples << " samples";
   }
+}
+
+// The jackknife of a mean is the batch-means error: with theta_k = (S - x_k)/(B - 1) the delete-one
+// variance (B - 1)/B sum (theta_k - mean)^2 is var(x)/B exactly, and the theta_k carry the x_k's
+// autocorrelation time (a linear map of them). A ratio's error is the linear propagation of its
+// parts' errors when the batches are many and the noise small. A NaN in one complement is a NaN.
+TEST(JackknifeError, OfAMeanIsTheBatchMeansErrorAndOfARatioItsPropagation) {
+  const std::size_t B = 48;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> x(B), y(B), theta(B), ratio(B);
+  double ar = 0;
+  for (std::size_t k = 0; k < B; ++k) {
+    ar = 0.7 * ar + g(rng);  // correlated batches
+    x[k] = 5.0 + ar;
+    y[k] = 2.0 + 0.01 * g(rng);
+  }
+  double sx = 0, sy = 0;
+  for (std::size_t k = 0; k < B; ++k) sx += x[k], sy += y[k];
+  for (std::size_t k = 0; k < B; ++k) {
+    theta[k] = (sx - x[k]) / static_cast<double>(B - 1);
+    ratio[k] = (sx - x[k]) / (sy - y[k]);
+  }
+  double var = 0;
+  for (const double v : x) var += (v - sx / B) * (v - sx / B);
+  var /= static_cast<double>(B) * static_cast<double>(B - 1);
+  const double tau = gdsmc::integrated_autocorrelation_time(x.data(), B);
+  EXPECT_GT(tau, 1.2);  // the batches are correlated: the factor matters
+  EXPECT_NEAR(gdsmc::jackknife_error(theta.data(), B), std::sqrt(var * tau), 1e-12 * std::sqrt(var * tau));
+  // x/y with y nearly constant: the ratio's error is the mean's error over mean(y), to about 1 %.
+  const double expected = std::sqrt(var * gdsmc::integrated_autocorrelation_time(ratio.data(), B)) / (sy / B);
+  EXPECT_NEAR(gdsmc::jackknife_error(ratio.data(), B), expected, 0.02 * expected);
+  ratio[3] = std::nan("");
+  EXPECT_TRUE(std::isnan(gdsmc::jackknife_error(ratio.data(), B)));
 }
 
 }  // namespace
