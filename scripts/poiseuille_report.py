@@ -76,36 +76,6 @@ def table(out, header, rows):
     out.append("")
 
 
-def new_tmax(y, T):
-    """T_max and |y| of the maximum: least-squares parabola over the bins within max(2, bins//15) of
-    the largest bin; its vertex if inside that window, else the largest bin. T(0): local_centre, the committed
-    diagnostic's rule (the runs of this validation predate that choice and stored T(0) from an even fit)."""
-    n = len(T)
-    k = int(np.argmax(T))
-    h = max(2, n // 15)
-    lo, hi = max(0, k - h), min(n, k + h + 1)
-    tm, ym = T[k], abs(y[k])
-    c = np.polyfit(y[lo:hi], T[lo:hi], 2)
-    if c[0] < 0:
-        yv = -c[1] / (2 * c[0])
-        if y[lo] <= yv <= y[hi - 1]:
-            tm, ym = np.polyval(c, yv), abs(yv)
-    t0 = local_centre(T)
-    return (tm - t0) / t0, ym, t0
-
-
-def local_centre(f):
-    """c0 of the least-squares c0 + c2 d^2 over the bins within max(2, bins//15) + 1/2 bin widths of
-    the centre (d in bins), as the committed diagnostic takes centre-line values."""
-    n = len(f)
-    d = np.arange(n) - (n - 1) / 2.0
-    m = (np.abs(d) <= max(2, n // 15) + 0.5) & np.isfinite(f)
-    if m.sum() < 3:
-        return NAN
-    A = np.vstack([np.ones(m.sum()), d[m] ** 2]).T
-    return float(np.linalg.lstsq(A, f[m], rcond=None)[0][0])
-
-
 class Case:
     def __init__(self, run, group, en_default):
         self.run, self.g = run, group
@@ -118,7 +88,6 @@ class Case:
         self.variant = a.get("sweep.resolution", "")
         self.kn = self.s("Kn")[0]
         self.ahat = self.s("a_hat")[0]
-        self._dt = None
 
     def s(self, name):
         if name not in self.d:
@@ -134,30 +103,6 @@ class Case:
 
     def y(self):
         return np.array(self.d["y"][:], dtype=float)
-
-    def dT(self):
-        """(delta_T, error, y_T_max, error, T(0)) with the new estimator; errors from NMC redraws."""
-        if self._dt is None:
-            y = self.y()
-            T, e = self.a("T")
-            if len(T) < 6 or not np.all(np.isfinite(T)):
-                self._dt = (NAN,) * 5
-            else:
-                d0, y0, t0 = new_tmax(y, T)
-                n = len(T)
-                e = np.where(np.isfinite(e), e, 0.0)
-                ds, ys = [], []
-                rng = redraws()
-                for _ in range(NMC):
-                    z = rng.standard_normal(n)
-                    z = 0.5 * (z + z[::-1]) * math.sqrt(2)  # mirror bins share a draw (symmetrised profile)
-                    if n % 2:
-                        z[n // 2] /= math.sqrt(2)
-                    dd, yy, _ = new_tmax(y, T + e * z)
-                    ds.append(dd)
-                    ys.append(yy)
-                self._dt = (d0, float(np.std(ds, ddof=1)), y0, float(np.std(ys, ddof=1)), t0)
-        return self._dt
 
     def wall_seconds(self):
         r = self.g.get("run")
@@ -536,34 +481,10 @@ OPEN_FINDINGS = [
     "sampling bias; what halving the layers and the time step together does to it is in section 10.",
 ]
 
-CENTRE = {"rho_centre": "rho", "T_centre": "T", "u_centre": "u_x", "p_centre": "p", "N1_centre": "N1",
-          "N2_centre": "N2", "Kn_centre": "rho"}
-
-
 def sval(c, q):
-    """(value, error) of a scalar or of a derived quantity."""
-    if q == "delta_T":
-        return c.dT()[0], c.dT()[1]
-    if q == "y_T_max":
-        return c.dT()[2], c.dT()[3]
-    if q in CENTRE:  # local centre fit of the steady profile (the committed diagnostic's rule)
-        v, e = c.a(CENTRE[q])
-        n = len(v)
-        val = local_centre(v)
-        # error: 100 redraws with the per-bin errors (mirror bins share a draw: symmetrised profile)
-        e = np.where(np.isfinite(e), e, 0.0)
-        draws = []
-        rng = redraws()
-        for _ in range(100):
-            z = rng.standard_normal(n)
-            z = 0.5 * (z + z[::-1]) * math.sqrt(2)
-            draws.append(local_centre(v + e * z))
-        err = float(np.std(draws, ddof=1))
-        if q == "Kn_centre":
-            return c.kn / val, c.kn / val * err / val
-        return val, err
+    """(value, error) of a scalar of poiseuille_channel or of a ratio of two."""
     if q == "ratio0fw":  # Kn_0 / Kn_fw = rho_fw / rho(0)
-        (a, ea), (b, eb) = c.s("rho_fw"), sval(c, "rho_centre")
+        (a, ea), (b, eb) = c.s("rho_fw"), c.s("rho_centre")
         r = a / b
         return r, abs(r) * math.hypot(ea / a, eb / b)
     return c.s(q)
@@ -723,13 +644,11 @@ def intro(w):
     w("integrated autocorrelation time of the delete-one values), except where said otherwise. Section 12 checks these")
     w("errors against the scatter of independent realizations.")
     w("")
-    w(f"**ΔT, y_Tmax and the centre-line values ρ(0), T(0), u(0), p(0), N₁(0), N₂(0), Kn₀** are recomputed here from the stored steady profiles")
-    w("with the estimators of the current `poiseuille_channel`, so that runs of every version read alike (before 1.2.1 the")
-    w("diagnostic stored a noisier 3-point parabola): T_max from a least-squares parabola over the bins within")
-    w("max(2, bins//15) of the largest bin (its vertex if inside that window, else the largest bin), T(0) and the other")
-    w(f"centre values from c0 + c2y² over the central 2·max(2, bins//15) bins (the runs stored a fit over |y| ≤ 0.25); errors from {NMC} Monte Carlo redraws of the profile with independent")
-    w("Gaussian per-bin errors (mirror bins share a draw, as the stored profile is symmetrised). Sign-change and")
-    w(f"Knudsen-minimum errors are from the same kind of redraws of the scalars ({NMC_MINIMUM} for the minimum). Each error has")
+    w("**ΔT, y_Tmax and the centre-line values ρ(0), T(0), u(0), p(0), N₁(0), N₂(0), Kn₀** are those `poiseuille_channel`")
+    w("writes (its documentation: T_max from a least-squares parabola over the bins within max(2, bins/15) of the largest")
+    w("bin, centre values from c0 + c2y² over the central 2·max(2, bins/15) bins), with its jackknife errors; an output of")
+    w("a version before 1.2.1 stored a noisier 3-point T_max and centre values from a fit over |y| ≤ 0.25. Sign-change and")
+    w(f"Knudsen-minimum errors are from Monte Carlo redraws of the scalars within their errors ({NMC} draws, {NMC_MINIMUM} for the minimum). Each error has")
     w("its own generator, so that it does not depend on what else the report computed.")
     w("")
 
@@ -919,7 +838,7 @@ def main():
         table(out, ["y/W", "u_x", "T", "p/p(0)", "P_xy/p(0)"],
               [[f"{y[i]:+.3f}", fmt(u[i], ue[i]), fmt(T[i], Te[i]), fmt(p[i] / p0, pe[i] / p0), fmt(pxy[i] / p0, pxye[i] / p0)]
                for i in idx])
-        d0, de, ym, yme, t0 = c.dT()
+        (d0, de), (ym, yme), t0 = c.s("delta_T"), c.s("y_T_max"), c.s("T_centre")[0]
         w(f"ΔT = {fmt(d0, de)} at y_Tmax = {fmt(ym, yme)} W, T(0) = {fmt(t0)}; Q = {fmt(*c.s('Q'))}, "
           f"u(0) = {fmt(*c.s('u_centre'))}. The paper (Fig. 2): good match with Mansour et al. (DSMC) and a bimodal T(y),")
         w("minimum at the centre and two maxima a few mean free paths from it; no numbers are tabulated, so the")
@@ -952,7 +871,7 @@ def main():
                     idx = profile_rows(c, np.linspace(0, 0.5, 9))
                     v, e = c.a(q)
                     if q == "T":
-                        t0 = c.dT()[4]
+                        t0 = c.s("T_centre")[0]
                         v, e = v / t0, e / t0
                     if rows is None:
                         rows = [[f"{c.y()[i]:.3f}"] for i in idx]
@@ -1000,27 +919,14 @@ def main():
     w("## 5. Figs. 7–9: excess temperature ΔT and the bimodality phase diagram")
     w("")
     if main05:
-        w("ΔT (new estimator) against Kn, â = 0.5:")
+        w("ΔT against Kn, â = 0.5:")
         w("")
         ens7 = [e for e in (1, 0.999, 0.995, 0.99, 0.95, 0.9, 0.7) if pick(main05, en=e)]
         grid(out, main05, "delta_T", ens7)
-        w("Fig. 7 table in full: the new estimate, y_Tmax and the stored value of the run's old 3-point estimator:")
+        w("Fig. 7 table in full: ΔT and y_Tmax of `poiseuille_channel`:")
         w("")
-        def centre_ratio(c):  # the stored (wide even-fit) T(0) over the local centre fit
-            a, b = c.s("T_centre")[0], sval(c, "T_centre")[0]
-            return a / b if b else NAN
-        rows = [[f"{c.en:g}", f"{c.kn:g}", fmt(*sval(c, "delta_T")), fmt(*sval(c, "y_T_max")), fmt(centre_ratio(c)),
-                 fmt(*c.s("delta_T"))] for en in ENS for c in pick(main05, en=en)]
-        bad = [(c, centre_ratio(c), c.s("rho_centre")[0] / (sval(c, "rho_centre")[0] or NAN)) for c in main05]
-        bad = [b for b in bad if np.isfinite(b[1]) and abs(b[1] - 1) > 0.05]
-        if bad:
-            FINDINGS.append("An even centre fit (c0 + c2y² + c4y⁴, |y| ≤ 0.25; what these runs stored as T(0), ρ(0)) flattens a sharp central cluster, so the diagnostic now takes centre values from a local fit over the central 2·max(2, bins/15) bins and this report recomputes them so: " + "; ".join(
-                f"e_n = {c.en:g}, Kn = {c.kn:g}: T(0) fit/centre bin = {t:.2f}, ρ(0) fit/centre bin = {r:.2f}" for c, t, r in bad)
-                + ". The curvatures T''(0), ρ''(0) and χ still come from the fit and are unreliable there.")
-        table(out, ["e_n", "Kn", "ΔT (new)", "y_Tmax / W", "stored T(0) wide fit / local", "ΔT stored (old estimator)"], rows)
-        w("A stored-fit/centre-bin ratio far from 1 marks a sharp central temperature dip (strong clustering at small")
-        w("Kn) that an even quartic over |y| ≤ 0.25 cannot follow; ΔT here uses the local centre fit.")
-        w("")
+        rows = [[f"{c.en:g}", f"{c.kn:g}", fmt(*c.s("delta_T")), fmt(*c.s("y_T_max"))] for en in ENS for c in pick(main05, en=en)]
+        table(out, ["e_n", "Kn", "ΔT", "y_Tmax / W"], rows)
         w("ΔT against e_n (Fig. 7b):")
         w("")
         by_restitution(out, main05, (("delta_T", "ΔT"),))

@@ -8,8 +8,8 @@ e_n >= 0.9; the error bars against the seed scatter; the Knudsen minimum on nest
 Usage: poiseuille_resolution_report.py OUTDIR DOCDIR > DOCDIR/poiseuille-resolution.md
 OUTDIR holds resolution_en<e_n>*.h5, seeds_kn*.h5, slip_wall_fit.h5 and knudsen_minimum.h5 (each optional) with
 their NAME.seconds; the figure goes to
-DOCDIR/poiseuille/resolution.png. The per-case helpers (Case, the Delta T estimator, the Knudsen
-minimum and the slip power law) are poiseuille_report.py's."""
+DOCDIR/poiseuille/resolution.png. The per-case helpers (Case, the Knudsen minimum and the slip power
+law) are poiseuille_report.py's."""
 import glob
 import math
 import os
@@ -25,7 +25,7 @@ from report_figures import plt, runs_line
 
 NAN = float("nan")
 VARIANTS = ["uniform", "w0.2", "w0.1", "w0.2 dt/2", "w0.1 bins x2"]
-# (key, label): scalars of poiseuille_channel; delta_T by the main report's estimator (Case.dT)
+# (key, label): scalars of poiseuille_channel
 QUANTITIES = [("N1_centre", "N₁(0)"), ("N2_centre", "N₂(0)"), ("delta_T", "ΔT"), ("rho_centre", "ρ(0)"),
               ("T_centre", "T(0)"), ("u_centre", "u(0)"), ("Q", "Q"), ("u_s", "u_s"), ("Kn_fw", "Kn_fw"),
               ("zeta", "ζ"), ("u_s_wall", "u_s, wall fit"), ("zeta_wall", "ζ, wall fit")]
@@ -44,10 +44,8 @@ BINS_CHANGE = {}  # (e_n, Kn): {quantity: (w0.1 bins x2 - w0.1) in standard erro
 
 
 def value(c, key):
-    """(value, error) of one case: Delta T by the main report's estimator; with realizations, the
-    error of their scatter (X_stderr), else the run's own (X_error)."""
-    if key == "delta_T":
-        return c.dT()[0], c.dT()[1]
+    """(value, error) of a scalar of poiseuille_channel in one case: with realizations, the error of
+    their scatter (X_stderr), else the run's own (X_error)."""
     v, e = c.s(key)
     if key + "_stderr" in c.d:
         e = float(c.d[key + "_stderr"][()])
