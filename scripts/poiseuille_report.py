@@ -332,13 +332,10 @@ def dufour_section(out, main05):
             def fit(cols):
                 X = np.vstack([x[:, 0] for x in cols]).T
                 coef = np.zeros(len(cols))
-                for _ in range(5):  # the effective variances follow the coefficients
-                    sw = 1.0 / np.sqrt(ts[:, 1] ** 2 + sum((coef[i] * x[:, 1]) ** 2 for i, x in enumerate(cols)))
-                    coef, *_ = np.linalg.lstsq(X * sw[:, None], ts[:, 0] * sw, rcond=None)
-                sw = 1.0 / np.sqrt(ts[:, 1] ** 2 + sum((coef[i] * x[:, 1]) ** 2 for i, x in enumerate(cols)))
-                A = X * sw[:, None]
-                chi2 = float(np.sum(((X @ coef - ts[:, 0]) * sw) ** 2)) / max(1, len(cc) - len(cols))
-                return coef, np.sqrt(np.diag(np.linalg.inv(A.T @ A))), chi2
+                for _ in range(6):  # the effective variances follow the coefficients
+                    sigma = np.sqrt(ts[:, 1] ** 2 + sum((coef[i] * x[:, 1]) ** 2 for i, x in enumerate(cols)))
+                    coef, cov, chi2 = weighted_least_squares(X, ts[:, 0], sigma)
+                return coef, np.sqrt(np.diag(cov)), chi2
             (a2, e2, q2), (a1, e1, q1) = fit([x1, x2]), fit([x1])
             r12 = float(np.corrcoef(x1[:, 0], x2[:, 0])[0, 1])
             rows.append([f"{en:g}", f"≤ {top:g}", len(cc), fmt(a2[0], e2[0]), fmt(a2[1], e2[1]), fmt(q2, d=2),
@@ -569,6 +566,15 @@ def parabola_minimum(k, v):
     return math.exp(xv), np.polyval(c, xv)
 
 
+def weighted_least_squares(X, y, sigma):
+    """The fit y ≈ X coef with standard errors sigma (the one linear least-squares fit of this report and of
+    poiseuille_resolution_report.py): (coef, their covariance, χ²/dof), dof = rows − columns (at least 1)."""
+    A = X / sigma[:, None]
+    coef, *_ = np.linalg.lstsq(A, y / sigma, rcond=None)
+    chi2 = float(np.sum(((X @ coef - y) / sigma) ** 2)) / max(1, len(y) - X.shape[1])
+    return coef, np.linalg.inv(A.T @ A), chi2
+
+
 def knudsen_minima(k, v, e, grids):
     """The Knudsen minimum on nested grids of one set of runs (each a boolean mask over k): per grid
     ((Kn_min, error), (Q_min, error)), and per neighbouring pair of grids the difference of ln Kn_min
@@ -609,11 +615,8 @@ def slip_power_law(cs, key="zeta"):
     if m.sum() < 3:
         return None
     X, Y, S = np.log(x[m]), np.log(z[m, 0]), z[m, 1] / z[m, 0]
-    A = np.vstack([X, np.ones_like(X)]).T / S[:, None]
-    coef, *_ = np.linalg.lstsq(A, Y / S, rcond=None)
-    cov = np.linalg.inv(A.T @ A)
-    chi2 = float(np.sum(((Y - (coef[0] * X + coef[1])) / S) ** 2))
-    return coef[0], math.sqrt(cov[0, 0]), math.exp(-coef[1]), chi2 / max(1, m.sum() - 2), int(m.sum())
+    coef, cov, chi2 = weighted_least_squares(np.vstack([X, np.ones_like(X)]).T, Y, S)
+    return coef[0], math.sqrt(cov[0, 0]), math.exp(-coef[1]), chi2, int(m.sum())
 
 
 def slip_power_law_groups(cases, ens):
@@ -1259,9 +1262,7 @@ def main():
                 continue
             y = c.y(); u, e = c.a("u_x")
             m = (np.abs(y) <= 0.3) & np.isfinite(u) & (e > 0)
-            A = np.vstack([np.ones(m.sum()), y[m] ** 2]).T / (e[m, None] / c.ahat)
-            coef, *_ = np.linalg.lstsq(A, u[m] / e[m], rcond=None)
-            cov = np.linalg.inv(A.T @ A)
+            coef, cov, _ = weighted_least_squares(np.vstack([np.ones(m.sum()), y[m] ** 2]).T, u[m] / c.ahat, e[m] / c.ahat)
             dl = 0.888458 / c.kn
             r, re = coef[1] / (-dl), math.sqrt(cov[1, 1]) / dl
             rows.append([n, f"{c.kn:g}", f"{c.ahat:g}", fmt(coef[0], math.sqrt(cov[0, 0])), fmt(coef[1], math.sqrt(cov[1, 1])),
