@@ -186,7 +186,7 @@ inline constexpr const char* kDocumentation =
       "min_time (bare tau0, default 0), wall_temperature (bare T0, default 1), centre_fit (default\n"
       "0.25), wall_fit_bins (default 3), wall_fit_reach (length, bare lambda0; default 0: off).";
 
-// The scalars and profiles of one set of sums, in the order of columns.hpp.
+// The scalars and profiles of one set of sums, in the order of kScalars and kProfiles.
 struct Result {
   std::vector<double> scalars;   // kScalar
   std::vector<double> profiles;  // kProfile x bins
