@@ -414,7 +414,13 @@ void StudyRunner::run_parallel(StudyResult& result) {
         mine_.size(), [this](std::size_t k) { execute_run(mine_[k]); },
         [&] {
           if (interrupt_ && interrupt_->load()) stop_.store(true);
-          if (exchange_) exchange_->poll(stop_, receiver);
+          if (!exchange_) return;
+          try {
+            exchange_->poll(stop_, receiver);
+          } catch (...) {
+            stop_.store(true);  // the runs under way end at their next poll of stop_
+            throw;
+          }
         },
         std::chrono::milliseconds(exchange_ ? 20 : 50));
   }
