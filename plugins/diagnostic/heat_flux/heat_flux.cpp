@@ -42,6 +42,26 @@ double theory_kappa(double alpha) {
 constexpr double kB1PerConductivity = 15.0 / 16.0;  // times sqrt(pi)
 // The converged elastic Sonine value kappa/kappa0 (001 Sec. IV, its Ref. 37).
 constexpr double kElasticReference = 1.025218;
+// The first-Sonine curves over alpha in [0, 1] (Figs. 3-4 of 001; kappa and mu beside them), with
+// b1 (Eq. 2.45) of the run's route.
+void write_theory_curves(gdsmc::OutputSink& out, bool kappa_route) {
+  constexpr std::size_t kPoints = 101;
+  std::vector<double> alpha(kPoints), kp(kPoints), kk(kPoints), mu(kPoints), b1(kPoints);
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    alpha[i] = static_cast<double>(i) / static_cast<double>(kPoints - 1);
+    kp[i] = theory_kappa_prime(alpha[i]);
+    kk[i] = theory_kappa(alpha[i]);
+    mu[i] = 2.0 * (kk[i] - kp[i]);
+    b1[i] = kB1PerConductivity * std::sqrt(kPi) * (kappa_route ? kk[i] : kp[i]);
+  }
+  out.array("theory_alpha_grid", alpha, {kPoints}, "1", "restitution coefficients alpha of the curves theory_*_vs_alpha");
+  out.array("theory_kappa_prime_over_kappa0_vs_alpha", kp, {kPoints}, "1", "first-Sonine kappa'/kappa0 at theory_alpha_grid, Eq. 2.42 over Eq. 2.47");
+  out.array("theory_kappa_over_kappa0_vs_alpha", kk, {kPoints}, "1", "first-Sonine kappa/kappa0 at theory_alpha_grid, Eq. 2.41 over Eq. 2.47");
+  out.array("theory_mu_n_over_T_kappa0_vs_alpha", mu, {kPoints}, "1",
+            "first-Sonine mu n/(T kappa0) = 2 (kappa - kappa')/kappa0 at theory_alpha_grid, Eq. 2.38");
+  out.array("theory_b1_vs_alpha", b1, {kPoints}, "1",
+            "first-Sonine b1 = (15 sqrt(pi)/16) x the route's kappa/kappa0 at theory_alpha_grid (Eq. 2.45)");
+}
 
 // ---- Generalized Laguerre polynomials and Sonine prefactors ---------------------------------
 // Coefficients of L_k^(a)(x) = sum_{i=0..k} (-1)^i binom(k + a, k - i) x^i / i!  (k <= 3).
@@ -65,7 +85,7 @@ double sonine_prefactor(int k, double a) {
 class HeatFlux final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "heat_flux";
-  static constexpr const char* version = "1.2.2";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary =
       "Heat-flux state of paper 001: q_x, kappa'/kappa0 (or kappa/kappa0), b_k (Eqs. 3.10, 3.12), g1, phi, beta1 and first-Sonine theory";
   static constexpr const char* documentation =
@@ -114,7 +134,10 @@ class HeatFlux final : public gdsmc::Diagnostic {
       "theory_kappa_over_kappa0 (Eq. 2.41/2.47), theory_mu_n_over_T_kappa0 = 2(kappa - kappa')/kappa0\n"
       "(Eq. 2.38), theory_conductivity_over_kappa0 (the route's), theory_b1 = (15 sqrt(pi)/16) x the\n"
       "route's value (Eq. 2.45), elastic_reference_kappa_over_kappa0 = 1.025218 (converged Sonine,\n"
-      "001 Ref. 37). Also epsilon_star, route (0 or 1), restitution, samples_in_window.";
+      "001 Ref. 37), nu0_tau0 = nu0(T0) tau0 (Eq. 2.15; 8/(5 sqrt pi)). Theory arrays: theory_alpha_grid [1]\n"
+      "(101 alpha in [0, 1]) and over it theory_kappa_prime_over_kappa0_vs_alpha, theory_kappa_over_kappa0_vs_alpha,\n"
+      "theory_mu_n_over_T_kappa0_vs_alpha, theory_b1_vs_alpha (the route's) [1]. Every theory dataset carries\n"
+      "role = theory and its equation. Also epsilon_star, route (0 or 1), restitution, samples_in_window.";
   static std::vector<gdsmc::ParamSpec> parameters() {
     return {gdsmc::ParamSpec::real("c_max", "histogram range |c_x| < c_max (reduced velocity c = V/sqrt(2T/m))")
                 .range(2.0, 8.0)
@@ -200,6 +223,10 @@ class HeatFlux final : public gdsmc::Diagnostic {
     put("theory_b1", kB1PerConductivity * std::sqrt(kPi) * route_value,
         "first-Sonine b1 = (15 sqrt(pi)/16) x the route's kappa/kappa0 (Eq. 2.45)");
     put("elastic_reference_kappa_over_kappa0", kElasticReference, "converged Sonine kappa/kappa0 at alpha = 1 (001, Ref. 37)");
+    // nu0 (Eq. 2.15) at T0 times tau0 = lambda0 / sqrt(2 T0/m): the time unit's collision frequency.
+    put("nu0_tau0", 16.0 / 5.0 * std::sqrt(kPi) * n_ * sigma_ * sigma_ * std::sqrt(t0_) * lambda_ / std::sqrt(2.0 * t0_),
+        "nu0 tau0 at T0 (Eq. 2.15, tau0 = lambda0/sqrt(2 T0/m)): zeta tau0 = (zeta0/nu0) nu0 tau0");
+    write_theory_curves(out, kappa);
     for (double& s : sums_) s = 0;
     samples_ = 0;
   }
@@ -286,6 +313,11 @@ class HeatFlux final : public gdsmc::Diagnostic {
     out.theory("theory_kappa_over_kappa0", "", "001 Eqs. 2.41, 2.47");
     out.theory("theory_mu_n_over_T_kappa0", "", "001 Eq. 2.38");
     out.theory("elastic_reference_kappa_over_kappa0", "", "001 Ref. 37");
+    out.theory("nu0_tau0", "", "001 Eq. 2.15");
+    out.theory("theory_kappa_prime_over_kappa0_vs_alpha", "", "001 Eqs. 2.42, 2.47");
+    out.theory("theory_kappa_over_kappa0_vs_alpha", "", "001 Eqs. 2.41, 2.47");
+    out.theory("theory_mu_n_over_T_kappa0_vs_alpha", "", "001 Eq. 2.38");
+    out.theory("theory_b1_vs_alpha", "", "001 Eq. 2.45");
   }
 
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {

@@ -342,6 +342,42 @@ TEST(HeatFluxTheory, FirstSonineScalars) {
   }
 }
 
+// The curves over alpha (101 points of [0, 1]) against the independent sonine() above, the run's alpha
+// on the grid equal to the scalars bit for bit (one formula), and nu0 tau0 = 8/(5 sqrt pi) (Eq. 2.15).
+TEST(HeatFluxTheory, FirstSonineCurvesOverAlpha) {
+  t::TempDir dir;
+  for (int route : {0, 1}) {
+    Bench b(dir, "heat_flux", 1000);
+    b.board.publish("heat_flux_epsilon_star", 0.025);
+    b.board.publish("heat_flux_route", route);
+    b.board.publish("restitution", 0.3);
+    b.diag->begin(b.sys, b.board, *b.out);
+    const auto& alpha = b.array("theory_alpha_grid");
+    const auto& kp = b.array("theory_kappa_prime_over_kappa0_vs_alpha");
+    const auto& k = b.array("theory_kappa_over_kappa0_vs_alpha");
+    const auto& mu = b.array("theory_mu_n_over_T_kappa0_vs_alpha");
+    const auto& b1 = b.array("theory_b1_vs_alpha");
+    ASSERT_EQ(alpha.size(), 101u);
+    for (const auto* curve : {&kp, &k, &mu, &b1}) ASSERT_EQ(curve->size(), 101u);
+    EXPECT_EQ(alpha.front(), 0.0);
+    EXPECT_EQ(alpha.back(), 1.0);
+    for (std::size_t i = 0; i < alpha.size(); ++i) {
+      EXPECT_NEAR(alpha[i], 0.01 * static_cast<double>(i), 1e-15);
+      const Sonine s = sonine(alpha[i]);
+      EXPECT_NEAR(kp[i], s.kp, 1e-12) << "alpha = " << alpha[i];
+      EXPECT_NEAR(k[i], s.k, 1e-12) << "alpha = " << alpha[i];
+      EXPECT_NEAR(mu[i], 2 * (s.k - s.kp), 1e-12) << "alpha = " << alpha[i];
+      EXPECT_NEAR(b1[i], 15 * std::sqrt(M_PI) / 16 * (route ? s.k : s.kp), 1e-12) << "alpha = " << alpha[i];
+    }
+    EXPECT_EQ(alpha[30], 0.3);
+    EXPECT_EQ(kp[30], b.scalar("theory_kappa_prime_over_kappa0"));
+    EXPECT_EQ(k[30], b.scalar("theory_kappa_over_kappa0"));
+    EXPECT_EQ(mu[30], b.scalar("theory_mu_n_over_T_kappa0"));
+    EXPECT_EQ(b1[30], b.scalar("theory_b1"));
+    EXPECT_NEAR(b.scalar("nu0_tau0"), 8 / (5 * std::sqrt(M_PI)), 1e-14);
+  }
+}
+
 // Without a heat-flux forcing the diagnostic refuses, naming the forcing to add: directly, and
 // when the host sets up a run.
 TEST(HeatFluxTheory, RefusesARunWithoutTheForcing) {
