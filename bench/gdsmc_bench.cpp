@@ -433,7 +433,8 @@ struct EngineRun {
     const double c = 2.0 * kCollisionFractionPerCall * std::sqrt(M_PI) / 2.0;
     pipeline = host::load_pipeline(pipeline_file(),
                                    {"run.particles=" + std::to_string(n), "run.time_step.value=" + std::to_string(c)},
-                                   {plugin_dir()});
+                                   {plugin_dir()})
+                   .pipeline;
     engine = std::make_unique<host::Engine>(pipeline, 0, threads);
   }
   void restart() { engine = std::make_unique<host::Engine>(pipeline, 0, threads); }

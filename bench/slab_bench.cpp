@@ -49,7 +49,7 @@ struct SlabRun {
     const std::string text = slab_yaml(n);
     std::fwrite(text.data(), 1, text.size(), f);
     std::fclose(f);
-    pipeline = host::load_pipeline(file, {}, {plugin_dir()});
+    pipeline = host::load_pipeline(file, {}, {plugin_dir()}).pipeline;
     std::filesystem::remove(file);
     engine = std::make_unique<host::Engine>(pipeline, 0, static_cast<unsigned>(threads));
     // Untimed: the initial state lies in storage in no particular layer order until the first

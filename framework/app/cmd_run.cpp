@@ -50,18 +50,17 @@ std::string output_origin(const Options& o, const Pipeline& p) {
 }
 
 // What the run reads and must never be written over: the pipeline and every plugin library.
-std::vector<RunInput> run_inputs(const Pipeline& p, const std::vector<StudyCase>& cases) {
-  std::vector<RunInput> in{{p.file, "the pipeline"}};
+std::vector<RunInput> run_inputs(const LoadedPipeline& loaded, const std::vector<StudyCase>& cases) {
+  std::vector<RunInput> in{{loaded.pipeline.file, "the pipeline"}};
   auto add = [&](const LoadedPlugin* lp) {
     if (lp) in.push_back({lp->file, "the library of plugin '" + lp->descriptor->name + "'"});
   };
-  if (p.registry)
-    for (const auto& lp : p.registry->plugins()) add(&lp);
+  for (const auto& lp : loaded.plugins->plugins()) add(&lp);
   for (const auto& c : cases) {
     const Pipeline& q = c.pipeline;
-    for (const PluginUse* u : {&q.initial_state, &q.collision}) add(u->plugin);
+    for (const PluginUse* u : {&q.initial_state, &q.collision}) add(u->plugin.get());
     for (const auto* uses : {&q.forcings, &q.boundaries, &q.diagnostics})
-      for (const auto& u : *uses) add(u.plugin);
+      for (const auto& u : *uses) add(u.plugin.get());
   }
   return in;
 }
@@ -105,10 +104,11 @@ std::vector<std::string> reading_report(const std::vector<StudyCase>& cases,
 // and removes a temporary file beside it), set each case up once and estimate the memory before
 // anything runs (a run builds every engine; validate only the plugin objects). Returns 0, or the
 // exit status.
-int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& cases, OutputTarget& target,
+int prepare(const Options& o, bool run_it, LoadedPipeline& loaded, std::vector<StudyCase>& cases, OutputTarget& target,
             MemoryEstimate& memory, std::vector<std::string>& reading) {
+  Pipeline& p = loaded.pipeline;
   try {
-    p = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
+    loaded = load_pipeline(o.positional[0], o.sets, o.plugin_paths);
   } catch (const PipelineError& e) {
     print_warnings(e.warnings());
     print_errors(e.messages());
@@ -117,7 +117,7 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
     print_errors({o.positional[0] + ": " + failure_text(e, nullptr)});
     return 1;
   }
-  print_warnings(p.warnings);
+  print_warnings(loaded.warnings);
   if (!o.output.empty()) p.output_file = o.output;
   const auto start = std::chrono::steady_clock::now();
   CheckProgress progress;  // a line every few seconds while a large sweep is checked
@@ -129,7 +129,7 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
     };
   bool estimated = false;
   try {
-    cases = expand_cases(p, progress);
+    cases = expand_cases(loaded, progress);
     int threads = o.threads;
     // Under MPI, every core (run.threads 0) is this rank's share of its node's cores.
     if (threads < 0 && p.threads == 0 && job::distributed())
@@ -139,7 +139,7 @@ int prepare(const Options& o, bool run_it, Pipeline& p, std::vector<StudyCase>& 
       for (auto& c : cases) c.pipeline.threads = p.threads;
     }
     try {
-      target = check_output_path(p.output_file, run_inputs(p, cases));
+      target = check_output_path(p.output_file, run_inputs(loaded, cases));
       if (!run_it) probe_temporary(target);
       if (p.checkpoint || o.resume) {  // the checkpoint directory, and its longest file name
         std::size_t runs = 0;
@@ -455,12 +455,13 @@ int cmd_run(const Options& options, bool run_it) {
   Options o = options;
   if (!job::root()) o.quiet = true;
   if (o.positional.size() != 1) return usage_error(std::string(run_it ? "run" : "validate") + " takes one PIPELINE.yaml");
-  Pipeline p;
+  LoadedPipeline loaded;
+  const Pipeline& p = loaded.pipeline;
   std::vector<StudyCase> cases;
   OutputTarget target;
   MemoryEstimate memory;
   std::vector<std::string> reading;
-  if (const int status = agree(prepare(o, run_it, p, cases, target, memory, reading), hold)) return status;
+  if (const int status = agree(prepare(o, run_it, loaded, cases, target, memory, reading), hold)) return status;
   if (run_it && !o.quiet)
     for (const auto& line : reading) std::cerr << line << "\n";
   const std::string notice = target.replacement_notice(run_it);

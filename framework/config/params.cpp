@@ -27,8 +27,8 @@ std::string searched_text(const PluginRegistry& r) {
 
 // The plugin an entry names (a bare name or {plugin: NAME, ...}), of the right kind; `map` is set
 // to the entry when it is a mapping.
-const LoadedPlugin* resolve_plugin(Checker& c, const Pipeline& p, const YAML::Node& node, const std::string& path,
-                                   PluginKind kind, YAML::Node& map, std::string& name) {
+const LoadedPlugin* resolve_plugin(Checker& c, const PluginRegistry& plugins, const YAML::Node& node,
+                                   const std::string& path, PluginKind kind, YAML::Node& map, std::string& name) {
   if (node.IsScalar()) {
     name = node.Scalar();
   } else if (node.IsMap() && node["plugin"] && node["plugin"].IsScalar()) {
@@ -39,16 +39,16 @@ const LoadedPlugin* resolve_plugin(Checker& c, const Pipeline& p, const YAML::No
                             " plugin");
     return nullptr;
   }
-  const LoadedPlugin* lp = p.registry->find(name);
+  const LoadedPlugin* lp = plugins.find(name);
   Checker::About about(c, name);
   if (!lp) {
-    auto close = closest_names(name, p.registry->names_of_kind(kind));
-    if (close.empty()) close = closest_names(name, p.registry->names());
-    const auto all = p.registry->names_of_kind(kind);
+    auto close = closest_names(name, plugins.names_of_kind(kind));
+    if (close.empty()) close = closest_names(name, plugins.names());
+    const auto all = plugins.names_of_kind(kind);
     c.error(path, node, "unknown " + std::string(to_string(kind)) + " plugin '" + name + "'" +
                             (close.empty() ? "" : "; did you mean " + join(close, ", ") + "?") +
                             " (installed " + to_string(kind) + " plugins: " + (all.empty() ? "none" : join(all, ", ")) +
-                            "; searched: " + searched_text(*p.registry) + "; `gdsmc plugins` lists them)");
+                            "; searched: " + searched_text(plugins) + "; `gdsmc plugins` lists them)");
     return nullptr;
   }
   if (lp->descriptor->kind != kind) {
@@ -234,16 +234,16 @@ std::optional<ParamValue> read_value(Checker& c, Pipeline& p, const ParamSpec& s
   return std::nullopt;
 }
 
-std::optional<PluginUse> check_plugin(Checker& c, Pipeline& p, const YAML::Node& node, const std::string& path,
-                                      PluginKind kind) {
+std::optional<PluginUse> check_plugin(Checker& c, const std::shared_ptr<const PluginRegistry>& plugins, Pipeline& p,
+                                      const YAML::Node& node, const std::string& path, PluginKind kind) {
   PluginUse use;
   use.path = path;
   use.where = c.where(path, node);
   YAML::Node map;
   std::string name;
-  const LoadedPlugin* lp = resolve_plugin(c, p, node, path, kind, map, name);
+  const LoadedPlugin* lp = resolve_plugin(c, *plugins, node, path, kind, map, name);
   if (!lp) return std::nullopt;
-  use.plugin = lp;
+  use.plugin = std::shared_ptr<const LoadedPlugin>(plugins, lp);  // shares the registry's lifetime
   use.instance_name = name;
   const auto& schema = lp->descriptor->parameters;
   Checker::About about(c, name);

@@ -21,34 +21,6 @@ std::string where_text(const PluginUse& use) {
          use.plugin->file.string() + ")";
 }
 
-SystemInfo Pipeline::system_info(std::size_t n, std::uint32_t realization) const {
-  SystemInfo sys;
-  sys.particles = n;
-  sys.number_density = number_density;
-  sys.sigma = sigma;
-  sys.mass = 1.0;
-  sys.initial_temperature = temperature;
-  sys.mean_free_path0 = mean_free_path0();
-  sys.time_unit0 = time_unit0();
-  sys.volume = static_cast<double>(n) / number_density;
-  sys.geometry = geometry;
-  if (geometry == Geometry::slab) {
-    sys.box[1] = box_y;
-    const double area = sys.volume / box_y;  // A = (N/L)/n (000 Eq. 4.2)
-    sys.box[0] = box_x > 0 ? box_x : std::sqrt(area);
-    sys.box[2] = area / sys.box[0];
-    sys.cells = layers;
-    sys.bins = bins ? bins : layers;
-  } else {
-    sys.box[0] = sys.box[1] = sys.box[2] = std::cbrt(sys.volume);
-    sys.cells = 1;
-    sys.bins = 1;
-  }
-  sys.seed = seed;
-  sys.realization = realization;
-  return sys;
-}
-
 double Pipeline::mean_free_path0() const { return 1.0 / (std::sqrt(2.0) * M_PI * number_density * sigma * sigma); }
 double Pipeline::time_unit0() const { return mean_free_path0() / std::sqrt(2.0 * temperature); }
 
@@ -76,13 +48,13 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides
 }
 
 // Plugin search path: --plugin-path, the pipeline's `plugins:` (relative to the file), then the defaults.
-void build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
-                    const std::vector<fs::path>& extra_plugin_paths, Pipeline& p) {
-  p.registry = std::make_shared<PluginRegistry>();
+std::shared_ptr<const PluginRegistry> build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
+                                                     const std::vector<fs::path>& extra_plugin_paths) {
+  auto registry = std::make_shared<PluginRegistry>();
   std::vector<std::string> load_errors;
   auto add_path = [&](const fs::path& where, const std::string& origin) {
     try {
-      p.registry->add(where);
+      registry->add(where);
     } catch (const PluginLoadError& e) {
       load_errors.push_back(origin + ": " + e.what());
     }
@@ -98,8 +70,8 @@ void build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
         const std::string where = c.where(item("plugins", k), pl[k]).str();
         std::error_code ec;
         if (!fs::exists(d, ec)) {
-          p.warnings.push_back(where + ": plugins[" + std::to_string(k) + "]: " + d.string() +
-                               " does not exist; no plugins are loaded from it");
+          c.warn(where + ": plugins[" + std::to_string(k) + "]: " + d.string() +
+                 " does not exist; no plugins are loaded from it");
           continue;
         }
         add_path(d, where);
@@ -108,7 +80,8 @@ void build_registry(Checker& c, const YAML::Node& root, const fs::path& file,
   }
   for (const auto& d : PluginRegistry::default_search_path()) add_path(d, "plugin search path");
   for (const auto& e : load_errors) c.error(SourceLocation{}, "", e);
-  for (const auto& w : p.registry->warnings()) p.warnings.push_back(w);
+  for (const auto& w : registry->warnings()) c.warn(w);
+  return registry;
 }
 
 // The section `key` of the document; when it is missing, an error that shows a minimal valid one.
@@ -128,7 +101,7 @@ YAML::Node required_section(Checker& c, const YAML::Node& root, const fs::path& 
 }
 
 // boundaries: {y_min: PLUGIN, y_max: PLUGIN} or {y: PLUGIN} for both planes of a slab.
-void parse_boundaries(Checker& c, const YAML::Node& root, Pipeline& p) {
+void parse_boundaries(Checker& c, const YAML::Node& root, const std::shared_ptr<const PluginRegistry>& plugins, Pipeline& p) {
   const YAML::Node b = root["boundaries"];
   const bool given = b && !b.IsNull() && !(b.IsSequence() && b.size() == 0);
   if (p.geometry != Geometry::slab) {
@@ -148,25 +121,26 @@ void parse_boundaries(Checker& c, const YAML::Node& root, Pipeline& p) {
     return;
   }
   if (b["y"]) {
-    if (auto u = check_plugin(c, p, b["y"], "boundaries.y", PluginKind::boundary)) p.boundaries = {*u, *u};
+    if (auto u = check_plugin(c, plugins, p, b["y"], "boundaries.y", PluginKind::boundary)) p.boundaries = {*u, *u};
     return;
   }
   for (const char* side : {"y_min", "y_max"})
     if (!b[side])
       c.error("boundaries", b, std::string("missing '") + side + "': a slab needs a boundary on both y planes");
   if (!b["y_min"] || !b["y_max"]) return;
-  auto low = check_plugin(c, p, b["y_min"], "boundaries.y_min", PluginKind::boundary);
-  auto high = check_plugin(c, p, b["y_max"], "boundaries.y_max", PluginKind::boundary);
+  auto low = check_plugin(c, plugins, p, b["y_min"], "boundaries.y_min", PluginKind::boundary);
+  auto high = check_plugin(c, plugins, p, b["y_max"], "boundaries.y_max", PluginKind::boundary);
   if (low && high) p.boundaries = {*low, *high};
 }
 
 // initial_state, collision, forcings, boundaries and diagnostics, checked against their plugins.
-void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pipeline& p) {
+void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, const std::shared_ptr<const PluginRegistry>& plugins,
+                   Pipeline& p) {
   auto need = [&](const char* key) { return required_section(c, root, file, key); };
   if (YAML::Node n = need("initial_state"))
-    if (auto u = check_plugin(c, p, n, "initial_state", PluginKind::initial_state)) p.initial_state = *u;
+    if (auto u = check_plugin(c, plugins, p, n, "initial_state", PluginKind::initial_state)) p.initial_state = *u;
   if (YAML::Node n = need("collision"))
-    if (auto u = check_plugin(c, p, n, "collision", PluginKind::collision_rule)) p.collision = *u;
+    if (auto u = check_plugin(c, plugins, p, n, "collision", PluginKind::collision_rule)) p.collision = *u;
   auto list = [&](const char* key, PluginKind kind, std::vector<PluginUse>& into) {
     const YAML::Node n = root[key];
     if (!n || n.IsNull()) return;
@@ -175,10 +149,10 @@ void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pip
       return;
     }
     for (std::size_t k = 0; k < n.size(); ++k)
-      if (auto u = check_plugin(c, p, n[k], item(key, k), kind)) into.push_back(*u);
+      if (auto u = check_plugin(c, plugins, p, n[k], item(key, k), kind)) into.push_back(*u);
   };
   list("forcings", PluginKind::forcing, p.forcings);
-  parse_boundaries(c, root, p);
+  parse_boundaries(c, root, plugins, p);
   list("diagnostics", PluginKind::diagnostic, p.diagnostics);
   if (p.stop_steady) {
     bool found = false;
@@ -197,7 +171,6 @@ void parse_plugins(Checker& c, const YAML::Node& root, const fs::path& file, Pip
 
 namespace {
 
-// Everything after the document: the registry (unless shared), every section, every plugin.
 // The walls' work per step: a particle travels |v_y| dt, on average dt/sqrt(pi) lambda0 in y at
 // T0 (dt in tau0 = lambda0/sqrt(2T0/m)), so it meets a wall about dt/(sqrt(pi) Ly) times a step.
 // Above kMaxWallHitsPerStep a step would spend its time reflecting particles (a slab 1e-6 lambda0
@@ -220,21 +193,20 @@ void check_wall_hits(Checker& c, const YAML::Node& root, Pipeline& p) {
                        "most %.3g tau0 (one wall hit a particle a step) or a wider gap",
                        kMaxWallHitsPerStep, largest));
   else
-    p.warnings.push_back(c.where("system.box.y", at).str() + ": system.box.y: " + what +
+    c.warn(c.where("system.box.y", at).str() + ": system.box.y: " + what +
                          fmt(": the gap is crossed within a step; a step of at most %.3g tau0 resolves it", largest));
 }
 
-void check_document(Checker& c, const YAML::Node& root, const std::vector<fs::path>& extra_plugin_paths,
-                    std::shared_ptr<PluginRegistry> registry, Pipeline& p) {
-  const fs::path& file = p.file;
+// The document's top-level keys (before the registry is built, so their errors come first).
+void check_sections(Checker& c, const YAML::Node& root) {
   c.check_keys(root, "", {"run", "system", "initial_state", "collision", "forcings", "boundaries", "diagnostics",
                           "output", "plugins", "sweep", "units"});
+}
+
+// Everything after the document's keys and the registry: every section, every plugin.
+void check_document(Checker& c, const YAML::Node& root, const std::shared_ptr<const PluginRegistry>& plugins, Pipeline& p) {
+  const fs::path& file = p.file;
   auto need = [&](const char* key) { return required_section(c, root, file, key); };
-  if (registry) {
-    p.registry = std::move(registry);
-  } else {
-    build_registry(c, root, file, extra_plugin_paths, p);
-  }
   if (const YAML::Node u = root["units"]) parse_units(c, u, p);  // first: it decides how the others read
   if (const YAML::Node run = need("run")) {
     parse_run(c, run, p);
@@ -251,14 +223,15 @@ void check_document(Checker& c, const YAML::Node& root, const std::vector<fs::pa
   if (p.output_file.empty()) p.output_file = file.stem().string() + ".h5";
   if (const YAML::Node sw = root["sweep"]) parse_sweep(c, sw, p);
   // Plugins need lambda0 and tau0 for their units: only check them once the system is sound.
-  if (p.number_density > 0) parse_plugins(c, root, file, p);
+  if (p.number_density > 0) parse_plugins(c, root, file, plugins, p);
 }
 
 }  // namespace
 
-Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& overrides,
-                       const std::vector<fs::path>& extra_plugin_paths, std::shared_ptr<PluginRegistry> registry) {
-  Pipeline p;
+LoadedPipeline load_pipeline(const fs::path& file, const std::vector<std::string>& overrides,
+                             const std::vector<fs::path>& extra_plugin_paths) {
+  LoadedPipeline loaded;
+  Pipeline& p = loaded.pipeline;
   p.file = file;
   p.overrides = overrides;
   p.source_text = read_pipeline_text(file);
@@ -269,9 +242,12 @@ Pipeline load_pipeline(const fs::path& file, const std::vector<std::string>& ove
   p.resolved_text = emitter.c_str();
 
   Checker c(file, overrides);
-  check_document(c, root, extra_plugin_paths, std::move(registry), p);
-  if (!c.errors().empty()) throw PipelineError(c.errors(), p.warnings);
-  return p;
+  check_sections(c, root);
+  loaded.plugins = build_registry(c, root, file, extra_plugin_paths);
+  check_document(c, root, loaded.plugins, p);
+  loaded.warnings = c.warnings();
+  if (!c.errors().empty()) throw PipelineError(c.errors(), loaded.warnings);
+  return loaded;
 }
 
 namespace {
@@ -306,7 +282,8 @@ std::string without_sweep(const std::string& text) {
 
 }  // namespace
 
-SweepCaseLoader::SweepCaseLoader(const Pipeline& base) : base_(base), text_(without_sweep(base.source_text)) {}
+SweepCaseLoader::SweepCaseLoader(const LoadedPipeline& base)
+    : base_(base), text_(without_sweep(base.pipeline.source_text)) {}
 
 const PluginUse* Pipeline::use_at(const std::string& path) const {
   for (const PluginUse* u : {&initial_state, &collision})
@@ -318,11 +295,12 @@ const PluginUse* Pipeline::use_at(const std::string& path) const {
 }
 
 Pipeline SweepCaseLoader::load(const std::vector<const SweepAxis::Value*>& values) const {
+  const Pipeline& base = base_.pipeline;
   Pipeline p;
-  p.file = base_.file;
-  p.overrides = base_.overrides;
+  p.file = base.file;
+  p.overrides = base.overrides;
   YAML::Node root = parse_document(p.file, text_);
-  apply_overrides(root, base_.overrides);
+  apply_overrides(root, base.overrides);
   std::vector<std::pair<std::string, SourceLocation>> from_sweep;
   std::vector<std::string> errors;
   for (const SweepAxis::Value* v : values)
@@ -333,10 +311,11 @@ Pipeline SweepCaseLoader::load(const std::vector<const SweepAxis::Value*>& value
     }
   if (!errors.empty()) throw PipelineError(errors);
   root.remove("sweep");  // a --set may have written one
-  Checker c(p.file, base_.overrides, std::move(from_sweep));
-  check_document(c, root, {}, base_.registry, p);
+  Checker c(p.file, base.overrides, std::move(from_sweep));
+  check_sections(c, root);
+  check_document(c, root, base_.plugins, p);
   if (!c.errors().empty()) throw PipelineError(c.errors());
-  p.output_file = base_.output_file;
+  p.output_file = base.output_file;
   return p;
 }
 

@@ -23,7 +23,8 @@ namespace gdsmc::host {
 struct PluginUse {
   std::string path;           // key path in the pipeline, e.g. "diagnostics[1]"
   std::string instance_name;  // output group name (the plugin name unless `name:` is given)
-  const LoadedPlugin* plugin = nullptr;
+  // The library the entry resolved to; holding it keeps its registry, and so the library, loaded.
+  std::shared_ptr<const LoadedPlugin> plugin;
   Params params;              // validated, defaults filled, reduced units
   SourceLocation where;
   std::uint64_t sample_every = 1;  // diagnostics only (steps)
@@ -141,28 +142,28 @@ struct Pipeline {
   bool output_particles = false;  // write the final particle state (/particles)
   bool output_realizations = false;  // also write each realization's own diagnostics (<group>/realizations/<k>)
   bool output_plots = false;  // after a successful run, draw the output with `gdsmc plot` (PNGs in <output>_plots/)
-  std::shared_ptr<PluginRegistry> registry;
-  // Problems that do not refuse the pipeline but that the user should see: plugin files on the
-  // search path that could not be used (and are so shadowed by others or missing), `plugins:`
-  // entries that do not exist.
-  std::vector<std::string> warnings;
 
   double mean_free_path0() const;  // lambda0 = 1 / (sqrt(2) pi n sigma^2)
   double time_unit0() const;       // tau0 = lambda0 / sqrt(2 T0 / m)
-  // What plugins see of this system with `particles` particles (homogeneous: a cube of volume N/n;
-  // slab: Ly given, Lx given or equal to Lz, Lx Ly Lz = N/n, 000 Eq. 4.2).
-  SystemInfo system_info(std::size_t particles, std::uint32_t realization) const;
   // The plugin entry at a key path ("collision", "forcings[0]", "boundaries.y_min"), or nullptr.
   const PluginUse* use_at(const std::string& path) const;
 };
 
-// Read, check and resolve a pipeline. `overrides` are "key.path=value" strings (--set); `extra_plugin_paths` come first in the search path.
-// `registry`, when given, is used instead of building one from the search path (the cases of a
-// sweep share their base pipeline's registry, so no library is loaded twice).
-// Throws PipelineError with every problem found.
-Pipeline load_pipeline(const std::filesystem::path& file, const std::vector<std::string>& overrides,
-                       const std::vector<std::filesystem::path>& extra_plugin_paths = {},
-                       std::shared_ptr<PluginRegistry> registry = nullptr);
+// What loading a pipeline gives: its configuration, every plugin library found on the search path
+// (the pipeline's entries point into it; the cases of its sweep are resolved against it, so no
+// library is loaded twice), and the warnings (plugin files on the search path that could not be
+// used, `plugins:` entries that do not exist, a time step that crosses the slab's gap).
+struct LoadedPipeline {
+  Pipeline pipeline;
+  std::shared_ptr<const PluginRegistry> plugins;
+  std::vector<std::string> warnings;
+};
+
+// Read, check and resolve a pipeline. `overrides` are "key.path=value" strings (--set);
+// `extra_plugin_paths` come first in the search path. Throws PipelineError with every problem found
+// (and the warnings).
+LoadedPipeline load_pipeline(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                             const std::vector<std::filesystem::path>& extra_plugin_paths = {});
 
 // The cases of a sweep, each loaded in time independent of the size of the sweep (so that
 // expanding N cases costs N times one case): the base pipeline's file is not read again and its
@@ -172,13 +173,13 @@ Pipeline load_pipeline(const std::filesystem::path& file, const std::vector<std:
 // the sweep gave is located at that value's entry in the sweep, not phrased as a --set.
 class SweepCaseLoader {
  public:
-  explicit SweepCaseLoader(const Pipeline& base);  // keeps a reference to `base`
+  explicit SweepCaseLoader(const LoadedPipeline& base);  // keeps a reference to `base`
   // The case with these values (one per axis). Throws PipelineError with every problem found.
   // Its source_text and resolved_text are empty (the study's provenance is the base pipeline's).
   Pipeline load(const std::vector<const SweepAxis::Value*>& values) const;
 
  private:
-  const Pipeline& base_;
+  const LoadedPipeline& base_;
   std::string text_;  // base.source_text without its sweep section
 };
 

@@ -205,7 +205,7 @@ void check_step(Checker& c, const YAML::Node& run, Pipeline& p) {
   const YAML::Node at = map ? ts["value"] : ts;
   const std::string path = map ? "run.time_step.value" : "run.time_step";
   auto warn = [&](const std::string& where, const YAML::Node& node, const std::string& message) {
-    p.warnings.push_back(c.where(where, node).str() + ": " + where + ": " + message);
+    c.warn(c.where(where, node).str() + ": " + where + ": " + message);
   };
   const double free_times = dt / kMeanFreeTimeTau0;
   if (free_times > 1) {
@@ -268,7 +268,7 @@ void check_average_window(Checker& c, const YAML::Node& run, Pipeline& p) {
   const YAML::Node aa = run["average_after"];
   auto warn = [&](const char* key, double after, double stop) {
     const std::string path = std::string("run.average_after.") + key;
-    p.warnings.push_back(c.where(path, aa[key]).str() + ": " + path +
+    c.warn(c.where(path, aa[key]).str() + ": " + path +
                          fmt(": the steady window starts at %.6g, not before run.stop.%s %.6g where the run ends: it "
                              "holds at most the last record, so every steady_stderr (and steady_mean, if the run "
                              "stops short of it) would be NaN; start the average earlier",

@@ -8,6 +8,7 @@
 
 #include "config/host_schema.hpp"
 #include "config/sections.hpp"
+#include "config/system_info.hpp"
 #include "util/text.hpp"
 
 namespace gdsmc::host {
@@ -176,7 +177,7 @@ void check_derived_scales(Checker& c, const YAML::Node& sys, Pipeline& p) {
       {"the time unit tau0 = lambda0/sqrt(2 T0/m)", p.time_unit0()},
   };
   if (N > 0 && (p.geometry != Geometry::slab || p.box_y > 0)) {
-    const SystemInfo info = p.system_info(p.particles, 0);
+    const SystemInfo info = system_info(p, p.particles, 0);
     scales.insert(scales.end(), {{"the volume N/n", info.volume},
                                  {"the box edge Lx", info.box[0]},
                                  {"the box edge Ly", info.box[1]},

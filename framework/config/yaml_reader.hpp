@@ -44,6 +44,10 @@ class Checker {
   // A problem the plugin itself reported (origin refused_by_plugin or plugin_failed).
   void plugin_error(const SourceLocation& at, const std::string& path, ErrorOrigin origin, const std::string& message);
   const std::vector<ConfigError>& errors() const { return errors_; }
+  // A problem that does not refuse the pipeline but that the user should see (a missing
+  // `plugins:` directory, a time step that crosses the slab's gap): the whole line, located.
+  void warn(std::string line) { warnings_.push_back(std::move(line)); }
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
   // While an About lives, the errors recorded concern `plugin` (and its `parameter`, when given).
   class About {
@@ -72,6 +76,7 @@ class Checker {
   std::vector<std::string> overrides_;
   std::vector<std::pair<std::string, SourceLocation>> from_sweep_;
   std::vector<ConfigError> errors_;
+  std::vector<std::string> warnings_;
   std::string plugin_, parameter_;  // of the innermost About
 };
 

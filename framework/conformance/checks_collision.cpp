@@ -1,5 +1,6 @@
 // Collision-rule checks: the pair kernel (collide_batch) on a grid of pairs, and the host's collision
 // stage with the rule on a population.
+#include "config/system_info.hpp"
 #include "conformance/internal.hpp"
 
 namespace gdsmc::host::conformance {
@@ -246,7 +247,7 @@ std::string pair_failure(const PairReport& r) {
 constexpr std::size_t kRandomPairs = 20000;
 
 BegunRule begun_rule(const Pipeline& p) {
-  BegunRule r{create_object(*p.collision.plugin, p.collision.params), p.system_info(16, 0)};
+  BegunRule r{create_object(*p.collision.plugin, p.collision.params), system_info(p, 16, 0)};
   QuantityBoard board;
   r.object->publish(board);
   for (const auto& f : p.forcings) create_object(*f.plugin, f.params)->publish(board);

@@ -1,4 +1,5 @@
 // The conformance harness (see harness.hpp), built from the engine's pieces.
+#include "config/system_info.hpp"
 #include "conformance/internal.hpp"
 
 namespace gdsmc::host::conformance {
@@ -76,7 +77,7 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
       objects.push_back(create_object(*p.boundaries[b].plugin, p.boundaries[b].params));
   for (const auto& o : objects)
     for (auto& at : o->attributes()) h->attributes.push_back(std::move(at));
-  h->sys = p.system_info(n, 0);
+  h->sys = system_info(p, n, 0);
   h->particles.allocate(n, h->attributes, h->sys.geometry == Geometry::slab);
   for (const auto& o : objects) o->publish(h->board);
 
@@ -143,7 +144,7 @@ std::unique_ptr<SlabHarness> make_slab(const Subject& s, const Assignment& a, st
   h->particles.allocate(n, h->object->attributes());
 
   SystemInfo& sys = h->sys;
-  sys = p.system_info(n, 0);
+  sys = system_info(p, n, 0);
   sys.seed = s.cfg.seed;
   sys.geometry = Geometry::slab;
   for (double& e : sys.box) e = SlabHarness::kEdge;

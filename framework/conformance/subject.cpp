@@ -187,7 +187,7 @@ std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment&
   }
   std::vector<fs::path> extra{s.file};
   for (const auto& p : s.cfg.plugin_paths) extra.push_back(p);
-  return std::make_unique<Pipeline>(load_pipeline(file, {}, extra));
+  return std::make_unique<Pipeline>(load_pipeline(file, {}, extra).pipeline);
 }
 
 }  // namespace gdsmc::host::conformance

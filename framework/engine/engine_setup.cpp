@@ -2,6 +2,7 @@
 // the initial state generated, the slab's mover, the ledger and the diagnostics' outputs opened.
 #include <cmath>
 
+#include "config/system_info.hpp"
 #include "engine/engine.hpp"
 #include "engine/memory_estimate.hpp"
 #include "util/text.hpp"
@@ -41,7 +42,7 @@ std::vector<DiagnosticOutput> Engine::check_setup(const Pipeline& p) {
 
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
     : pipeline_(p), pool_(run_threads(p, threads)), sites_(p, &ctx_.step), streams_(p.seed, realization) {
-  system_ = p.system_info(p.particles, realization);
+  system_ = system_info(p, p.particles, realization);
   layers_.open(p, system_);
   build_objects();
   std::vector<AttributeSpec> attributes;

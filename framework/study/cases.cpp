@@ -141,7 +141,8 @@ double sweep_case_count(const Pipeline& p) {
   return n;
 }
 
-std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress) {
+std::vector<StudyCase> expand_cases(const LoadedPipeline& loaded, const CheckProgress& progress) {
+  const Pipeline& base = loaded.pipeline;
   std::vector<StudyCase> cases;
   if (base.sweep.empty()) {
     cases.push_back(StudyCase{"", {}, base});
@@ -179,7 +180,7 @@ std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& p
     if (a == static_cast<std::size_t>(-1)) break;
   }
   CaseProblems problems(values);
-  const SweepCaseLoader loader(base);
+  const SweepCaseLoader loader(loaded);
   Ticker tick(progress, "loaded");
   cases.reserve(points.size());
   for (std::size_t c = 0; c < points.size(); ++c) {

@@ -22,8 +22,8 @@ struct StudyCase {
 using CheckProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
 
 // Load and check every case of the sweep (the base pipeline alone when there is no sweep), in time
-// linear in the number of cases (SweepCaseLoader). Every case shares the base pipeline's plugin
-// registry: no library is loaded again. The first case carries the base's source and resolved
+// linear in the number of cases (SweepCaseLoader). Every case is resolved against the base pipeline's
+// plugins: no library is loaded again. The first case carries the base's source and resolved
 // text and --set overrides (the study's provenance); the others' texts are empty. Throws
 // PipelineError before anything runs, each problem once, located where its value was given (a
 // sweep value at its entry in the sweep) and naming the cases it occurs in.
@@ -31,7 +31,7 @@ using CheckProgress = std::function<void(const char* stage, std::size_t done, st
 // anything is expanded) is refused naming the axes and the count.
 inline constexpr double kMaxSweepCases = 100000;
 double sweep_case_count(const Pipeline& p);
-std::vector<StudyCase> expand_cases(const Pipeline& base, const CheckProgress& progress = {});
+std::vector<StudyCase> expand_cases(const LoadedPipeline& base, const CheckProgress& progress = {});
 
 // How many runs (case x realization) the study runs at once: run.threads of the first case (0:
 // every core), at most the number of runs, at least 1.

@@ -12,6 +12,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "config/system_info.hpp"
 #include "study/checkpoint_file.hpp"
 #include "util/content_hash.hpp"
 
@@ -256,7 +257,7 @@ std::string CheckpointStore::describe(const std::vector<StudyCase>& cases) const
   std::size_t finished = 0, under_way = 0, run = 0;
   double t_min = 0, t_max = 0;  // t/tau0 of the runs under way
   for (const auto& c : cases) {
-    const double tau0 = c.pipeline.system_info(c.pipeline.particles, 0).time_unit0;
+    const double tau0 = system_info(c.pipeline, c.pipeline.particles, 0).time_unit0;
     for (std::uint32_t r = 0; r < c.pipeline.realizations; ++r, ++run) {
       if (!has_run(run)) continue;
       try {

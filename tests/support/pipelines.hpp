@@ -45,11 +45,18 @@ inline std::string small_pipeline(const std::string& run_extra = "", const std::
 }
 
 // Load a pipeline written from `yaml` into <dir>/<name>, with the in-tree plugins on the search
-// path. An Engine keeps a reference to the pipeline: keep the pipeline alive while it runs.
-inline host::Pipeline load_yaml(const TempDir& dir, const std::string& yaml, const std::vector<std::string>& overrides = {},
-                                const std::string& name = "pipeline.yaml") {
+// path: with the plugins found and the warnings (load_study, for expand_cases), or its
+// configuration alone (load_yaml). An Engine keeps a reference to the pipeline: keep the pipeline
+// alive while it runs.
+inline host::LoadedPipeline load_study(const TempDir& dir, const std::string& yaml,
+                                       const std::vector<std::string>& overrides = {},
+                                       const std::string& name = "pipeline.yaml") {
   const fs::path file = dir.write(name, yaml);
   return host::load_pipeline(file, overrides, {plugin_dir()});
+}
+inline host::Pipeline load_yaml(const TempDir& dir, const std::string& yaml, const std::vector<std::string>& overrides = {},
+                                const std::string& name = "pipeline.yaml") {
+  return load_study(dir, yaml, overrides, name).pipeline;
 }
 
 // What the diagnostic group `group`, its series `column` or its scalar `name` holds after a run

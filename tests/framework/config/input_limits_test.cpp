@@ -281,9 +281,10 @@ TEST(SweepExpansion, TwoThousandCasesAreLoadedFromOneReadingOfTheFile) {
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   EXPECT_TRUE(contains(r.out, "valid (2000 cases x 1 realization;")) << r.out;
 
-  const host::Pipeline base = load_yaml(dir, yaml, {"run.particles=300"}, "gone.yaml");
+  const host::LoadedPipeline loaded = load_study(dir, yaml, {"run.particles=300"}, "gone.yaml");
+  const host::Pipeline& base = loaded.pipeline;
   fs::remove(dir / "gone.yaml");
-  const auto cases = host::expand_cases(base);
+  const auto cases = host::expand_cases(loaded);
   ASSERT_EQ(cases.size(), 2000u);
   EXPECT_EQ(cases[1999].label, "collision.alpha=0.99, run.seed=40");
   EXPECT_EQ(cases[1999].pipeline.collision.params.real("alpha"), 0.99);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "app/cli.hpp"
+#include "config/system_info.hpp"
 #include "conformance/conformance.hpp"
 #include "output/hdf5_file.hpp"
 #include "output/output_path.hpp"
@@ -407,7 +408,7 @@ TEST(OutputSafety, ParticlesAreWrittenFromTheStoreWithoutACopy) {
   }
   out.commit(study);
   const gdsmc::ParticleSpan s = engine.particles();
-  const gdsmc::SystemInfo system = p.system_info(p.particles, 0);
+  const gdsmc::SystemInfo system = host::system_info(p, p.particles, 0);
   h5::File f(dir / "out.h5");
   EXPECT_FALSE(h5::exists(f.id(), "/particles/x"));
   const auto vx = h5::read_doubles(f.id(), "/particles/vx");

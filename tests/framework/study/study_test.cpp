@@ -85,7 +85,7 @@ sweep:
 )";
   yaml.replace(yaml.find("run_extra: 0\n"), 13, "");
   const fs::path file = dir.write("sweep.yaml", yaml);
-  host::Pipeline base = host::load_pipeline(file, {"run.average_after.collisions_per_particle=2"}, {plugin_dir()});
+  const host::LoadedPipeline base = host::load_pipeline(file, {"run.average_after.collisions_per_particle=2"}, {plugin_dir()});
   const auto cases = host::expand_cases(base);
   ASSERT_EQ(cases.size(), 4u);
   const char* labels[4] = {"collision.alpha=0.5, step=fine", "collision.alpha=0.5, step=coarse",
@@ -115,7 +115,7 @@ sweep:
 TEST(Study, ASweepCaseWithABadValueIsRefusedBeforeAnythingRuns) {
   TempDir dir;
   const fs::path file = dir.write("sweep.yaml", std::string(kHcs) + "sweep:\n  collision.alpha: [0.5, 1.5]\n");
-  host::Pipeline base = host::load_pipeline(file, {}, {plugin_dir()});
+  const host::LoadedPipeline base = host::load_pipeline(file, {}, {plugin_dir()});
   try {
     host::expand_cases(base);
     FAIL() << "expected a PipelineError";
@@ -283,10 +283,11 @@ TEST(Study, SteadyProfileMeansArePerBinOverTheRecordsAfterTheThreshold) {
 // output.realizations: each realization's own series under <group>/realizations/<k>.
 TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
   TempDir dir;
-  host::Pipeline p = load_yaml(dir, kHcs, {"run.realizations=3", "output.realizations=true",
-                                           "run.average_after={collisions_per_particle: 1}"});
+  const host::LoadedPipeline study = load_study(dir, kHcs, {"run.realizations=3", "output.realizations=true",
+                                                          "run.average_after={collisions_per_particle: 1}"});
+  const host::Pipeline& p = study.pipeline;
   ASSERT_TRUE(p.output_realizations);
-  const auto cases = host::expand_cases(p);
+  const auto cases = host::expand_cases(study);
   auto result = host::run_study(cases, nullptr, 1.0, nullptr);
   const fs::path file = dir.path() / "out.h5";
   host::write_hdf5(file, result.output);
@@ -306,8 +307,7 @@ TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
   EXPECT_NE(h5::read_string_attribute(f, "run", "collisions_per_particle.description").find("two particles"),
             std::string::npos);
   // Without the option, no realizations group.
-  const host::Pipeline q = load_yaml(dir, kHcs, {"run.realizations=2"});
-  const auto plain = host::expand_cases(q);
+  const auto plain = host::expand_cases(load_study(dir, kHcs, {"run.realizations=2"}));
   auto r2 = host::run_study(plain, nullptr, 1.0, nullptr);
   const fs::path file2 = dir.path() / "plain.h5";
   host::write_hdf5(file2, r2.output);
@@ -323,8 +323,7 @@ TEST(Study, OutputRealizationsWritesEachRealizationsOwnSeries) {
 TEST(Study, ProgressReportsCoverTheWholeStudy) {
   for (const char* threads : {"1", "2"}) {
     TempDir dir;
-    host::Pipeline p = load_yaml(dir, kHcs, {"run.realizations=3", std::string("run.threads=") + threads});
-    const auto cases = host::expand_cases(p);
+    const auto cases = host::expand_cases(load_study(dir, kHcs, {"run.realizations=3", std::string("run.threads=") + threads}));
     std::vector<host::StudyProgress> seen;
     host::run_study(cases, [&](const host::StudyProgress& sp) { seen.push_back(sp); }, 0.0, nullptr);
     ASSERT_FALSE(seen.empty());
@@ -362,16 +361,24 @@ TEST(Study, ASteadyWindowNeverReachedIsWarnedAboutAndDescribed) {
                        "NaN: no record reached the window"));
 }
 
-// The cases of a sweep share the base pipeline's plugin registry: each library is loaded once.
+// The cases of a sweep are resolved against the base pipeline's plugins: each library is loaded
+// once, and a case's entries keep them loaded after the base is gone.
 TEST(Study, SweepCasesShareTheBasePipelinesRegistry) {
   TempDir dir;
-  const host::Pipeline base = load_yaml(dir, kSmallHcsPipeline + "sweep:\n  collision.alpha: [0.5, 0.7, 0.9]\n");
-  const auto cases = host::expand_cases(base);
-  ASSERT_EQ(cases.size(), 3u);
-  for (const auto& c : cases) {
-    EXPECT_EQ(c.pipeline.registry.get(), base.registry.get()) << c.label;
-    EXPECT_EQ(c.pipeline.collision.plugin, base.collision.plugin) << c.label;  // the same loaded library
+  std::vector<host::StudyCase> cases;
+  const host::LoadedPlugin* loaded = nullptr;
+  {
+    const host::LoadedPipeline base = load_study(dir, kSmallHcsPipeline + "sweep:\n  collision.alpha: [0.5, 0.7, 0.9]\n");
+    cases = host::expand_cases(base);
+    loaded = base.plugins->find("inelastic_hard_spheres");
+    ASSERT_NE(loaded, nullptr);
+    EXPECT_EQ(base.pipeline.collision.plugin.get(), loaded);
   }
+  ASSERT_EQ(cases.size(), 3u);
+  for (const auto& c : cases) EXPECT_EQ(c.pipeline.collision.plugin.get(), loaded) << c.label;  // the same library
+  // The base is gone: the cases still construct their collision rule from the library they hold.
+  const auto result = host::run_study(cases, {}, 1.0, nullptr);
+  EXPECT_EQ(result.output.cases.size(), 3u);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "config/system_info.hpp"
 #include "engine/collision_stage.hpp"
 #include "engine/streams.hpp"
 #include "test_support.hpp"
@@ -53,7 +54,7 @@ struct RuleBench {
     rule = static_cast<CollisionRule*>(object.get());
     rule->publish(board);
     board.publish("shear_rate", a);
-    sys = pipeline.system_info(1000, 0);
+    sys = host::system_info(pipeline, 1000, 0);
     rule->begin(sys, board);
   }
 };

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "config/system_info.hpp"
 #include "engine/particle_store.hpp"
 #include "engine/streams.hpp"
 #include "output/diagnostic_output.hpp"
@@ -62,7 +63,7 @@ struct Bench {
     pipeline = t::load_yaml(dir, pipeline_yaml(diagnostic));
     object = host::create_object(*pipeline.diagnostics.at(0).plugin, pipeline.diagnostics.at(0).params);
     diag = static_cast<Diagnostic*>(object.get());
-    sys = pipeline.system_info(particles, 0);
+    sys = host::system_info(pipeline, particles, 0);
     out = std::make_unique<host::DiagnosticOutput>("heat_flux", &summary);
     out->set_bins(host::bin_centres_lambda0(sys));
   }
