@@ -87,7 +87,10 @@ class Output:
 
 
 class Runs(list):
-    """The outputs found, with selection by provenance."""
+    """The outputs found, with selection by provenance; unreadable: (path, why) of the files that could not be
+    read (a run still writing its output, or one stopped before its end)."""
+
+    unreadable = ()
 
     def find(self, **match):
         return Runs(o for o in self if o.matches(**match))
@@ -103,23 +106,31 @@ class Runs(list):
 
 def index(*places):
     """Every gdsmc output among places: files, or folders searched recursively for *.h5. Files that are
-    not gdsmc outputs (no pipeline_file attribute) are skipped."""
+    not gdsmc outputs (no pipeline_file attribute) are skipped; files that cannot be read are listed in
+    .unreadable (a report says so instead of failing on a run still in progress)."""
     paths = []
     for p in places:
         paths += sorted(glob.glob(os.path.join(p, "**", "*.h5"), recursive=True)) if os.path.isdir(p) else [p]
     runs = Runs()
+    runs.unreadable = []
     for path in paths:
-        with h5py.File(path, "r") as f:
-            if "pipeline_file" not in f.attrs:
-                continue
-        runs.append(Output(path))
+        try:
+            with h5py.File(path, "r") as f:
+                if "pipeline_file" not in f.attrs:
+                    continue
+            runs.append(Output(path))
+        except (OSError, KeyError) as ex:  # h5py's error for a file being written or cut short
+            runs.unreadable.append((path, f"{type(ex).__name__}: {ex}"))
     return runs
 
 
 if __name__ == "__main__":
     import sys
 
-    for o in index(*(sys.argv[1:] or ["."])):
+    runs = index(*(sys.argv[1:] or ["."]))
+    for path, why in runs.unreadable:
+        print(f"{path}: unreadable ({why})")
+    for o in runs:
         print(f"{o.path}: config {o.config}, axes {', '.join(o.axes) or '(none)'}, {len(o.cases)} case(s)")
         for k, v in o.overrides.items():
             print(f"    --set {k}={v[:100]}" + (" ..." if len(v) > 100 else ""))
