@@ -8,8 +8,8 @@ each plugin's name, version and parameters), and the validation reports select t
     for case in sweep.cases: case.sweep["Kn"], case.param("collision", "alpha")
 
 An output is matched by the stem of its pipeline file (config), by overrides it must carry (set:
-key -> value, as given to --set), by overrides it must not carry (unset: keys), and by its sweep
-axes (axes: the axis names, in any order). Needs Debian's python3-h5py and python3-yaml."""
+key -> value, as given to --set; has: keys, any value), by overrides it must not carry (unset: keys),
+and by its sweep axes (axes: the axis names, in any order). Needs Debian's python3-h5py and python3-yaml."""
 import glob
 import os
 import re
@@ -73,10 +73,12 @@ class Output:
                 self.cases = [Case(self, "/", f)]
         self.axes = tuple(sorted({axis for c in self.cases for axis in c.sweep}))
 
-    def matches(self, config=None, set=None, unset=(), axes=None):
+    def matches(self, config=None, set=None, unset=(), axes=None, has=()):
         if config is not None and self.config != config:
             return False
         if any(self.overrides.get(k) != str(v) for k, v in (set or {}).items()):
+            return False
+        if any(k not in self.overrides for k in has):
             return False
         if any(k in self.overrides for k in unset):
             return False

@@ -1,25 +1,33 @@
 #!/usr/bin/python3
-"""Turn the HDF5 of configs/usf_steady_sweep.yaml (and optionally the refined-drag control run)
-into docs/validation/usf.md: steady values per alpha for IHS and EHS with standard errors, beside
-the BGK-model prediction and the values paper 000 states in its text.
+"""Turn the HDF5 outputs of scripts/validate-usf into docs/validation/usf.md: steady values per alpha
+for IHS and EHS with standard errors, beside the BGK-model prediction and the values paper 000 states
+in its text.
 
-Usage: usf_report.py SWEEP.h5 [DOCDIR] [--refined REFINED.h5] [--long LONG.h5] [--transient T.h5 ...] > DOCDIR/usf.md
-       usf_report.py [DOCDIR] --transient T.h5 ... --splice DOCDIR/usf.md
-  --long: a sweep run longer (its own stop and averaging window), tabulated after the main one.
-  --transient: the outputs of configs/usf_transient_sweep.yaml (several realizations per system): the
+Usage: usf_report.py OUTPUTS... [--docdir DOCDIR] > DOCDIR/usf.md
+       usf_report.py OUTPUTS... [--docdir DOCDIR] --splice DOCDIR/usf.md
+OUTPUTS: folders of outputs (searched recursively, any file names) or output files. Each run is found
+by its provenance (scripts/report_runs.py), every one but the first optional:
+  - configs/usf_steady_sweep.yaml as it is: the main sweep;
+  - the same with a stop of its own (--set run.stop.collisions_per_particle): a sweep run longer
+    (its own stop and averaging window), tabulated after the main one;
+  - configs/usf_ehs_refined_alpha0.5_shear4.yaml: the refined-drag EHS control run;
+  - configs/usf_ihs_alpha0.5_shear4.yaml with --set run.realizations: the errors against the seed scatter;
+  - configs/usf_transient_sweep.yaml, every output of it (several realizations per system): the
     section "Paper 000's remaining numbers" (eta*_NS of Fig. 10, Fig. 6, Figs. 17-18, Sec. V.B's
     transient lengths; issue 29 item 4), after the others.
-  --splice: only that section, written in place of the one in usf.md (or appended), the rest kept.
+  --splice: only that last section, written in place of the one in usf.md (or appended), the rest kept.
 The figures (paper 000's Figs. 5, 7, 8, 10-16 drawn from the same data as the tables) go to
-DOCDIR/usf/*.png, DOCDIR being docs/validation unless given.
+DOCDIR/usf/*.png, DOCDIR being docs/validation unless given (with --splice: the folder of usf.md).
 Needs Debian's python3-h5py, python3-numpy and python3-matplotlib."""
 import argparse
 import os
 import sys
+import types
 
 import h5py
 import numpy as np
 
+import report_runs
 from report_figures import (PAPER_COLOUR, SEED_CHECK_HEADER, paper_hline, paper_points, plt, runs_line, savefig,
                             seed_check, h5_text)
 
@@ -1240,38 +1248,55 @@ def seeds_section(path):
     return out
 
 
+def carrying(runs, key):
+    """The outputs among runs made with --set KEY=... (any value)."""
+    return report_runs.Runs(o for o in runs if key in o.overrides)
+
+
+def select_runs(places):
+    """The paths of scripts/validate-usf's runs among the outputs in places, by their provenance (see the
+    usage): sweep, long, refined, seeds (each None when absent) and transient (a list)."""
+    runs = report_runs.index(*places)
+    steady = runs.find(config="usf_steady_sweep")
+    own_stop = "run.stop.collisions_per_particle"
+    found = {"sweep": steady.one(unset=(own_stop,)), "long": carrying(steady, own_stop).one(),
+             "refined": runs.one(config="usf_ehs_refined_alpha0.5_shear4"),
+             "seeds": carrying(runs.find(config="usf_ihs_alpha0.5_shear4"), "run.realizations").one()}
+    paths = {name: o.path if o else None for name, o in found.items()}
+    # The sweep as configured first, then those run with overrides (the cooling branch at a smaller shear rate).
+    paths["transient"] = [o.path for o in sorted(runs.find(config="usf_transient_sweep"),
+                                                 key=lambda o: (len(o.overrides), o.path))]
+    return types.SimpleNamespace(**paths)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("sweep", nargs="?")
-    ap.add_argument("docdir", nargs="?",
-                    default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "validation"))
-    ap.add_argument("--refined")
-    ap.add_argument("--long")
-    ap.add_argument("--seeds", help="configs/usf_ihs_alpha0.5_shear4.yaml with realizations: the errors against their scatter")
-    ap.add_argument("--transient", nargs="+", default=[],
-                    help="output(s) of configs/usf_transient_sweep.yaml: the section of paper 000's remaining numbers")
+    ap.add_argument("outputs", nargs="+", help="folders of outputs (searched recursively) or output files")
+    ap.add_argument("--docdir", help="where the figures go (DOCDIR/usf/*.png): docs/validation, or with --splice the folder of USF_MD")
     ap.add_argument("--splice", metavar="USF_MD",
-                    help="write only that section, in place of the one in USF_MD (appended if absent), from "
-                         "--transient alone (no SWEEP); the rest of USF_MD is kept")
+                    help="write only the section of paper 000's remaining numbers, in place of the one in USF_MD "
+                         "(appended if absent), from the outputs of configs/usf_transient_sweep.yaml; the rest of "
+                         "USF_MD is kept")
     args = ap.parse_args()
+    runs = select_runs(args.outputs)
     if args.splice:
-        if not args.transient:
-            ap.error("--splice needs --transient")
-        docdir = args.sweep or os.path.dirname(os.path.abspath(args.splice))
+        if not runs.transient:
+            ap.error("--splice needs an output of configs/usf_transient_sweep.yaml among " + ", ".join(args.outputs))
+        docdir = args.docdir or os.path.dirname(os.path.abspath(args.splice))
         with open(args.splice) as fh:
             text = fh.read()
         cut = text.find(f"\n## {TRANSIENT_HEADING}\n")
         text = (text if cut < 0 else text[:cut]).rstrip("\n") + "\n"
-        section = transient_section(transient_cases(args.transient), args.transient, docdir, spliced=True)
+        section = transient_section(transient_cases(runs.transient), runs.transient, docdir, spliced=True)
         with open(args.splice, "w") as fh:
             fh.write(text + "\n".join(section) + "\n")
         return
-    if args.sweep is None:
-        ap.error("SWEEP is required without --splice")
-    docdir = args.docdir
-    f = h5py.File(args.sweep, "r")
-    g_long = h5py.File(args.long, "r") if args.long else None
-    R = h5py.File(args.refined, "r") if args.refined else None
+    if runs.sweep is None:
+        ap.error("no output of configs/usf_steady_sweep.yaml (without --set run.stop...) among " + ", ".join(args.outputs))
+    docdir = args.docdir or os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "validation")
+    f = h5py.File(runs.sweep, "r")
+    g_long = h5py.File(runs.long, "r") if runs.long else None
+    R = h5py.File(runs.refined, "r") if runs.refined else None
     C = sweep_cases(f)
     P_main = steady_points(f)
     P = merged_points(P_main, steady_points(g_long) if g_long is not None else None)
@@ -1279,7 +1304,7 @@ def main():
     w = out.append
     w("# Validation: homogeneous uniform shear flow (paper 000)\n")
     w("Every path named in this document is in the source tree. Generated by `scripts/validate-usf` from `configs/usf_steady_sweep.yaml` "
-      f"({runs_line(*[x for x in (args.sweep, args.long, args.refined) if x])}; seed {int(f.attrs['seed'])}). N = 10^4, dt = 10^-3 tau0 sqrt(T0/T), "
+      f"({runs_line(*[x for x in (runs.sweep, runs.long, runs.refined) if x])}; seed {int(f.attrs['seed'])}). N = 10^4, dt = 10^-3 tau0 sqrt(T0/T), "
       "samples every 4 steps, records every 160, <V12^3> from N_p = 2.5 x 10^4 pairs every 40 steps "
       "(the paper: every 4; Sec. IV.B). "
       "Steady values are time averages over s >= 60 (runs to s = 120) with batch-means standard errors. "
@@ -1433,10 +1458,10 @@ def main():
         w("\nRelative to IHS at alpha = 0.5, aτ⁰ = 4: " + "; ".join(lines) + ". The paper: the refined drag brings "
           "T_s, P_xy and P_xx - P_yy closer to IHS, while P_zz - P_yy \"is still about 40% smaller in both EHS "
           "systems than in the IHS system\" (Sec. V.C). The refined run is the filled diamond of Figs. 14-16.")
-    if args.seeds:
-        out += seeds_section(args.seeds)
-    if args.transient:
-        out += transient_section(transient_cases(args.transient), args.transient, docdir)
+    if runs.seeds:
+        out += seeds_section(runs.seeds)
+    if runs.transient:
+        out += transient_section(transient_cases(runs.transient), runs.transient, docdir)
     print("\n".join(out))
 
 
