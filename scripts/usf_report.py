@@ -1248,20 +1248,15 @@ def seeds_section(path):
     return out
 
 
-def carrying(runs, key):
-    """The outputs among runs made with --set KEY=... (any value)."""
-    return report_runs.Runs(o for o in runs if key in o.overrides)
-
-
 def select_runs(places):
     """The paths of scripts/validate-usf's runs among the outputs in places, by their provenance (see the
     usage): sweep, long, refined, seeds (each None when absent) and transient (a list)."""
     runs = report_runs.index(*places)
-    steady = runs.find(config="usf_steady_sweep")
     own_stop = "run.stop.collisions_per_particle"
-    found = {"sweep": steady.one(unset=(own_stop,)), "long": carrying(steady, own_stop).one(),
+    found = {"sweep": runs.one(config="usf_steady_sweep", unset=(own_stop,)),
+             "long": runs.one(config="usf_steady_sweep", has=(own_stop,)),
              "refined": runs.one(config="usf_ehs_refined_alpha0.5_shear4"),
-             "seeds": carrying(runs.find(config="usf_ihs_alpha0.5_shear4"), "run.realizations").one()}
+             "seeds": runs.one(config="usf_ihs_alpha0.5_shear4", has=("run.realizations",))}
     paths = {name: o.path if o else None for name, o in found.items()}
     # The sweep as configured first, then those run with overrides (the cooling branch at a smaller shear rate).
     paths["transient"] = [o.path for o in sorted(runs.find(config="usf_transient_sweep"),
