@@ -5,9 +5,11 @@ bimodality, slip, normal-stress differences, flow rate and Knudsen minimum -- be
 statements, the linearised-BGK flow rate and Navier-Stokes.
 
 Usage: poiseuille_report.py OUTDIR DOCDIR > DOCDIR/poiseuille.md
-       poiseuille_report.py --splice-seeds OUTDIR DOCDIR/poiseuille.md   (section 12 alone, from OUTDIR/seeds*.h5)
-OUTDIR holds NAME.h5, NAME.seconds, NAME.log of the runs; the figures go to DOCDIR/poiseuille/*.png.
-Missing or unreadable runs (still in progress) are reported as such. Needs h5py, numpy, matplotlib."""
+       poiseuille_report.py --splice-seeds OUTDIR DOCDIR/poiseuille.md   (section 12 alone, from the seed-check runs)
+OUTDIR (searched recursively, any file names) holds the runs, each found by its provenance (RUNS: the pipeline
+file, --set overrides, sweep axes; scripts/report_runs.py), with NAME.seconds beside NAME.h5 its wall time; the
+figures go to DOCDIR/poiseuille/*.png. Missing or unreadable runs (still in progress) are reported as such.
+Needs h5py, numpy, matplotlib."""
 import json
 import math
 import os
@@ -17,27 +19,43 @@ import h5py
 import numpy as np
 
 import report_figures
+import report_runs
 from report_figures import plt, runs_line
 
 NAN = float("nan")
-RUNS = [  # name, what, default e_n (when not a sweep axis)
-    ("sweep", "Kn × e_n (0.7, 0.9, 0.99, 1), â = 0.5, diffuse walls", None),
-    ("bimodality", "e_n 0.95, 0.995, 0.999 × Kn, â = 0.5", None),
-    ("restitution", "e_n 0.5, 0.6, 0.8 × Kn 0.05, 1, 5, â = 0.5", None),
-    ("steady_rerun", "e_n 0.995, Kn = 1, â = 0.5: the bimodality case the fixed-tolerance steady test missed, with the statistical test", 0.995),
-    ("a5", "e_n 0.99, 0.995, 0.999, 1 × Kn 0.1–1, â = 5, dt following T", None),
-    ("a10", "e_n 0.9, 0.99, 1 × Kn 0.1–10, â = 10, dt following T", None),
-    ("walls", "accommodation 0.5, 0.1 × e_n 0.9, 0.99 × Kn 0.05–10 (Maxwell walls; accommodation 1 is the sweep), â = 0.5", None),
-    ("specular", "accommodation 0, e_n 0.9 × Kn 0.1, 1, 10, â = 0.5: no steady state exists", 0.9),
-    ("linear", "e_n = 1, â = min(0.05, 0.2 Kn) × Kn (near linear response)", 1.0),
-    ("ahat", "e_n = 1, â 0.05, 0.25, 0.5 × Kn 1, 5, 4 realizations (Fig. 19's forcing unit)", 1.0),
-    ("fig9b", "e_n = 0.9999 × Kn 0.02–0.2, â = 0.5 (Fig. 9b)", 0.9999),
-    ("fig22", "e_n = 1, Kn = 0.05, â = 0.5: four consecutive windows of 4 t_r of one trajectory (Fig. 22b, c)", 1.0),
-    ("fig2", "single case Kn = 0.1, â = 0.3, e_n = 1, N = 1e5 (Figs. 2, 13)", 1.0),
-    ("resolution", "base (180 layers, dt 0.02 τ0) vs halved (360, 0.01 τ0), Kn = 0.05, e_n = 0.7, â = 0.5", 0.7),
-    ("seeds", "e_n = 0.9, Kn = 0.5, â = 0.5, N = 2e4, 88 τ0 = 22 t_r, 40 realizations: the errors against the seed scatter", 0.9),
-    ("seeds_176", "the same stopped at 176 τ0 = 44 t_r", 0.9),
-    ("seeds_264", "the same stopped at 264 τ0 = 66 t_r", 0.9),
+
+
+def seed_check(stop):
+    """The seed check's short channel (configs/poiseuille.yaml with realizations) stopped at STOP τ0."""
+    return dict(config="poiseuille", set={"run.stop.time": str(stop)}, has=("run.realizations",))
+
+
+# name (the report's label of the run), what, default e_n (when not a sweep axis), the run's provenance as
+# scripts/validate-poiseuille makes it: report_runs' selection (pipeline file stem, --set overrides, sweep axes)
+RUNS = [
+    ("sweep", "Kn × e_n (0.7, 0.9, 0.99, 1), â = 0.5, diffuse walls", None, dict(config="poiseuille_sweep")),
+    ("bimodality", "e_n 0.95, 0.995, 0.999 × Kn, â = 0.5", None, dict(config="poiseuille_bimodality_sweep", unset=("sweep",))),
+    ("restitution", "e_n 0.5, 0.6, 0.8 × Kn 0.05, 1, 5, â = 0.5", None, dict(config="poiseuille_restitution_sweep")),
+    ("steady_rerun", "e_n 0.995, Kn = 1, â = 0.5: the bimodality case the fixed-tolerance steady test missed, with the statistical test", 0.995,
+     dict(config="poiseuille_bimodality_sweep", set={"collision.alpha": "0.995"}, axes=("Kn",))),
+    ("a5", "e_n 0.99, 0.995, 0.999, 1 × Kn 0.1–1, â = 5, dt following T", None, dict(config="poiseuille_a5_sweep")),
+    ("a10", "e_n 0.9, 0.99, 1 × Kn 0.1–10, â = 10, dt following T", None, dict(config="poiseuille_a10_sweep")),
+    ("walls", "accommodation 0.5, 0.1 × e_n 0.9, 0.99 × Kn 0.05–10 (Maxwell walls; accommodation 1 is the sweep), â = 0.5", None,
+     dict(config="poiseuille_walls_sweep")),
+    ("specular", "accommodation 0, e_n 0.9 × Kn 0.1, 1, 10, â = 0.5: no steady state exists", 0.9, dict(config="poiseuille_specular")),
+    ("linear", "e_n = 1, â = min(0.05, 0.2 Kn) × Kn (near linear response)", 1.0, dict(config="poiseuille_linear_sweep", unset=("sweep",))),
+    ("ahat", "e_n = 1, â 0.05, 0.25, 0.5 × Kn 1, 5, 4 realizations (Fig. 19's forcing unit)", 1.0,
+     dict(config="poiseuille_linear_sweep", axes=("Kn", "a_hat"))),
+    ("fig9b", "e_n = 0.9999 × Kn 0.02–0.2, â = 0.5 (Fig. 9b)", 0.9999, dict(config="poiseuille_fig9b_sweep")),
+    ("fig22", "e_n = 1, Kn = 0.05, â = 0.5: four consecutive windows of 4 t_r of one trajectory (Fig. 22b, c)", 1.0,
+     dict(config="poiseuille_fig22")),
+    ("fig2", "single case Kn = 0.1, â = 0.3, e_n = 1, N = 1e5 (Figs. 2, 13)", 1.0, dict(config="poiseuille_fig2")),
+    ("resolution", "base (180 layers, dt 0.02 τ0) vs halved (360, 0.01 τ0), Kn = 0.05, e_n = 0.7, â = 0.5", 0.7,
+     dict(config="poiseuille", axes=("resolution",))),
+    ("seeds", "e_n = 0.9, Kn = 0.5, â = 0.5, N = 2e4, 88 τ0 = 22 t_r, 40 realizations: the errors against the seed scatter", 0.9,
+     seed_check(88)),
+    ("seeds_176", "the same stopped at 176 τ0 = 44 t_r", 0.9, seed_check(176)),
+    ("seeds_264", "the same stopped at 264 τ0 = 66 t_r", 0.9, seed_check(264)),
 ]
 # The seed-check runs by their stop (τ0; t_r = 4 τ0 at Kn = 0.5), section 12.
 SEED_RUNS = [("seeds", 88), ("seeds_176", 176), ("seeds_264", 264)]
@@ -113,23 +131,40 @@ class Case:
         return int(s.attrs["particles"]) if s is not None and "particles" in s.attrs else None
 
 
+def described(provenance):
+    """A run's provenance (a RUNS selection) in words, for the report's note on a run it did not find."""
+    text = f"configs/{provenance['config']}.yaml"
+    text += "".join(f" --set {k}={v}" for k, v in provenance.get("set", {}).items())
+    text += "".join(f" --set {k}=..." for k in provenance.get("has", ()))
+    text += "".join(f" without --set {k}" for k in provenance.get("unset", ()))
+    return text + (" over " + " × ".join(provenance["axes"]) if "axes" in provenance else "")
+
+
 def load(outdir):
+    """{name: [Case] or None} of RUNS, each found in outdir by its provenance, and {name: why not} of those missing."""
+    runs = report_runs.index(outdir)
+    unreadable = "".join(f"; unreadable: {os.path.basename(p)}" for p, _ in runs.unreadable)
     files, status = {}, {}
-    for name, _, en in RUNS:
-        p = os.path.join(outdir, name + ".h5")
-        if not os.path.exists(p):
-            files[name], status[name] = None, "no output: not run, or stopped before its end (see " + name + ".log)"
+    for name, _, en, provenance in RUNS:
+        o = runs.one(**provenance)
+        if o is None:
+            files[name], status[name] = None, f"no output of {described(provenance)}: not run, or stopped before its end" + unreadable
             continue
         try:
-            f = h5py.File(p, "r")
-            if "cases" in f:
-                cs = [Case(name, f["cases"][k], en) for k in sorted(f["cases"].keys(), key=int)]
-            else:
-                cs = [Case(name, f, en)]
-            files[name], status[name] = cs, "ok"
+            f = h5py.File(o.path, "r")
+            files[name], status[name] = [Case(name, f[c.group], en) for c in o.cases], "ok"
         except Exception as ex:  # incomplete file
             files[name], status[name] = None, f"unreadable ({type(ex).__name__})"
     return files, status
+
+
+def wall_time(cases):
+    """The text of NAME.seconds beside the run's NAME.h5 (its wall time, scripts/validate-poiseuille), None if absent."""
+    p = os.path.splitext(cases[0].g.file.filename)[0] + ".seconds"
+    if not os.path.exists(p):
+        return None
+    with open(p) as fh:
+        return fh.read().strip()
 
 
 def ahat_section(out, files, status, bgk):
@@ -663,7 +698,7 @@ def splice_seeds(outdir, md):
     import re
     files, status = load(outdir)
     if not files["seeds"]:
-        sys.exit(f"poiseuille_report.py: {os.path.join(outdir, 'seeds.h5')}: {status['seeds']}")
+        sys.exit(f"poiseuille_report.py: the seed check stopped at 88 τ0 in {outdir}: {status['seeds']}")
     with open(md) as fh:
         text = fh.read()
     for mark in ("\n## Runs\n", "\n## 12. ", "\n## 13. Findings\n", "\n### Open findings"):
@@ -692,8 +727,7 @@ def splice_seeds(outdir, md):
     text = "\n".join(lines)
     section = []
     seeds_section(section, files, status)
-    seconds = [open(os.path.join(outdir, n + ".seconds")).read().strip() for n, _ in SEED_RUNS
-               if files.get(n) and os.path.exists(os.path.join(outdir, n + ".seconds"))]
+    seconds = [t for t in (wall_time(files[n]) for n, _ in SEED_RUNS if files.get(n)) if t is not None]
     g = files["seeds"][0].g.get("plugins/diagnostics[0]")
     version = report_figures.h5_text(g.attrs.get("version", "?")) if g is not None else "?"
     section.append(f"This section was written into the report by `scripts/validate-poiseuille --seeds-only` from its own runs "
@@ -722,7 +756,7 @@ def main():
     files, status = load(outdir)
     out = []
     w = out.append
-    allc = [c for n, _, _ in RUNS if files[n] for c in files[n]]
+    allc = [c for n, _, _, _ in RUNS if files[n] for c in files[n]]
     # A case rerun (steady_rerun) replaces its never-steady original in the a_hat = 0.5 tables.
     rerun = files["steady_rerun"] or []
 
@@ -736,10 +770,9 @@ def main():
     w("## Runs")
     w("")
     rows, total = [], 0.0
-    for name, what, _ in RUNS:
-        p = os.path.join(outdir, name + ".seconds")
-        sec = float(open(p).read()) if os.path.exists(p) and files[name] is not None else NAN
+    for name, what, _, _ in RUNS:
         cs = files[name]
+        sec = float(wall_time(cs) or NAN) if cs is not None else NAN
         if cs is None:
             rows.append([name, what, "—", "—", f"*{status[name]}*", "—"])
             continue
@@ -752,7 +785,7 @@ def main():
     w("makes them, one after the other with its cases on every core; other work on the machine makes them upper bounds.")
     w("")
     vers = {}
-    for name, _, _ in RUNS:
+    for name, _, _, _ in RUNS:
         if files[name]:
             g = files[name][0].g.get("plugins/diagnostics[0]")
             v = g.attrs.get("version", "?") if g is not None else "?"
@@ -1314,7 +1347,7 @@ def main():
     for f in OPEN_FINDINGS:
         w("* " + f)
     w("")
-    unavailable = [n for n, _, _ in RUNS if files[n] is None]
+    unavailable = [n for n, _, _, _ in RUNS if files[n] is None]
     if unavailable:
         w("Runs not available when this report was written: " + ", ".join(unavailable) + ".")
         w("")
