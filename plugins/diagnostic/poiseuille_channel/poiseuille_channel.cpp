@@ -1,6 +1,7 @@
 // The acceleration-driven Poiseuille channel of paper 004: steady profiles after the total energy
 // has settled (Appendix), and every derived quantity of Secs. IV-VI with jackknife errors. The
-// plugin samples and batches; the fits of paper 004 are profile_fits.cpp, the columns columns.hpp;
+// plugin samples and batches; the fits of paper 004 are profile_fits.cpp, the columns columns.hpp,
+// the trends of its records (E's drift, Q's growth) record_trends.hpp;
 // the steady test and the jackknife are the SDK toolkit's (gdsmc/physics/steady.hpp, jackknife.hpp).
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,7 @@
 
 #include "columns.hpp"
 #include "profile_fits.hpp"
+#include "record_trends.hpp"
 
 namespace {
 
@@ -28,7 +30,7 @@ constexpr std::size_t kMaxBatches = 64;
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.8.0";
+  static constexpr const char* version = "1.9.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation = kDocumentation;
@@ -113,9 +115,10 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     steady_from_ = std::nan("");
     steady_test_.configure(window_, tolerance_, sigmas_);
     steady_test_.start(0.0);
-    record_e_ = record_vx_ = 0;
+    record_e_ = record_vx_ = record_t_ = 0;
     record_samples_ = 0;
     have_last_ = false;
+    trends_.clear();
     id_e_ = out.series("E", "T_w", "kinetic energy per particle E(t) = (m/2) sum v^2 / N (004 Eq. A1), mean over the record");
     id_steady_ = out.series("steady", "1", "1 once E(t) has settled (the averaging window), else 0");
     id_q_ = out.series("Q_record", "1", "flow rate of Eq. 40 over the record's samples");
@@ -127,6 +130,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     for (std::size_t i = 0; i < p.count; ++i) sum_vx += p.vx[i];
     record_e_ += e;
     record_vx_ += sum_vx;
+    record_t_ += ctx.time_in_tau0();  // the record's time is the mean of its samples', as the host's
     ++record_samples_;
     accel_ = ctx.body_acceleration.x;
     if (!steady_) {
@@ -155,11 +159,15 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
 
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
     const double ns = static_cast<double>(record_samples_);
-    out.append(id_e_, record_samples_ ? record_e_ / ns / t_wall_ : std::nan(""));
+    const double e = record_samples_ ? record_e_ / ns / t_wall_ : std::nan("");
+    const double q = record_samples_ ? record_vx_ / (ns * static_cast<double>(sys_.particles)) / (u_ref() * a_hat())
+                                     : std::nan("");
+    out.append(id_e_, e);
     out.append(id_steady_, steady_ ? 1.0 : 0.0);
-    out.append(id_q_, record_samples_ ? record_vx_ / (ns * static_cast<double>(sys_.particles)) / (u_ref() * a_hat())
-                                      : std::nan(""));
-    record_e_ = record_vx_ = 0;
+    out.append(id_q_, q);
+    // The averaging window's records: those whose time (the mean of their samples') is steady_from or later.
+    if (record_samples_) trends_.add(record_t_ / ns, e, q, steady_ && record_t_ / ns >= steady_from_ / sys_.time_unit0);
+    record_e_ = record_vx_ = record_t_ = 0;
     record_samples_ = 0;
     if (!steady_ || filled_ == 0) return;
     // Close the record in the open batch; open the next batch when this one has its length.
@@ -222,6 +230,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     if (std::isfinite(whole.scalars[centre_peak_width]))
       err.scalars[centre_peak_width] = 1.0 / (static_cast<double>(bins_) * std::sqrt(6.0));
     write_columns(out, sys_, whole, err, used, reach_bins_);
+    trends_.write(out);
     char line[512];
     if (!steady_) {
       out.summary("poiseuille_channel: E(t) never settled within the steady tolerance: no steady averages (NaN); "
@@ -254,6 +263,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     out.write("have_last", have_last_);
     const double last[5] = {last_.time, last_.wall_momentum, last_.wall_energy, last_.collisions, last_.forcings};
     out.write("last", last, 5);
+    out.write("record_t", record_t_);
+    trends_.save(out, "trends");
   }
   void load_state(gdsmc::StateReader& in) override {
     for (std::size_t k = 0; k < kMaxBatches; ++k) batches_[k].load(in, "batch" + std::to_string(k));  // as begin() sized them
@@ -278,6 +289,8 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     double last[5];
     in.read("last", last, 5);
     last_ = {last[0], last[1], last[2], last[3], last[4]};
+    in.read("record_t", record_t_);
+    trends_.load(in, "trends");
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
@@ -332,8 +345,9 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   double steady_from_ = 0;
   gdsmc::SteadyTest steady_test_;
   std::size_t record_samples_ = 0;
-  double record_e_ = 0, record_vx_ = 0, accel_ = 0;
+  double record_e_ = 0, record_vx_ = 0, record_t_ = 0, accel_ = 0;
   Ledger last_;
+  RecordTrends trends_;  // E and Q_record of every record, for their trends at the end
   std::size_t id_e_ = 0, id_steady_ = 0, id_q_ = 0;
 };
 
