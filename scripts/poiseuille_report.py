@@ -430,11 +430,12 @@ def fig22_section(out, files, status, docdir):
     w("## 11. Appendix, Fig. 22: the statistical steady state (Kn = 0.05, â = 0.5)")
     w("")
     w("**(a) E(t).** The total kinetic energy per particle, E(t)/E(0), from the sweep's records; the steady test of")
-    w("`poiseuille_channel` starts averaging once window means of E over 2 t_r agree. The drift is a straight-line")
-    w("fit of E over the averaging window, times the window's length, over the window's mean E:")
+    w("`poiseuille_channel` starts averaging once window means of E over 2 t_r agree. The drift and the rms are the")
+    w("plugin's E_drift (a straight-line fit of E over the averaging window, times the window's length, over the window's")
+    w("mean E) and E_relative_rms:")
     w("")
     if not missing(out, files, status, "sweep"):
-        rows = []
+        rows, predates = [], False
         fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
         for c in pick(files["sweep"], kn=0.05):
             t = np.array(c.d["time"][:], dtype=float)
@@ -443,16 +444,15 @@ def fig22_section(out, files, status, docdir):
                 continue
             t0 = c.s("steady_from")[0]
             m = (t >= t0) if np.isfinite(t0) else np.zeros(len(t), bool)
-            drift = fluct = NAN
-            if m.sum() > 3:
-                slope = np.polyfit(t[m], E[m], 1)[0]
-                drift = slope * (t[m][-1] - t[m][0]) / np.mean(E[m])
-                fluct = np.std(E[m], ddof=1) / np.mean(E[m])
             pct = lambda x: fmt(100 * x, d=3) + " %" if np.isfinite(x) else "—"
+            predates = predates or "E_drift" not in c.d
             rows.append([f"{c.en:g}", fmt(t0, d=0), fmt(np.mean(E[m]) / E[0] if m.any() else NAN, d=4),
-                         pct(drift), pct(fluct)])
+                         pct(c.s("E_drift")[0]), pct(c.s("E_relative_rms")[0])])
             ax[0].plot(t, E / E[0], label=f"e_n = {c.en:g}")
         table(out, ["e_n", "averaging from [τ0]", "steady E/E(0)", "drift over the window", "rms of the records / mean"], rows)
+        if predates:
+            w("(—: an output that predates poiseuille_channel 1.9.0, which writes E_drift and E_relative_rms; rerun it to fill.)")
+            w("")
         ax[0].set_xlabel("t / τ0"); ax[0].set_ylabel("E(t) / E(0)"); ax[0].set_title("(a) Kn = 0.05"); ax[0].legend(fontsize=7)
     else:
         fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
@@ -1191,19 +1191,22 @@ def main():
     w("### Specular walls (accommodation 0): no steady state")
     w("")
     w("Collisions and specular reflections conserve the x momentum, so nothing balances the acceleration: the mean")
-    w("streamwise velocity grows as a t and Q (Eq. 40) as Kn t/τ0 (τ0 = λ/u_R), for any e_n. The slope of Q_record")
-    w("against t/τ0 (least squares over the last three quarters of the run) over Kn, and the x momentum the walls took:")
+    w("streamwise velocity grows as a t and Q (Eq. 40) as Kn t/τ0 (τ0 = λ/u_R), for any e_n. The plugin's Q_growth_rate")
+    w("(the slope of Q_record against t/τ0, least squares over the last three quarters of the run) over Kn, and the x")
+    w("momentum the walls took:")
     w("")
     if not missing(out, files, status, "specular"):
         rows = []
         for c in sorted(files["specular"], key=lambda c: c.kn):
-            t = np.array(c.d["time"][:], dtype=float); q = np.array(c.d["Q_record"][:], dtype=float)
-            n0 = len(t) // 4
-            slope = np.polyfit(t[n0:], q[n0:], 1)[0]
+            slope = c.s("Q_growth_rate")[0]
             r = c.g["run"].attrs
-            rows.append([f"{c.kn:g}", f"{slope / c.kn:.12f}", f"{r['boundary.y_min.momentum_x'] + r['boundary.y_max.momentum_x']:g}",
+            rows.append([f"{c.kn:g}", f"{slope / c.kn:.12f}" if np.isfinite(slope) else "—",
+                         f"{r['boundary.y_min.momentum_x'] + r['boundary.y_max.momentum_x']:g}",
                          "never" if np.isnan(c.s("steady_from")[0]) else f"{c.s('steady_from')[0]:.3g} τ0"])
         table(out, ["Kn", "slope / Kn (exact: 1)", "wall x momentum", "steady"], rows)
+        if any("Q_growth_rate" not in c.d for c in files["specular"]):
+            w("(—: an output that predates poiseuille_channel 1.9.0, which writes Q_growth_rate; rerun it to fill.)")
+            w("")
         FINDINGS.append("Specular walls: Q grows as Kn t/τ0 with slope/Kn = " + ", ".join(r[1] for r in rows) +
                         " (exact momentum conservation); no steady state exists, so the paper's Sec. VI statement that the flow"
                         " rate with specular walls looks like Fig. 20 can hold only for partially diffuse walls.")
