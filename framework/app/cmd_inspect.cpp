@@ -27,7 +27,10 @@ Prints what a gdsmc output file holds, readably in a terminal (no Python needed)
     went (flight, sort, collisions, ...: /run/stage_seconds.*), the first lines of the
     pipeline as run (after --set), and every plugin with its version, library and parameters
     (/plugins; in a sweep, those of each case, with the case's label);
-  - every dataset, in tree order, with its shape and its unit (the `unit` attribute).
+  - every dataset, in tree order, with its shape, its unit (the `unit` attribute) and, for theory
+    a plugin wrote beside its measurements (OutputSink::theory), its tag from the attributes role,
+    theory_of and equation: theory of a2 (001 Eq. 2.16), or theory (EQUATION) when it has no
+    measured twin.
 Use h5py, h5dump or `gdsmc plot` for the values (docs/output-format.md).
 
 Options:
@@ -110,8 +113,18 @@ void print_run(hid_t root) {
 }
 
 struct Entry {
-  std::string path, shape, unit, description;
+  std::string path, shape, unit, description, tag;
 };
+
+// The theory tag of OutputSink::theory: "theory of a2 (001 Eq. 2.16)"; "" for an object without role.
+std::string theory_tag(hid_t d) {
+  const std::string role = attribute(d, "role");
+  if (role.empty()) return "";
+  const std::string equation = attribute(d, "equation");
+  std::string of;  // "a,b" -> "a, b"
+  for (const char c : attribute(d, "theory_of")) of += c == ',' ? std::string(", ") : std::string(1, c);
+  return role + (of.empty() ? "" : " of " + of) + (equation.empty() ? "" : " (" + equation + ")");
+}
 
 std::vector<Entry> datasets(hid_t file) {
   std::vector<Entry> out;
@@ -126,8 +139,15 @@ std::vector<Entry> datasets(hid_t file) {
     if (!dims.empty()) shape += "]";
     if (H5Tget_class(type) == H5T_STRING) shape += " text";
     const std::string unit = attribute(d, "unit");
+    std::string tag = theory_tag(d);
+    const std::string path(name);
+    if (tag.empty() && path.find('/') != std::string::npos) {  // edges, values of a histogram tagged as a whole
+      Handle parent(H5Oopen(group, path.substr(0, path.rfind('/')).c_str(), H5P_DEFAULT), H5Oclose);
+      tag = theory_tag(parent);
+    }
     static_cast<std::vector<Entry>*>(data)->push_back(
-        {"/" + std::string(name), shape, H5Tget_class(type) == H5T_STRING && unit.empty() ? "-" : unit, attribute(d, "description")});
+        {"/" + std::string(name), shape, H5Tget_class(type) == H5T_STRING && unit.empty() ? "-" : unit, attribute(d, "description"),
+         tag});
     return 0;
   };
   H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, cb, &out);
@@ -196,16 +216,18 @@ int cmd_inspect(int argc, char** argv) {
   }
 
   const std::vector<Entry> all = datasets(file);
-  std::size_t wpath = 0, wshape = 0;
+  std::size_t wpath = 0, wshape = 0, wunit = 0;
   for (const auto& e : all) {
     wpath = std::max(wpath, std::min<std::size_t>(e.path.size(), 64));
     wshape = std::max(wshape, e.shape.size());
+    wunit = std::max(wunit, e.unit.size());
   }
-  std::cout << "datasets (" << all.size() << "; path, shape, unit" << (full ? ", description" : "") << "):\n";
+  std::cout << "datasets (" << all.size() << "; path, shape, unit, theory tag" << (full ? ", description" : "") << "):\n";
   for (const auto& e : all) {
     std::string line = "  " + e.path;
     line += std::string(e.path.size() < wpath ? wpath - e.path.size() + 2 : 2, ' ');
     line += e.shape + std::string(wshape - e.shape.size() + 2, ' ') + e.unit;
+    if (!e.tag.empty()) line += std::string(wunit - e.unit.size() + 2, ' ') + e.tag;
     std::cout << line << "\n";
     if (full && !e.description.empty()) std::cout << "      " << e.description << "\n";
   }

@@ -144,6 +144,17 @@ TEST(Plot, SlabProfilesAndHistograms) {
             "theory | F | 000 Eq. 3.20 of a Maxwellian");
   EXPECT_EQ(description(dir / "figs" / "velocity_marginals-F.png"), "theory: F_local_equilibrium");
   EXPECT_EQ(description(dir / "figs" / "velocity_marginals-g_y_minus.png"), "theory: g_local_equilibrium");
+  // `gdsmc inspect` shows a histogram's group tag beside its edges and values, none beside the measured F's.
+  const ProcessResult r = run_gdsmc({"inspect", "slab.h5"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  for (const char* part : {"edges", "values"}) {
+    const auto theory = lines_starting(r.out, std::string("  /diagnostics/velocity_marginals/F_local_equilibrium/") + part + " ");
+    ASSERT_EQ(theory.size(), 1u) << r.out;
+    EXPECT_TRUE(theory[0].ends_with("  theory of F (000 Eq. 3.20 of a Maxwellian)")) << theory[0];
+    const auto measured = lines_starting(r.out, std::string("  /diagnostics/velocity_marginals/F/") + part + " ");
+    ASSERT_EQ(measured.size(), 1u) << r.out;
+    EXPECT_FALSE(contains(measured[0], "theory")) << measured[0];
+  }
 }
 
 // What a figure shows, from the Description text the plotter writes into its PNG.
@@ -300,6 +311,17 @@ TEST(Inspect, PrintsProvenanceAndDatasetsWithUnits) {
   ASSERT_EQ(time.size(), 1u) << r.out;
   EXPECT_EQ(time[0].substr(time[0].size() - 4), "tau0") << time[0];
   EXPECT_EQ(lines_starting(r.out, "  /diagnostics/hcs_theory/a2.steady_mean ").size(), 1u) << r.out;
+  // Theory beside its measurement: the tag of OutputSink::theory after the unit, none on the measured.
+  const auto a2_sonine = lines_starting(r.out, "  /diagnostics/hcs_theory/a2_sonine ");
+  ASSERT_EQ(a2_sonine.size(), 1u) << r.out;
+  EXPECT_TRUE(a2_sonine[0].ends_with("  theory of a2 (001 Eq. 2.16)")) << a2_sonine[0];
+  const auto zeta = lines_starting(r.out, "  /diagnostics/hcs_theory/zeta_ratio_second_sonine ");
+  ASSERT_EQ(zeta.size(), 1u) << r.out;
+  EXPECT_TRUE(contains(zeta[0], "theory of zeta_ratio_from_cumulants, zeta_ratio_from_cumulants_bilinear (000 Eq. 2.10")) << zeta[0];
+  const auto a2 = lines_starting(r.out, "  /diagnostics/hcs_theory/a2 ");
+  ASSERT_EQ(a2.size(), 1u) << r.out;
+  EXPECT_TRUE(a2[0].ends_with(" 1")) << "the measured a2 ends with its unit: " << a2[0];
+  EXPECT_TRUE(contains(r.out, "datasets (") && contains(r.out, "; path, shape, unit, theory tag):")) << r.out;
   // Where the steps' time went, from /run/stage_seconds.*: a homogeneous run has collisions.
   const auto stages = lines_starting(r.out, "  steps' time [s] ");
   ASSERT_EQ(stages.size(), 1u) << r.out;
