@@ -95,6 +95,22 @@ void DiagnosticOutput::theory(const std::string& dataset, const std::string& mea
   theory_tags[dataset] = TheoryTag{list, equation};
 }
 
+const DiagnosticOutput::Array* DiagnosticOutput::find_array(const std::string& name) const {
+  const auto a = std::find_if(arrays.begin(), arrays.end(), [&](const Array& e) { return e.name == name; });
+  return a == arrays.end() ? nullptr : &*a;
+}
+
+void DiagnosticOutput::axis(const std::string& dataset, const std::string& grid) {
+  const std::string what = "diagnostic '" + group_ + "' gave '" + dataset + "' the axis '" + grid + "'";
+  const Array *d = find_array(dataset), *g = find_array(grid);
+  if (!d || !g) throw std::runtime_error(what + ", but '" + (d ? grid : dataset) + "' is not an array it wrote (write both first)");
+  if (axes.count(dataset)) throw std::runtime_error(what + ", but it already has the axis '" + axes[dataset] + "'");
+  if (dataset == grid || d->shape.size() != 1 || g->shape.size() != 1 || d->data.size() != g->data.size())
+    throw std::runtime_error(what + ": both must be 1-D arrays of the same length, and two arrays (" +
+                             std::to_string(d->data.size()) + " and " + std::to_string(g->data.size()) + " values)");
+  axes[dataset] = grid;
+}
+
 void DiagnosticOutput::tag_steady_means() {
   const std::string suffix = ".steady_mean";
   std::map<std::string, TheoryTag> derived;
@@ -196,6 +212,11 @@ void DiagnosticOutput::save(StateWriter& out) const {
     out.write("theory.measured", t.measured);
     out.write("theory.equation", t.equation);
   }
+  out.write("axes", static_cast<std::uint64_t>(axes.size()));  // SDK 6.4 on
+  for (const auto& [k, g] : axes) {
+    out.write("axis.name", k);
+    out.write("axis.grid", g);
+  }
 }
 
 void DiagnosticOutput::load(StateReader& in) {
@@ -251,16 +272,29 @@ void DiagnosticOutput::load(StateReader& in) {
     in.read("attribute.value", value);
     attributes[key] = value;
   }
-  // A checkpoint from before SDK 6.3 has no tags: those made in begin() stay.
-  if (in.peek_name() != "theory_tags") return;
-  theory_tags.clear();
-  for (std::size_t k = read_count(in, "theory_tags"); k > 0; --k) {
-    std::string name;
-    TheoryTag t;
-    in.read("theory.name", name);
-    in.read("theory.measured", t.measured);
-    in.read("theory.equation", t.equation);
-    theory_tags[name] = t;
+  load_tags(in);
+}
+
+void DiagnosticOutput::load_tags(StateReader& in) {
+  // A checkpoint from before SDK 6.3 has no theory tags, one from before 6.4 no axes: those made in begin() stay.
+  if (in.peek_name() == "theory_tags") {
+    theory_tags.clear();
+    for (std::size_t k = read_count(in, "theory_tags"); k > 0; --k) {
+      std::string name;
+      TheoryTag t;
+      in.read("theory.name", name);
+      in.read("theory.measured", t.measured);
+      in.read("theory.equation", t.equation);
+      theory_tags[name] = t;
+    }
+  }
+  if (in.peek_name() != "axes") return;
+  axes.clear();
+  for (std::size_t k = read_count(in, "axes"); k > 0; --k) {
+    std::string name, grid;
+    in.read("axis.name", name);
+    in.read("axis.grid", grid);
+    axes[name] = grid;
   }
 }
 

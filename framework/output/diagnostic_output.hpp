@@ -55,6 +55,7 @@ class DiagnosticOutput final : public OutputSink {
   void attribute(const std::string& name, const std::string& value) override;
   void summary(const std::string& line) override;
   void theory(const std::string& dataset, const std::string& measured, const std::string& equation) override;
+  void axis(const std::string& dataset, const std::string& grid) override;
 
   // The sampling bins along y of the profiles, their centres in lambda0 (SystemInfo::bins of them).
   // The host calls this before Diagnostic::begin; a profile declared without it is refused.
@@ -85,12 +86,15 @@ class DiagnosticOutput final : public OutputSink {
   std::vector<Scalar> scalars;
   std::map<std::string, std::string> attributes;
   std::map<std::string, TheoryTag> theory_tags;  // by dataset name
+  std::map<std::string, std::string> axes;        // OutputSink::axis: the grid of each array that has one
   // Each realization's own output (output.realizations), written under <group>/realizations/<k>.
   std::vector<DiagnosticOutput> realizations;
 
  private:
   void check_name(const std::string& name) const;
   bool written(const std::string& name) const;
+  const Array* find_array(const std::string& name) const;
+  void load_tags(StateReader& in);
   std::string group_;
   std::vector<std::string>* summary_;
 };

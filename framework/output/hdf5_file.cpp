@@ -210,6 +210,10 @@ class Writer {
       dataset(hg, "values", h.values, {h.values.size()}, h.value_unit, h.doc);
     }
     for (const auto& [name, tag] : d.theory_tags) theory_tag(g, name, tag);
+    for (const auto& [name, grid] : d.axes) {  // OutputSink::axis
+      Id obj(H5Oopen(g, name.c_str(), H5P_DEFAULT), H5Oclose, "open " + name);
+      attr_string(obj, "axis", grid);
+    }
   }
 
   void write_case(hid_t file_id, const CaseOutput& out) const {

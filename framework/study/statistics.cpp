@@ -223,6 +223,7 @@ std::vector<DiagnosticOutput> average_realizations(const std::vector<std::vector
     DiagnosticOutput out(first.group(), summary);
     out.attributes = first.attributes;
     out.theory_tags = first.theory_tags;
+    out.axes = first.axes;
     out.attributes["realizations"] = std::to_string(K);
     std::size_t records = first.time.size();
     for (const auto& r : runs) records = std::min(records, r[d].time.size());

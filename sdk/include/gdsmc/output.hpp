@@ -46,6 +46,13 @@ class GDSMC_API OutputSink {
   // exist. The host writes the attributes role = "theory", theory_of and equation on the dataset;
   // `gdsmc plot` and the report scripts pair theory with measurement by them alone.
   virtual void theory(const std::string& dataset, const std::string& measured, const std::string& equation) = 0;
+
+  // SDK 6.4 (appended: a minor version). Declares that the 1-D array `dataset` holds its values at
+  // the points of the 1-D array `grid` of the same group, of the same length (a steady profile over
+  // its bin centres, a theory curve over its alpha grid). Call it once per dataset, after both are
+  // written. The host writes the attribute axis = grid on the dataset; `gdsmc plot` draws the
+  // dataset against its grid (against its index when it declares none).
+  virtual void axis(const std::string& dataset, const std::string& grid) = 0;
 };
 
 }  // namespace gdsmc

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "output/hdf5_file.hpp"
+#include "study/statistics.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -215,6 +216,15 @@ TEST(Output, ProfileRecordsAreCheckedAndNamed) {
   EXPECT_THROW(d.profile("velocity", "1", "declared twice"), std::runtime_error);
 }
 
+// An output file of one run holding the diagnostic d, written as the host writes it.
+fs::path write_one_diagnostic(const TempDir& dir, const std::string& file, const gdsmc::host::DiagnosticOutput& d) {
+  gdsmc::host::StudyOutput out;
+  out.cases.emplace_back();
+  out.cases[0].diagnostics = {d};
+  gdsmc::host::write_hdf5(dir / file, out);
+  return dir / file;
+}
+
 // OutputSink::theory (SDK 6.3): the tag becomes the attributes role, theory_of and equation of the
 // dataset (a histogram's group included), survives a checkpoint, and is refused for a dataset or
 // a measured twin not yet written, twice, or without its equation.
@@ -246,12 +256,8 @@ TEST(Output, TheoryTagsAreAttributesOfTheirDatasets) {
   ASSERT_EQ(resumed.theory_tags.size(), 3u);
   EXPECT_EQ(resumed.theory_tags.at("T_haff").measured, "T,T_mean");
 
-  gdsmc::host::StudyOutput out;
-  out.cases.emplace_back();
-  out.cases[0].diagnostics = {resumed};
   TempDir dir;
-  gdsmc::host::write_hdf5(dir / "theory.h5", out);
-  h5::File h(dir / "theory.h5");
+  h5::File h(write_one_diagnostic(dir, "theory.h5", resumed));
   const hid_t f = h.id();
   const std::string g = "/diagnostics/theory/";
   EXPECT_EQ(h5::read_string_attribute(f, g + "T_haff", "role"), "theory");
@@ -261,6 +267,42 @@ TEST(Output, TheoryTagsAreAttributesOfTheirDatasets) {
   EXPECT_EQ(h5::read_string_attribute(f, g + "rate", "theory_of"), "");
   EXPECT_EQ(h5::read_string_attribute(f, g + "rate", "equation"), "van Noije & Ernst 1998");
   for (const char* measured : {"T", "T_mean", "g"}) EXPECT_FALSE(h5::has_attribute(f, g + measured, "role")) << measured;
+}
+
+// OutputSink::axis (SDK 6.4): a 1-D array's grid, checked when declared, kept through a checkpoint,
+// copied to the realizations' average and written as the attribute axis.
+TEST(Output, AnArraysAxisIsTheAttributeNamingItsGrid) {
+  std::vector<std::string> summary;
+  gdsmc::host::DiagnosticOutput d("curves", &summary);
+  d.array("alpha", {0.0, 0.5, 1.0}, {3}, "1", "grid");
+  d.array("kappa_vs_alpha", {1.2, 1.1, 1.0}, {3}, "1", "a curve over alpha");
+  d.array("short", {1.0, 2.0}, {2}, "1", "two values");
+  d.array("matrix", {1, 2, 3, 4, 5, 6}, {2, 3}, "1", "2-D");
+  d.scalar("s", 1.0, "1", "a scalar");
+  EXPECT_THROW(d.axis("later", "alpha"), std::runtime_error);           // not written
+  EXPECT_THROW(d.axis("kappa_vs_alpha", "s"), std::runtime_error);      // the grid is no array
+  EXPECT_THROW(d.axis("short", "alpha"), std::runtime_error);           // lengths differ
+  EXPECT_THROW(d.axis("matrix", "alpha"), std::runtime_error);          // not 1-D
+  EXPECT_THROW(d.axis("alpha", "alpha"), std::runtime_error);           // itself
+  d.axis("kappa_vs_alpha", "alpha");
+  EXPECT_THROW(d.axis("kappa_vs_alpha", "alpha"), std::runtime_error);  // twice
+
+  gdsmc::BufferStateWriter saved;
+  d.save(saved);
+  gdsmc::host::DiagnosticOutput resumed("curves", &summary);
+  gdsmc::BufferStateReader in(saved.bytes());
+  resumed.load(in);
+  ASSERT_EQ(resumed.axes.size(), 1u);
+  EXPECT_EQ(resumed.axes.at("kappa_vs_alpha"), "alpha");
+  const auto averaged = gdsmc::host::average_realizations({{resumed}, {resumed}}, &summary);
+  ASSERT_EQ(averaged.size(), 1u);
+  EXPECT_EQ(averaged[0].axes, resumed.axes);
+
+  TempDir dir;
+  h5::File h(write_one_diagnostic(dir, "axes.h5", resumed));
+  EXPECT_EQ(h5::read_string_attribute(h.id(), "/diagnostics/curves/kappa_vs_alpha", "axis"), "alpha");
+  for (const char* other : {"alpha", "short", "matrix"})
+    EXPECT_FALSE(h5::has_attribute(h.id(), std::string("/diagnostics/curves/") + other, "axis")) << other;
 }
 
 // A diagnostic that throws in finish(): exit 1, the plugin named, and no file under the final
