@@ -14,7 +14,9 @@ Reads the layout of output-format.md (installed in share/doc/gdsmc; docs/ in the
   - profiles [records, bins] against y (bin_centre): a few records and, where declared
     stationary, the steady profile;
   - histograms {edges, values} as steps, with their _stderr companion as error bars;
-  - other arrays (1-D against the index, 2-D as an image); the scalars of a group as a table;
+  - other arrays: 1-D against the grid they declare (their attribute `axis` names a 1-D array of
+    the group of the same length, OutputSink::axis: a profile's bin centres, a curve's alpha grid),
+    else against their index; 2-D as an image; the scalars of a group as a table;
   - a sweep's /summary: every quantity against the swept parameter(s), with its error.
 Theory written by a diagnostic (a dataset with the attributes role = "theory", theory_of = the
 measured datasets it is theory for, separated by commas, and equation; OutputSink::theory) is drawn
@@ -22,7 +24,8 @@ as lines on the figures of those measured quantities, and on a figure of its own
 empty; the names of the datasets play no part.
 Axis labels carry each dataset's `unit` attribute. Prints the path of each file written; each
 PNG's Description text says what it shows: "y axis: log|linear; steady means: NAMES|none; theory:
-NAMES|none" for a series, "theory: NAMES|none" for a histogram or a sweep quantity.
+NAMES|none" for a series, "theory: NAMES|none" for a histogram or a sweep quantity, "x axis: GRID|index"
+for a 1-D array.
 Needs the Debian packages python3-h5py, python3-numpy and python3-matplotlib (Agg backend).
 """
 import argparse
@@ -354,16 +357,28 @@ def plot_histograms(grp, title, prefix, w):
             w.save(fig, "%s%s" % (prefix, t))
 
 
+def array_axis(grp, d):
+    """The grid a 1-D array declares (its attribute axis, OutputSink::axis) if the group holds it with
+    the array's shape, else None (the array is drawn against its index)."""
+    grid = attr(d, "axis")
+    g = grp.g.get(grid) if grid else None
+    return grid if isinstance(g, h5py.Dataset) and g.shape == d.shape else None
+
+
 def plot_arrays(grp, title, prefix, w):
     for name in grp.arrays:
         d = grp.g[name]
         data = d[()]
         fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        description = ""
         if data.ndim == 1:
-            ax.plot(np.arange(len(data)), data, ".-")
-            ax.set_xlabel("index")
+            grid = array_axis(grp, d)
+            x = grp.g[grid][()] if grid else np.arange(len(data))
+            ax.plot(x, data, ".-")
+            ax.set_xlabel(label(grid, grp.g[grid]) if grid else "index")
             ax.set_ylabel(label(name, d))
             ax.grid(alpha=0.3)
+            description = "x axis: %s" % (grid or "index")
         else:
             im = ax.imshow(data.reshape(data.shape[0], -1), aspect="auto", origin="lower", interpolation="nearest")
             fig.colorbar(im, ax=ax, label=label(name, d))
@@ -371,7 +386,7 @@ def plot_arrays(grp, title, prefix, w):
             ax.set_ylabel("row")
         ax.set_title("%s: %s %s\n%s" % (title, name, list(data.shape), attr(d, "description")[:100]), fontsize=9)
         fig.tight_layout()
-        w.save(fig, "%s%s" % (prefix, name))
+        w.save(fig, "%s%s" % (prefix, name), description)
 
 
 def plot_scalars(grp, names, title, prefix, w):

@@ -26,7 +26,9 @@ file written:
     file has them (output.realizations), and the steady mean over its averaging window;
   - profiles against y (a few records, and the steady profile);
   - histograms as steps over their edges (with their _stderr as error bars);
-  - other arrays, and the scalars of each diagnostic as a table;
+  - other arrays: a 1-D one against the grid it declares (its attribute axis, OutputSink::axis:
+    a profile's bin centres, a theory curve's alpha grid), else against its index; the scalars of
+    each diagnostic as a table;
   - a sweep: every case's diagnostics (files case<k>-...), and every quantity of /summary against
     the swept parameter, with its error bars (files summary-...).
 Theory a diagnostic wrote (a dataset with the attributes role = "theory", theory_of and equation;

@@ -81,7 +81,7 @@ class PlateauFit {
 class EnskogShearViscosity final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "enskog_shear_viscosity";
-  static constexpr const char* version = "1.4.0";
+  static constexpr const char* version = "1.4.1";
   static constexpr const char* summary =
       "Modified USF (002): kinetic + collisional P_ij, eta(t) = -P_xy/a, Kn(t), c(t)/c0, first-Sonine eta and the NS plateau";
   static constexpr const char* documentation =
@@ -229,6 +229,8 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
               "first-Sonine eta^k(alpha, phi)/eta^k(1, phi) at this phi and chi on sonine_alpha_grid (Fig. 4 left)");
     out.array("eta_sonine_ratio_vs_alpha", t_alpha, {alphas.size()}, "1",
               "first-Sonine eta(alpha, phi)/eta(1, phi) at this phi and chi on sonine_alpha_grid (Fig. 4 right)");
+    for (const char* curve : {"eta_k_sonine_ratio_vs_phi", "eta_sonine_ratio_vs_phi"}) out.axis(curve, "sonine_phi_grid");
+    for (const char* curve : {"eta_k_sonine_ratio_vs_alpha", "eta_sonine_ratio_vs_alpha"}) out.axis(curve, "sonine_alpha_grid");
   }
 
   // The theory of begin() marked as theory (OutputSink::theory), once the measured values exist.

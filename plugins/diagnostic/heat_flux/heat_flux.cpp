@@ -61,6 +61,9 @@ void write_theory_curves(gdsmc::OutputSink& out, bool kappa_route) {
             "first-Sonine mu n/(T kappa0) = 2 (kappa - kappa')/kappa0 at theory_alpha_grid, Eq. 2.38");
   out.array("theory_b1_vs_alpha", b1, {kPoints}, "1",
             "first-Sonine b1 = (15 sqrt(pi)/16) x the route's kappa/kappa0 at theory_alpha_grid (Eq. 2.45)");
+  for (const char* curve : {"theory_kappa_prime_over_kappa0_vs_alpha", "theory_kappa_over_kappa0_vs_alpha",
+                            "theory_mu_n_over_T_kappa0_vs_alpha", "theory_b1_vs_alpha"})
+    out.axis(curve, "theory_alpha_grid");
 }
 
 // ---- Generalized Laguerre polynomials and Sonine prefactors ---------------------------------
@@ -85,7 +88,7 @@ double sonine_prefactor(int k, double a) {
 class HeatFlux final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "heat_flux";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary =
       "Heat-flux state of paper 001: q_x, kappa'/kappa0 (or kappa/kappa0), b_k (Eqs. 3.10, 3.12), g1, phi, beta1 and first-Sonine theory";
   static constexpr const char* documentation =
@@ -401,6 +404,8 @@ class HeatFlux final : public gdsmc::Diagnostic {
     out.array("beta1", beta, {half_ + 1}, "1",
               "beta1(X) = (4/(3 eps*)) <c_x (3/2 - c_x^2) 1{|c_x| < sqrt X}> (Eq. 4.6), from the particles");
     out.array("beta1_over_b1", beta_ratio, {half_ + 1}, "1", "beta1(X)/beta1_infinity (Fig. 7 of 001)");
+    out.axis("beta1", "beta1_X");
+    out.axis("beta1_over_b1", "beta1_X");
     out.scalar("beta1_infinity", beta_inf, "1", "beta1(X -> infinity) = b1 of Eq. 3.12 over the window (all particles)");
     out.scalar("beta1_6_over_b1", beta6, "1", "beta1(6)/beta1_infinity (001: 0.87 at alpha = 1, 0.66 at alpha = 0.3)");
 

@@ -65,6 +65,8 @@ void write_columns(gdsmc::OutputSink& out, const gdsmc::SystemInfo& sys, const R
               any_nan ? error_doc("steady_" + std::string(kProfiles[k].name) + " (some bins)",
                                   value_nan ? std::nan("") : 0.0, std::nan(""))
                       : std::string("jackknife error of steady_") + kProfiles[k].name);
+    out.axis(std::string("steady_") + kProfiles[k].name, "y");
+    out.axis(std::string("steady_") + kProfiles[k].name + "_error", "y");
   }
 }
 

@@ -227,6 +227,31 @@ output: {file: usf.h5}
   EXPECT_EQ(h5::read_string_attribute(usf_file.id(), "/diagnostics/shear_rheology", "stationary"), "all");
 }
 
+// 1-D arrays against the grid they declare (OutputSink::axis): poiseuille_channel's steady profiles
+// against its bin centres y, the errors too; an array that declares none (energy_balance's energy
+// by stage) against its index. The old plotter drew every array against its index.
+TEST(Plot, ArraysAgainstTheGridTheyDeclare) {
+  TempDir dir;
+  run_pipeline(dir, R"(run: {seed: 7, particles: 600, time_step: {value: 0.02, unit: tau0}, stop: {time: 2}}
+system: {density: 1.0e-3, temperature: 1.0, domain: slab, box: {y: 1.0}, layers: 12}
+initial_state: maxwellian
+collision: {plugin: inelastic_hard_spheres, alpha: 0.9}
+forcings: [{plugin: body_acceleration, acceleration: 0.5}]
+boundaries: {y: diffuse_wall}
+diagnostics: [{plugin: poiseuille_channel, steady_window: 0.5}, energy_balance]
+output: {file: channel.h5}
+)",
+               "channel.h5");
+  const auto files = plot(dir, {"channel.h5", "--out", "figs"});
+  for (const char* profile : {"steady_u_x", "steady_T", "steady_u_x_error"}) {
+    ASSERT_TRUE(has(files, std::string("poiseuille_channel-") + profile + ".png")) << join(files);
+    EXPECT_EQ(description(dir / "figs" / (std::string("poiseuille_channel-") + profile + ".png")), "x axis: y") << profile;
+  }
+  EXPECT_EQ(description(dir / "figs" / "energy_balance-added_by_stage.png"), "x axis: index");
+  const h5::File f(dir / "channel.h5");
+  EXPECT_EQ(h5::read_string_attribute(f.id(), "/diagnostics/poiseuille_channel/steady_u_x", "axis"), "y");
+}
+
 TEST(Plot, SweepSummaryAgainstTheSweptParameter) {
   TempDir dir;
   run_pipeline(dir, kSweep, "sweep.h5");
