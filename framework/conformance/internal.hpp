@@ -118,6 +118,10 @@ const PluginUse& slot(const Pipeline& p, PluginKind k);
 std::vector<ConfigError> own_errors(const PipelineError& e, PluginKind k);
 // Their printed lines joined by "; ", or every error's when `own` is empty.
 std::string error_text(const std::vector<ConfigError>& own, const PipelineError& e);
+// The entry that fills a required slot of `kind` (kinds.hpp's stand-in, else the first plugin of
+// the kind in `reg` with no required parameters); throws std::runtime_error naming the kind.
+std::string stand_in(const PluginRegistry& reg, PluginKind kind);
+std::string stand_in_plugin(const PluginKindInfo& info);  // the plugin its stand-in names; "": none
 std::string filler(const Subject& s, PluginKind kind);
 std::string entry_text(const std::string& plugin, const Assignment& a);
 std::unique_ptr<Pipeline> load_test_pipeline(const Subject& s, const Assignment& a, std::size_t particles = 256);

@@ -234,8 +234,11 @@ Result choose_context(Subject& s) {
       chosen = "the default (the shipped one is refused)";
     }
   } else {
+    std::vector<std::string> stand_ins;
+    for (const PluginKindInfo& row : kPluginKinds)
+      if (row.stand_in) stand_ins.push_back(stand_in_plugin(row));
     chosen = "the default: a homogeneous system (a boundary: a slab between two of its planes), the other slots "
-             "filled from the plugin search path (maxwellian, inelastic_hard_spheres)";
+             "filled from the plugin search path (" + join(stand_ins, ", ") + ")";
   }
   std::printf("gdsmc conformance: context: %s\n", chosen.c_str());
   return r;

@@ -103,8 +103,45 @@ std::string error_text(const std::vector<ConfigError>& own, const PipelineError&
   return join(lines, "; ");
 }
 
+std::string stand_in_plugin(const PluginKindInfo& info) {
+  if (!info.stand_in) return "";
+  const YAML::Node entry = YAML::Load(info.stand_in);
+  return entry.IsMap() ? entry["plugin"].Scalar() : entry.Scalar();
+}
+
+// The entry filling a required slot of `kind` in a pipeline built around a plugin of another kind:
+// the kind's stand-in (kinds.hpp) when `reg` has that plugin, of that kind, declaring every
+// parameter the entry sets; else the first plugin of the kind, in the registry's order, whose
+// parameters all have defaults.
+std::string stand_in(const PluginRegistry& reg, PluginKind kind) {
+  const PluginKindInfo& info = kind_info(kind);
+  auto declares = [](const PluginDescriptor& d, const std::string& key) {
+    return std::any_of(d.parameters.begin(), d.parameters.end(), [&](const ParamSpec& p) { return p.name == key; });
+  };
+  if (info.stand_in) {
+    const YAML::Node entry = YAML::Load(info.stand_in);
+    const LoadedPlugin* lp = reg.find(stand_in_plugin(info));
+    bool usable = lp && lp->descriptor->kind == kind;
+    if (usable && entry.IsMap())
+      for (auto it = entry.begin(); it != entry.end(); ++it)
+        usable = usable && (it->first.Scalar() == "plugin" || declares(*lp->descriptor, it->first.Scalar()));
+    if (usable) return info.stand_in;
+  }
+  for (const PluginInfo& found : reg.available()) {
+    if (found.kind != kind) continue;
+    const LoadedPlugin* lp = reg.find(found.name);
+    if (!lp || lp->descriptor->kind != kind) continue;  // a plugin of the same name found earlier
+    const auto& params = lp->descriptor->parameters;
+    if (std::all_of(params.begin(), params.end(), [](const ParamSpec& p) { return p.default_.has_value(); }))
+      return lp->descriptor->name;
+  }
+  throw std::runtime_error(std::string("cannot build a test pipeline: no ") + info.role + " plugin (kind '" +
+                           to_string(kind) + "') whose parameters all have defaults on the plugin search path " +
+                           "to go with this one (give --plugin-path, GDSMC_PLUGIN_PATH or --context)");
+}
+
 // Fillers for the slots the plugin does not occupy: the --context pipeline's entries, else the
-// preferred in-tree plugin, else the first plugin of the kind whose parameters all have defaults.
+// stand-in from the plugin, the user's plugin paths, the context's and the search path.
 std::string filler(const Subject& s, PluginKind kind) {
   static std::map<PluginKind, std::string> cache;
   if (auto it = cache.find(kind); it != cache.end()) return it->second;
@@ -121,24 +158,7 @@ std::string filler(const Subject& s, PluginKind kind) {
   for (const auto& p : s.cfg.plugin_paths) add(p);
   for (const auto& p : s.context_paths) add(p);
   for (const auto& p : PluginRegistry::default_search_path()) add(p);
-  const char* preferred = kind == PluginKind::initial_state ? "maxwellian" : "inelastic_hard_spheres";
-  if (const LoadedPlugin* lp = reg.find(preferred); lp && lp->descriptor->kind == kind) {
-    // An inelastic gas, so that rules, forcings and diagnostics see dissipation.
-    const bool has_alpha = std::any_of(lp->descriptor->parameters.begin(), lp->descriptor->parameters.end(),
-                                       [](const ParamSpec& p) { return p.name == "alpha"; });
-    return cache[kind] = kind == PluginKind::collision_rule && has_alpha
-                             ? std::string("{plugin: inelastic_hard_spheres, alpha: 0.8}")
-                             : std::string(preferred);
-  }
-  for (const auto& lp : reg.plugins()) {
-    if (lp.descriptor->kind != kind) continue;
-    bool all_defaults = true;
-    for (const auto& p : lp.descriptor->parameters) all_defaults = all_defaults && p.default_.has_value();
-    if (all_defaults) return cache[kind] = lp.descriptor->name;
-  }
-  throw std::runtime_error(std::string("cannot build a test pipeline: no ") + to_string(kind) +
-                           " plugin on the plugin search path to go with this one (give --plugin-path, "
-                           "GDSMC_PLUGIN_PATH or --context)");
+  return cache[kind] = stand_in(reg, kind);
 }
 
 std::string entry_text(const std::string& plugin, const Assignment& a) {

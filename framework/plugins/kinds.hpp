@@ -15,15 +15,20 @@ struct PluginKindInfo {
   const char* role;         // in messages: "collision rule", "initial state", ...
   const char* first_entry;  // the key path of its first entry in a pipeline: "collision", "forcings[0]", ...
   bool writes_output;       // a diagnostic: it has an output group, and sample_every and record_every
+  // Conformance: the pipeline entry (YAML flow text) that fills this kind's required slot in a
+  // pipeline built around a plugin of another kind, when the search path has that plugin declaring
+  // what the entry sets; nullptr: the slot is optional, or no entry is preferred.
+  const char* stand_in;
 };
 
 // In the order `gdsmc plugins` lists them.
 inline constexpr std::array<PluginKindInfo, 5> kPluginKinds = {{
-    {PluginKind::collision_rule, "collision rule", "collision", false},
-    {PluginKind::forcing, "forcing", "forcings[0]", false},
-    {PluginKind::boundary, "boundary", "boundaries.y", false},
-    {PluginKind::initial_state, "initial state", "initial_state", false},
-    {PluginKind::diagnostic, "diagnostic", "diagnostics[0]", true},
+    // An inelastic gas, so that rules, forcings and diagnostics see dissipation.
+    {PluginKind::collision_rule, "collision rule", "collision", false, "{plugin: inelastic_hard_spheres, alpha: 0.8}"},
+    {PluginKind::forcing, "forcing", "forcings[0]", false, nullptr},
+    {PluginKind::boundary, "boundary", "boundaries.y", false, nullptr},
+    {PluginKind::initial_state, "initial state", "initial_state", false, "maxwellian"},
+    {PluginKind::diagnostic, "diagnostic", "diagnostics[0]", true, nullptr},
 }};
 
 // The row of `kind` (a kind no row has: a descriptor from a newer SDK; the loader refuses it).
