@@ -6,7 +6,7 @@ namespace gdsmc::host {
 
 std::string ConfigError::text() const {
   return (location.empty() ? "" : location + ": ") + (path.empty() ? "" : path + ": ") + message +
-         (valid.empty() ? "" : "; valid: " + valid);
+         (valid.empty() ? "" : "; valid: " + valid) + (sweep_cases.empty() ? "" : "; " + sweep_cases);
 }
 
 namespace {
@@ -17,7 +17,7 @@ std::vector<std::string> texts(const std::vector<ConfigError>& errors) {
 }
 std::vector<ConfigError> whole_input(const std::vector<std::string>& messages) {
   std::vector<ConfigError> out;
-  for (const auto& m : messages) out.push_back(ConfigError{"", "", "", "", m, "", ErrorOrigin::host_check});
+  for (const auto& m : messages) out.push_back(ConfigError{"", "", "", "", m, "", ErrorOrigin::host_check, ""});
   return out;
 }
 }  // namespace

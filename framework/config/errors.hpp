@@ -20,8 +20,11 @@ struct ConfigError {
   std::string message;    // what is wrong
   std::string valid;      // what would be valid, when the check knows it ("[0, 1]"); may be empty
   ErrorOrigin origin = ErrorOrigin::host_check;
+  // The cases of a sweep it occurs in ("in sweep case 1 (collision.alpha=1.5)", "in all 4 sweep
+  // cases"); empty: not a sweep, or a problem found before the cases.
+  std::string sweep_cases;
 
-  // "location: path: message; valid: ..." -- the line `validate` and `run` print.
+  // "location: path: message; valid: ...; sweep cases" -- the line `validate` and `run` print.
   std::string text() const;
 };
 

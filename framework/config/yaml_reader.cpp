@@ -75,7 +75,7 @@ SourceLocation Checker::where(const std::string& path, const YAML::Node& node) c
 
 void Checker::error(const SourceLocation& at, const std::string& path, const std::string& message,
                     const std::string& valid) {
-  errors_.push_back(ConfigError{at.str(), path, plugin_, parameter_, message, valid, ErrorOrigin::host_check});
+  errors_.push_back(ConfigError{at.str(), path, plugin_, parameter_, message, valid, ErrorOrigin::host_check, ""});
 }
 
 void Checker::error(const std::string& path, const YAML::Node& node, const std::string& message,

@@ -42,19 +42,24 @@ std::string label_of(const AxisValues& values) {
 
 // Problems found in the cases, each reported once with the cases it occurs in (a problem a value
 // of one axis causes shows in every case with that value; one of the base pipeline in every case).
+// Each keeps its fields (key path, plugin, parameter, ...), with the cases in sweep_cases.
 class CaseProblems {
  public:
   explicit CaseProblems(std::vector<AxisValues> cases) : cases_(std::move(cases)) {}
-  void add(std::size_t c, const std::string& message) {
-    auto [it, fresh] = hits_.try_emplace(message);
-    if (fresh) order_.push_back(message);
+  void add(std::size_t c, const ConfigError& error) {
+    auto [it, fresh] = hits_.try_emplace(error.text());
+    if (fresh) order_.push_back(error);
     it->second.push_back(c);
   }
+  void add(std::size_t c, const PipelineError& e) {
+    for (const auto& error : e.errors()) add(c, error);
+  }
+  void add(std::size_t c, const std::string& message) { add(c, PipelineError({message})); }
   bool empty() const { return order_.empty(); }
   PipelineError error() const {
-    std::vector<std::string> messages;
-    for (const auto& m : order_) messages.push_back(m + in_cases(hits_.at(m)));
-    return PipelineError(messages);
+    std::vector<ConfigError> errors = order_;
+    for (auto& error : errors) error.sweep_cases = in_cases(hits_.at(error.text()));
+    return PipelineError(std::move(errors));
   }
 
  private:
@@ -62,8 +67,8 @@ class CaseProblems {
     const std::size_t total = cases_.size();
     if (total == 0 || cases_[0].empty()) return "";  // no sweep
     auto one = [&](std::size_t c) { return std::to_string(c) + " (" + label_of(cases_[c]) + ")"; };
-    if (hit.size() == 1) return "; in sweep case " + one(hit[0]);
-    if (hit.size() == total) return "; in all " + std::to_string(total) + " sweep cases";
+    if (hit.size() == 1) return "in sweep case " + one(hit[0]);
+    if (hit.size() == total) return "in all " + std::to_string(total) + " sweep cases";
     // The values every case with the problem shares: when exactly the cases with them have it, say so.
     AxisValues common;
     for (std::size_t a = 0; a < cases_[hit[0]].size(); ++a) {
@@ -80,18 +85,18 @@ class CaseProblems {
         matching += match ? 1 : 0;
       }
       if (matching == hit.size())
-        return "; in the " + std::to_string(hit.size()) + " sweep cases with " + label_of(common) + " (of " +
+        return "in the " + std::to_string(hit.size()) + " sweep cases with " + label_of(common) + " (of " +
                std::to_string(total) + ")";
     }
-    std::string s = "; in " + std::to_string(hit.size()) + " of " + std::to_string(total) + " sweep cases: ";
+    std::string s = "in " + std::to_string(hit.size()) + " of " + std::to_string(total) + " sweep cases: ";
     for (std::size_t k = 0; k < hit.size() && k < 3; ++k) s += (k ? ", " : "") + one(hit[k]);
     if (hit.size() > 3) s += " and " + std::to_string(hit.size() - 3) + " more";
     return s;
   }
 
   std::vector<AxisValues> cases_;
-  std::vector<std::string> order_;  // first seen first
-  std::map<std::string, std::vector<std::size_t>> hits_;
+  std::vector<ConfigError> order_;  // first seen first
+  std::map<std::string, std::vector<std::size_t>> hits_;  // by the error's text
 };
 
 // n rounded down to two significant digits (a figure to suggest, not a promise).
@@ -187,7 +192,7 @@ std::vector<StudyCase> expand_cases(const LoadedPipeline& loaded, const CheckPro
     try {
       cases.push_back(StudyCase{label_of(values[c]), values[c], loader.load(points[c])});
     } catch (const PipelineError& e) {
-      for (const auto& m : e.messages()) problems.add(c, m);
+      problems.add(c, e);
     }
     tick(c + 1, points.size());
   }
@@ -250,7 +255,7 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const PipelineError& e) {
-      for (const auto& m : e.messages()) problems.add(c, m);
+      problems.add(c, e);
     } catch (const std::exception& e) {
       problems.add(c, p.file.string() + ": " + failure_text(e, nullptr));
     }
@@ -267,7 +272,7 @@ MemoryEstimate check_cases(const std::vector<StudyCase>& cases, const CheckProgr
       } catch (const std::bad_alloc&) {
         throw;
       } catch (const PipelineError& e) {
-        for (const auto& m : e.messages()) problems.add(c, m);
+        problems.add(c, e);
       } catch (const std::exception& e) {
         problems.add(c, cases[c].pipeline.file.string() + ": " + failure_text(e, &estimate));
       }

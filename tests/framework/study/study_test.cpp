@@ -112,6 +112,8 @@ sweep:
   }
 }
 
+// The error stays structured: its key path, plugin and parameter as the case's load found them,
+// the cases in sweep_cases, and the printed line the case's line followed by them.
 TEST(Study, ASweepCaseWithABadValueIsRefusedBeforeAnythingRuns) {
   TempDir dir;
   const fs::path file = dir.write("sweep.yaml", std::string(kHcs) + "sweep:\n  collision.alpha: [0.5, 1.5]\n");
@@ -123,6 +125,17 @@ TEST(Study, ASweepCaseWithABadValueIsRefusedBeforeAnythingRuns) {
     const std::string m = e.what();
     EXPECT_NE(m.find("sweep case 1 (collision.alpha=1.5)"), std::string::npos) << m;
     EXPECT_NE(m.find("[0, 1]"), std::string::npos) << m;
+    ASSERT_EQ(e.errors().size(), 1u) << m;
+    const host::ConfigError& error = e.errors()[0];
+    EXPECT_EQ(error.path, "collision.alpha");
+    EXPECT_EQ(error.plugin, "inelastic_hard_spheres");
+    EXPECT_EQ(error.parameter, "alpha");
+    EXPECT_EQ(error.valid, "[0, 1]");
+    EXPECT_EQ(error.sweep_cases, "in sweep case 1 (collision.alpha=1.5)");
+    host::ConfigError without = error;
+    without.sweep_cases.clear();
+    EXPECT_EQ(error.text(), without.text() + "; in sweep case 1 (collision.alpha=1.5)");
+    EXPECT_EQ(e.messages(), std::vector<std::string>{error.text()});
   }
 }
 
