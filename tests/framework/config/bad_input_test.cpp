@@ -10,12 +10,7 @@
 
 namespace {
 
-using gdsmc::test::ProcessResult;
-using gdsmc::test::contains;
-using gdsmc::test::replace_once;
-using gdsmc::test::TempDir;
-using gdsmc::test::line_of;
-using gdsmc::test::run_gdsmc;
+using namespace gdsmc::test;
 
 // A small valid pipeline (each test breaks one thing). Line numbers are computed from the text.
 const std::string kGood = R"(run:
@@ -32,28 +27,6 @@ diagnostics:
   - {plugin: temperature}
 output: {file: out.h5}
 )";
-
-// Runs `gdsmc run pipeline.yaml [extra]` in a fresh directory holding only the pipeline, and
-// checks the refusal: exit status 1, no crash, and nothing but the pipeline left in the directory.
-struct Refusal {
-  ProcessResult result;
-  std::string file;  // the pipeline path as given on the command line
-  std::string text;  // the pipeline
-};
-
-Refusal refuse(const std::string& yaml, const std::vector<std::string>& extra = {}, const std::string& command = "run") {
-  TempDir dir;
-  Refusal r;
-  r.text = yaml;
-  r.file = dir.write("pipeline.yaml", yaml).string();
-  std::vector<std::string> args = {command, r.file};
-  args.insert(args.end(), extra.begin(), extra.end());
-  r.result = run_gdsmc(args, dir.path());
-  EXPECT_EQ(r.result.exit_code, 1) << r.result.describe();
-  EXPECT_EQ(r.result.signal, 0) << r.result.describe();
-  EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{}) << "a refused run left files behind";
-  return r;
-}
 
 // The reference: the unbroken pipeline runs and writes out.h5 in its directory (so the "no output
 // file" checks below are meaningful).

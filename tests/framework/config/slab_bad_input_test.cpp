@@ -10,12 +10,7 @@
 
 namespace {
 
-using gdsmc::test::ProcessResult;
-using gdsmc::test::contains;
-using gdsmc::test::replace_once;
-using gdsmc::test::TempDir;
-using gdsmc::test::line_of;
-using gdsmc::test::run_gdsmc;
+using namespace gdsmc::test;
 
 const std::string kGood = R"(run:
   seed: 7
@@ -38,19 +33,15 @@ diagnostics: [temperature, profiles]
 output: {file: out.h5}
 )";
 
-// `gdsmc run` and `gdsmc validate` both refuse: exit 1, no signal, nothing left but the pipeline.
-std::string refuse(const std::string& yaml, const std::string& must_say) {
+// `gdsmc validate` and `gdsmc run` both refuse (support/refusal.hpp), saying `must_say` and naming
+// the pipeline file; returns run's stderr.
+std::string refuse_both(const std::string& yaml, const std::string& must_say) {
   std::string err;
   for (const char* command : {"validate", "run"}) {
-    TempDir dir;
-    const std::string file = dir.write("pipeline.yaml", yaml).string();
-    const ProcessResult r = run_gdsmc({command, file, "--quiet"}, dir.path());
-    EXPECT_EQ(r.exit_code, 1) << command << "\n" << r.describe();
-    EXPECT_EQ(r.signal, 0) << r.describe();
-    EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{}) << "a refused run left files behind";
-    EXPECT_TRUE(contains(r.err, must_say)) << command << ": expected '" << must_say << "' in\n" << r.describe();
-    EXPECT_TRUE(contains(r.err, file)) << "the message should name the pipeline file\n" << r.describe();
-    err = r.err;
+    const Refusal r = refuse(yaml, {"--quiet"}, command);
+    EXPECT_TRUE(contains(r.result.err, must_say)) << command << ": expected '" << must_say << "' in\n" << r.result.describe();
+    EXPECT_TRUE(contains(r.result.err, r.file)) << "the message should name the pipeline file\n" << r.result.describe();
+    err = r.result.err;
   }
   return err;
 }
@@ -65,37 +56,37 @@ TEST(SlabBadInput, GoodSlabPipelineRunsAndWrites) {
 
 TEST(SlabBadInput, SlabWithoutTwoBoundaries) {
   const std::string yaml = replace_once(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", "");
-  const std::string err = refuse(yaml, "missing 'y_max'");
+  const std::string err = refuse_both(yaml, "missing 'y_max'");
   // yaml-cpp marks a block mapping at its first key: the boundaries mapping starts at y_min.
   EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "  y_min:")) + ":")) << err;
-  refuse(replace_once(kGood, "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", ""),
+  refuse_both(replace_once(kGood, "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}\n", ""),
          "a slab needs its two y boundaries");
 }
 
 TEST(SlabBadInput, LeesEdwardsOnOneSideOnly) {
   const std::string yaml = replace_once(kGood, "  y_max: {plugin: diffuse_wall, temperature: 1.0}",
                                    "  y_max: {plugin: lees_edwards, shear_rate: 4}");
-  const std::string err = refuse(yaml, "both y boundaries must be 'lees_edwards' with the same parameters");
+  const std::string err = refuse_both(yaml, "both y boundaries must be 'lees_edwards' with the same parameters");
   EXPECT_TRUE(contains(err, "boundaries.y_max")) << err;
 }
 
 TEST(SlabBadInput, WallTemperatureMustBePositive) {
   const std::string yaml = replace_once(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
                                    "  y_min: {plugin: diffuse_wall, temperature: 0}");
-  const std::string err = refuse(yaml, "boundaries.y_min.temperature");
+  const std::string err = refuse_both(yaml, "boundaries.y_min.temperature");
   EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "temperature: 0")) + ":")) << err;
 }
 
 TEST(SlabBadInput, AccommodationOutsideZeroOne) {
   const std::string yaml = replace_once(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}",
                                    "  y_min: {plugin: maxwell_wall, temperature: 1.0, accommodation: 1.5}");
-  const std::string err = refuse(yaml, "boundaries.y_min.accommodation");
+  const std::string err = refuse_both(yaml, "boundaries.y_min.accommodation");
   EXPECT_TRUE(contains(err, "1.5")) << err;
 }
 
 TEST(SlabBadInput, FewerThanOneParticlePerLayer) {
   const std::string yaml = replace_once(kGood, "  layers: 10", "  layers: 2000");
-  const std::string err = refuse(yaml, "fewer than one particle per layer");
+  const std::string err = refuse_both(yaml, "fewer than one particle per layer");
   EXPECT_TRUE(contains(err, ":" + std::to_string(line_of(yaml, "layers: 2000")) + ":")) << err;
 }
 
@@ -103,7 +94,7 @@ TEST(SlabBadInput, BodyAccelerationWithLeesEdwardsIsRefusedWithTheReason) {
   std::string yaml = replace_once(kGood, "  y_min: {plugin: diffuse_wall, temperature: 1.0}\n  y_max: {plugin: diffuse_wall, temperature: 1.0}",
                              "  y: {plugin: lees_edwards, shear_rate: 4}");
   yaml = replace_once(yaml, "forcings: []", "forcings: [{plugin: body_acceleration, acceleration: 0.5}]");
-  const std::string err = refuse(yaml, "shear_rate");
+  const std::string err = refuse_both(yaml, "shear_rate");
   EXPECT_TRUE(contains(err, "lees_edwards")) << err;
   EXPECT_TRUE(contains(err, "body")) << err;
 }
@@ -111,12 +102,12 @@ TEST(SlabBadInput, BodyAccelerationWithLeesEdwardsIsRefusedWithTheReason) {
 TEST(SlabBadInput, BoundariesInAHomogeneousSystem) {
   std::string yaml = replace_once(kGood, "  domain: slab\n  box: {y: 2.5}\n  layers: 10\n", "");
   yaml = replace_once(yaml, "diagnostics: [temperature, profiles]", "diagnostics: [temperature]");
-  refuse(yaml, "boundaries need a slab");
+  refuse_both(yaml, "boundaries need a slab");
 }
 
 TEST(SlabBadInput, SlabWithoutItsGap) {
-  refuse(replace_once(kGood, "  box: {y: 2.5}\n", ""), "a slab needs its gap");
-  refuse(replace_once(kGood, "  box: {y: 2.5}\n", "  box: {y: {value: 2.5, unit: furlong}}\n"), "unknown length unit 'furlong'");
+  refuse_both(replace_once(kGood, "  box: {y: 2.5}\n", ""), "a slab needs its gap");
+  refuse_both(replace_once(kGood, "  box: {y: 2.5}\n", "  box: {y: {value: 2.5, unit: furlong}}\n"), "unknown length unit 'furlong'");
 }
 
 }  // namespace
