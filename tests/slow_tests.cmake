@@ -9,6 +9,7 @@ set(gdsmc_slow_tests
   "Mpi.AJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits|mpi"
   "HeatFlux.HeatFluxIsLinearInTheField|physics"
   "HeatFlux.ElasticConductivityIsTheConvergedSonineValueAndBothSonineRoutesAgree|physics"
+  "ProfilesFourierLaw.ElasticFourierFlowConductsAsChapmanEnskogSays|physics"
   "slab_physics.LeesEdwardsSteadyRheologyEqualsTheHomogeneousEngine|physics"
   "Checkpoint.SigintSavesTheStateAndAForeignCheckpointIsRefusedNamingWhatDiffers|unit"
   "Checkpoint.ALeesEdwardsSweepWithRealizationsKilledThreeTimesAndResumedIsTheSameBits|unit"

@@ -1,5 +1,6 @@
 // The physics toolkit's per-bin moment accumulator (gdsmc/physics/bins.hpp), steady-state test
-// (gdsmc/physics/steady.hpp) and error estimators (series.hpp, jackknife.hpp): merging is exact
+// (gdsmc/physics/steady.hpp), error estimators (series.hpp, jackknife.hpp) and least-squares line
+// (line_fit.hpp): merging is exact
 // under the order rule, the moments are those of a constructed set of particles, the steady test
 // tells a stationary noisy series from a drifting one, and the errors match their scatter or the
 // exact value. No host, no plugin: fast.
@@ -421,4 +422,25 @@ TEST(EnskogTheory, ContactValueCumulantViscositiesAndCrossings) {
     EXPECT_NEAR(gdsmc::enskog_viscosity_crossing(row[0], false), row[2], 0.006) << "alpha = " << row[0];
   }
   EXPECT_TRUE(std::isnan(gdsmc::enskog_viscosity_crossing(1.0, true)));  // no crossing: the ratio is 1
+}
+
+// The least-squares line (line_fit.hpp) through 1 + 0.5 x + eps r at x = 0 .. 4, r = (1, -2, 0, 2,
+// -1) orthogonal to 1 and x - 2: the line is exact, the residual variance s^2 = 10 eps^2 / 3, Sxx =
+// 10, so var b = eps^2 / 3 and var a = s^2 (1/5 + 4/10) = 2 eps^2; too few points or equal x give
+// NaN. And the elastic conductivity kappa0(T) of 001 Eq. 2.47.
+TEST(LineFit, ExactLineAndResidualVariances) {
+  const double eps = 0.01, r[5] = {1, -2, 0, 2, -1};
+  double x[5], y[5];
+  for (int i = 0; i < 5; ++i) x[i] = i, y[i] = 1.0 + 0.5 * i + eps * r[i];
+  const gdsmc::LineFit f = gdsmc::fit_line(x, y, 5);
+  EXPECT_NEAR(f.intercept, 1.0, 1e-14);
+  EXPECT_NEAR(f.slope, 0.5, 1e-14);
+  EXPECT_NEAR(f.slope_variance, eps * eps / 3.0, 1e-18);
+  EXPECT_NEAR(f.intercept_variance, 2.0 * eps * eps, 1e-18);
+  const gdsmc::LineFit two = gdsmc::fit_line(x, y, 2);
+  EXPECT_NEAR(two.slope, y[1] - y[0], 1e-14);
+  EXPECT_TRUE(std::isnan(two.slope_variance));
+  const double same[3] = {1, 1, 1};
+  EXPECT_TRUE(std::isnan(gdsmc::fit_line(same, y, 3).slope));
+  EXPECT_DOUBLE_EQ(gdsmc::elastic_conductivity0(4.0, 1.0, 2.0), 75.0 / 64.0 * 2.0 / std::sqrt(M_PI) / 4.0);
 }

@@ -1,12 +1,16 @@
 // Test support: small pipelines, and the host in-process (load a pipeline, read what an engine's
-// diagnostics hold).
+// diagnostics hold, drive one diagnostic directly).
 #pragma once
+#include <cstddef>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "config/pipeline.hpp"
+#include "config/system_info.hpp"
 #include "engine/engine.hpp"
+#include "output/diagnostic_output.hpp"
 #include "plugins/loader.hpp"
 #include "plugins/registry.hpp"
 #include "support/files.hpp"
@@ -78,5 +82,46 @@ inline double scalar(const host::Engine& e, const std::string& group, const std:
     if (s.name == name) return s.value;
   throw std::runtime_error("no scalar '" + name + "' in group '" + group + "'");
 }
+
+// The pipeline's first diagnostic as the engine holds it, with its sink (group `group`, the bins of
+// the system of `particles` particles set), for a test that calls begin, sample, record and finish
+// itself; and what the sink then holds, by name (throws if missing).
+struct DiagnosticBench {
+  host::Pipeline pipeline;
+  std::shared_ptr<PluginObject> object;
+  Diagnostic* diag = nullptr;
+  SystemInfo sys;
+  QuantityBoard board;
+  std::vector<std::string> summary;
+  std::unique_ptr<host::DiagnosticOutput> out;
+  DiagnosticBench(const TempDir& dir, const std::string& yaml, const std::string& group, std::size_t particles) {
+    pipeline = load_yaml(dir, yaml);
+    object = host::create_object(*pipeline.diagnostics.at(0).plugin, pipeline.diagnostics.at(0).params);
+    diag = static_cast<Diagnostic*>(object.get());
+    sys = host::system_info(pipeline, particles, 0);
+    out = std::make_unique<host::DiagnosticOutput>(group, &summary);
+    out->set_bins(host::bin_centres_lambda0(sys));
+  }
+  double scalar(const std::string& name) const {
+    for (const auto& s : out->scalars)
+      if (s.name == name) return s.value;
+    throw std::runtime_error("no scalar " + name);
+  }
+  const std::vector<double>& series(const std::string& name) const {
+    for (const auto& c : out->columns)
+      if (c.name == name) return c.values;
+    throw std::runtime_error("no series " + name);
+  }
+  const host::DiagnosticOutput::Histogram& histogram(const std::string& name) const {
+    for (const auto& h : out->histograms)
+      if (h.name == name) return h;
+    throw std::runtime_error("no histogram " + name);
+  }
+  const std::vector<double>& array(const std::string& name) const {
+    for (const auto& a : out->arrays)
+      if (a.name == name) return a.data;
+    throw std::runtime_error("no array " + name);
+  }
+};
 
 }  // namespace gdsmc::test

@@ -40,8 +40,6 @@ double theory_kappa(double alpha) {
 }
 // b1 = (kappa / kappa0) (15 sqrt(pi) / 16): Eq. 2.45 with kappa0 = (75 sqrt(pi)/64) n lambda v0 (Eq. 2.47).
 constexpr double kB1PerConductivity = 15.0 / 16.0;  // times sqrt(pi)
-// The converged elastic Sonine value kappa/kappa0 (001 Sec. IV, its Ref. 37).
-constexpr double kElasticReference = 1.025218;
 // The first-Sonine curves over alpha in [0, 1] (Figs. 3-4 of 001; kappa and mu beside them), with
 // b1 (Eq. 2.45) of the run's route.
 void write_theory_curves(gdsmc::OutputSink& out, bool kappa_route) {
@@ -225,7 +223,7 @@ class HeatFlux final : public gdsmc::Diagnostic {
     put("theory_conductivity_over_kappa0", route_value, "first-Sonine value of this route (kappa' on route 0, kappa on route 1)");
     put("theory_b1", kB1PerConductivity * std::sqrt(kPi) * route_value,
         "first-Sonine b1 = (15 sqrt(pi)/16) x the route's kappa/kappa0 (Eq. 2.45)");
-    put("elastic_reference_kappa_over_kappa0", kElasticReference, "converged Sonine kappa/kappa0 at alpha = 1 (001, Ref. 37)");
+    put("elastic_reference_kappa_over_kappa0", gdsmc::chapman_enskog_conductivity_factor, "converged Sonine kappa/kappa0 at alpha = 1 (001, Ref. 37)");
     // nu0 (Eq. 2.15) at T0 times tau0 = lambda0 / sqrt(2 T0/m): the time unit's collision frequency.
     put("nu0_tau0", 16.0 / 5.0 * std::sqrt(kPi) * n_ * sigma_ * sigma_ * std::sqrt(t0_) * lambda_ / std::sqrt(2.0 * t0_),
         "nu0 tau0 at T0 (Eq. 2.15, tau0 = lambda0/sqrt(2 T0/m)): zeta tau0 = (zeta0/nu0) nu0 tau0");

@@ -51,42 +51,9 @@ std::string pipeline_yaml(const std::string& diagnostic, const std::string& forc
 }
 
 // The diagnostic as the engine holds it, with its sink.
-struct Bench {
-  host::Pipeline pipeline;
-  std::shared_ptr<PluginObject> object;
-  Diagnostic* diag = nullptr;
-  SystemInfo sys;
-  QuantityBoard board;
-  std::vector<std::string> summary;
-  std::unique_ptr<host::DiagnosticOutput> out;
-  Bench(const t::TempDir& dir, const std::string& diagnostic, std::size_t particles) {
-    pipeline = t::load_yaml(dir, pipeline_yaml(diagnostic));
-    object = host::create_object(*pipeline.diagnostics.at(0).plugin, pipeline.diagnostics.at(0).params);
-    diag = static_cast<Diagnostic*>(object.get());
-    sys = host::system_info(pipeline, particles, 0);
-    out = std::make_unique<host::DiagnosticOutput>("heat_flux", &summary);
-    out->set_bins(host::bin_centres_lambda0(sys));
-  }
-  double scalar(const std::string& name) const {
-    for (const auto& s : out->scalars)
-      if (s.name == name) return s.value;
-    throw std::runtime_error("no scalar " + name);
-  }
-  const std::vector<double>& series(const std::string& name) const {
-    for (const auto& c : out->columns)
-      if (c.name == name) return c.values;
-    throw std::runtime_error("no series " + name);
-  }
-  const host::DiagnosticOutput::Histogram& histogram(const std::string& name) const {
-    for (const auto& h : out->histograms)
-      if (h.name == name) return h;
-    throw std::runtime_error("no histogram " + name);
-  }
-  const std::vector<double>& array(const std::string& name) const {
-    for (const auto& a : out->arrays)
-      if (a.name == name) return a.data;
-    throw std::runtime_error("no array " + name);
-  }
+struct Bench : t::DiagnosticBench {
+  Bench(const t::TempDir& dir, const std::string& diagnostic, std::size_t particles)
+      : DiagnosticBench(dir, pipeline_yaml(diagnostic), "heat_flux", particles) {}
 };
 
 // The drawn sample and the estimators' own standard errors, computed from the sample.

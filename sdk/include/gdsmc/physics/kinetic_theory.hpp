@@ -1,5 +1,6 @@
-// gdsmc SDK: the local-equilibrium formulas of paper 000 and the first-Sonine Enskog viscosity of
-// paper 002 that plugins use, in one place (reduced units, m = 1 unless given).
+// gdsmc SDK: the local-equilibrium formulas of paper 000, the elastic conductivity of paper 001 and
+// the first-Sonine Enskog viscosity of paper 002 that plugins use, in one place (reduced units, m = 1
+// unless given).
 #pragma once
 #include <cmath>
 
@@ -21,6 +22,16 @@ inline double viscosity_time_over_tau(double c = 1.016) { return c * 5.0 * std::
 // [eta]_inf / [eta]_1: the converged Chapman-Enskog shear viscosity of elastic hard spheres over its
 // first Sonine value (Chapman & Cowling Sec. 10.21).
 inline constexpr double chapman_enskog_viscosity_factor = 1.016034;
+
+// kappa0(T) = (75/64) sqrt(T/(pi m)) / sigma^2: the first-Sonine thermal conductivity of elastic
+// hard spheres (001 Eq. 2.47).
+inline double elastic_conductivity0(double temperature, double mass = 1.0, double sigma = 1.0) {
+  return 75.0 / 64.0 * std::sqrt(temperature / (M_PI * mass)) / (sigma * sigma);
+}
+
+// kappa / kappa0: the converged Chapman-Enskog (Sonine) conductivity of elastic hard spheres over its
+// first Sonine value (001 Sec. IV, its Ref. 37).
+inline constexpr double chapman_enskog_conductivity_factor = 1.025218;
 
 // eta(a*) / eta(0) of an elastic gas in uniform shear held at fixed T by a Gaussian thermostat,
 // from Grad's (= BGK's) equations for P_ij with the relaxation rate nu = p/eta(0), a* = a/nu:
