@@ -8,15 +8,19 @@ high-velocity tail of F(C).
 Every theory number is read from the file (hcs_theory writes it; scripts/hcs_sonine_moments.py
 derives its coefficients); this script only averages, differences and formats.
 
-Usage: hcs_report.py SWEEP.h5 SECONDS CHECKS_SECONDS DT0.0025.h5 DT0.005.h5 DT0.02.h5 N1E4.h5 [DOCDIR]
-    > DOCDIR/hcs.md   (figures to DOCDIR/hcs/*.png; the checks: the same pipeline at other time steps
-    and at N = 1e4, alpha = 0.3, 0.5, 0.9)
+Usage: hcs_report.py OUTDIR SECONDS CHECKS_SECONDS [DOCDIR]
+    > DOCDIR/hcs.md   (figures to DOCDIR/hcs/*.png). OUTDIR holds the outputs of configs/hcs_cumulants_sweep.yaml,
+    found by their provenance (scripts/report_runs.py) whatever their file names: the main sweep (no
+    run.time_step.value or run.particles override) and the checks, the same pipeline at
+    run.time_step.value = 0.0025, 0.005, 0.02 and at run.particles = 10000 (alpha = 0.3, 0.5, 0.9).
 Needs Debian's python3-h5py, python3-numpy and python3-matplotlib."""
 import os
 import sys
 
 import h5py
 import numpy as np
+
+import report_runs
 
 import matplotlib
 
@@ -26,6 +30,22 @@ import matplotlib.pyplot as plt  # noqa: E402
 FIGDIR = "hcs"
 RELATION_ALPHAS = (0.3, 0.5, 0.9)
 TAIL_WINDOW = (3.5, 5.0)  # C range of the local tail slope
+CONFIG = "hcs_cumulants_sweep"
+# The checks beside the main sweep, in the table's order: the overrides that make each.
+CHECKS = ({"run.time_step.value": "0.0025"}, {"run.time_step.value": "0.005"}, {"run.time_step.value": "0.02"},
+          {"run.particles": "10000"})
+
+
+def find_runs(outdir):
+    """The paths of the main sweep and of the CHECKS among the outputs in outdir."""
+    found = report_runs.index(outdir)
+    main = found.one(config=CONFIG, unset=("run.time_step.value", "run.particles"))
+    checks = [found.one(config=CONFIG, set=c) for c in CHECKS]
+    missing = ["the main sweep"] * (main is None) + [str(c) for c, o in zip(CHECKS, checks) if o is None]
+    if missing:
+        raise SystemExit(f"hcs_report: no output of configs/{CONFIG}.yaml in {outdir} for " + ", ".join(missing)
+                         + ": run scripts/validate-hcs")
+    return main.path, [o.path for o in checks]
 
 
 def fmt(v, e, digits=4):
@@ -45,10 +65,9 @@ def mean_se(x):
 
 
 def main():
-    path, seconds = sys.argv[1], float(sys.argv[2])
-    dt_seconds = float(sys.argv[3])
-    check_paths = sys.argv[4:8]  # dt = 0.0025, 0.005, 0.02; N = 1e4
-    docdir = sys.argv[8] if len(sys.argv) > 8 else "docs/validation"
+    path, check_paths = find_runs(sys.argv[1])  # checks: dt = 0.0025, 0.005, 0.02; N = 1e4
+    seconds, dt_seconds = float(sys.argv[2]), float(sys.argv[3])
+    docdir = sys.argv[4] if len(sys.argv) > 4 else "docs/validation"
     os.makedirs(os.path.join(docdir, FIGDIR), exist_ok=True)
     f = h5py.File(path, "r")
     summ = f["summary"]
