@@ -24,9 +24,6 @@ import numpy as np
 import report_runs
 from report_figures import band, band_upper, paper_hline, paper_points, paper_vline, plt, runs_line, savefig, seed_check
 
-# The converged Sonine kappa/kappa0 at alpha = 1 (001, ref. 37), for scripts/sampling_report.py, whose
-# Fourier-flow outputs have no heat_flux diagnostic; this report reads it from its outputs (elastic_reference).
-ELASTIC_KAPPA = 1.025218
 PAPER_BETA6 = {1.0: 0.87, 0.3: 0.66}  # 001 Sec. IV: share of b'_1 carried by c_x^2 <= 6
 FIGDIR = "heat-flux"  # under DOCDIR
 STEADY_FROM = 10.0  # t/tau: the averaging window starts here (average_after of the configs)

@@ -1,17 +1,22 @@
 #!/usr/bin/python3
 """docs/validation/sampling.md from the runs of scripts/validate-sampling (issue 29, item 1): the
 shear viscosity of elastic hard spheres and the elastic heat-flux anchor kappa' against the time
-step, sampled after each step (after_step) and on both sides of the collision stage (bracketed).
+step, sampled after each step (after_step) and on both sides of the collision stage (bracketed),
+and the plane Fourier flow's conductivity beside Chapman-Enskog's (written by profiles, fourier_law).
 
 Usage: sampling_report.py OUTDIR > docs/validation/sampling.md
+The runs are found in OUTDIR by their provenance (scripts/report_runs.py), whatever their file names:
+configs/usf_elastic_viscosity_dt.yaml, configs/heat_flux_anchor_dt.yaml swept over dt and sampling,
+and every output of configs/fourier_elastic.yaml. Computes no physics: every value and theory is
+read from the outputs.
 """
-import os
 import sys
 
 import h5py
 import numpy as np
 
-from heat_flux_report import ELASTIC_KAPPA, weighted_fit
+import report_runs
+from heat_flux_report import weighted_fit
 from report_figures import runs_line
 
 
@@ -34,25 +39,12 @@ def cases(path, group, value):
 
 # Half-widths of the central windows of the plane Fourier flow, λ⁰.
 FOURIER_WINDOWS = (1.5, 2.5)
+# What profiles writes for each window (fourier_law: true, profiles 1.4.0 on): κ/κ_CE and its own error.
+FOURIER_RATIO = "fourier_conductivity_over_chapman_enskog"
 # The pipelines' time steps [τ⁰], at which the reports state the remaining bias.
 DEFAULT_STEPS = (0.04, 0.08)
 # The straight-line fits take the time steps up to the largest of them; a parabola takes them all.
 LINE_MAX_DT = max(DEFAULT_STEPS)
-
-
-def fourier_kappa(g, y, half=1.5):
-    """(κ/κ_CE, its error as if the bins were independent, T at the centre) from a profiles group of
-    the plane Fourier flow (bin centres y): κ = −q_y/(dT/dy) over the central 2·half λ⁰ (q_y the mean of the bins, dT/dy a
-    straight line through their T), κ_CE = ELASTIC_KAPPA κ₀(T) at the line's T at the centre."""
-    T, q = np.array(g["T.steady_mean"][:]), np.array(g["q_y.steady_mean"][:])
-    mid = np.abs(y) < half
-    (slope, icpt), cov = np.polyfit(y[mid], T[mid], 1, cov=True)  # errors from the residuals
-    qm, qme = q[mid].mean(), q[mid].std(ddof=1) / np.sqrt(mid.sum())
-    # kappa in sqrt(T0/m)/(pi sigma^2) (q in n0 T0 sqrt(2T0/m), y in lambda0 = 1/(sqrt2 pi n0 sigma^2))
-    kappa = -qm / slope
-    kerr = abs(kappa) * np.sqrt((qme / qm) ** 2 + cov[0, 0] / slope ** 2)
-    k0 = 75.0 / 64.0 * np.sqrt(np.pi) * np.sqrt(icpt) * ELASTIC_KAPPA
-    return kappa / k0, kerr / k0, icpt
 
 
 def dt_table(w, data, unit_name, reference=None, reference_name=""):
@@ -110,18 +102,53 @@ def dt_table(w, data, unit_name, reference=None, reference_name=""):
     w("")
 
 
+def slab_width(case):
+    """L [λ⁰] of a slab case, from the system it records."""
+    g = case.open()
+    try:
+        a = g["system"].attrs
+        return round(float(a["box_y"]) / float(a["mean_free_path0"]), 6)
+    finally:
+        g.file.close()
+
+
+def fourier_rows(fourier):
+    """Per (L, sampling, window half-width): κ/κ_CE as profiles wrote it (the realizations' mean and its
+    standard error, their scatter, the mean of the single runs' own errors, their number, T at the centre),
+    or None where the output predates profiles 1.4.0 (no fourier_law)."""
+    rows = []
+    for o in fourier:
+        for c in o.cases:
+            label = c.sweep.get("sampling", "bracketed")
+            g = c.open()
+            try:
+                p = g["diagnostics/profiles"]
+                for half in FOURIER_WINDOWS:
+                    if FOURIER_RATIO not in p:
+                        rows.append((slab_width(c), label, half, None))
+                        continue
+                    i = int(np.argmin(np.abs(p["fourier_window"][:] - 2 * half)))
+                    K = int(p.attrs.get("realizations", 1))
+                    se = float(p[FOURIER_RATIO + "_stderr"][i]) if K > 1 else float("nan")
+                    rows.append((slab_width(c), label, half, (float(p[FOURIER_RATIO][i]), se, se * np.sqrt(K),
+                                                              float(p[FOURIER_RATIO + "_error"][i]), K,
+                                                              float(p["fourier_centre_temperature"][i]))))
+            finally:
+                g.file.close()
+    return sorted(rows, key=lambda r: r[0])
+
+
 def main():
-    d = sys.argv[1]
-    usf = os.path.join(d, "usf_elastic_viscosity_dt.h5")
-    hf = os.path.join(d, "heat_flux_anchor_sampling.h5")
-    fourier = os.path.join(d, "fourier_elastic_sampling.h5")
-    fourier_l20 = os.path.join(d, "fourier_elastic_L20.h5")
+    runs = report_runs.index(sys.argv[1])
+    usf = runs.one(config="usf_elastic_viscosity_dt")
+    hf = runs.one(config="heat_flux_anchor_dt", axes=("dt", "sampling"))
+    fourier = runs.find(config="fourier_elastic")
     out = []
     w = out.append
     w("# Validation: sampling without the time step's O(δt) bias")
     w("")
     w("Every path named in this document is in the source tree. Generated by `scripts/validate-sampling` (`scripts/sampling_report.py`); do not edit by hand.")
-    present = [p for p in (usf, hf, fourier) if os.path.exists(p)]
+    present = [o.path for o in [usf, hf] + list(fourier) if o]
     if present:
         w(f"Runs: {runs_line(*present)}.")
     w("")
@@ -142,10 +169,10 @@ def main():
     w("τ_η (Eq. 2.18, with 1.016), so Chapman–Enskog's 1.016034 η₀ is η* = 1.000033; the thermostat thins it by")
     w("1 − 4a*²/3 + … (Grad/BGK, `eta_star_thermostatted_bgk`, written by `shear_rheology`).")
     w("")
-    if not os.path.exists(usf):
+    if not usf:
         w("*(no output: run `scripts/validate-sampling`)*")
     else:
-        data = cases(usf, "shear_rheology", "eta_star")
+        data = cases(usf.path, "shear_rheology", "eta_star")
         theory = next(iter(data.values()))[2]
         ref = theory["eta_star_thermostatted_bgk"]
         w(f"Theory at the measured a* = {theory['a_star_mean']:.4f}: η* = {theory['eta_star_chapman_enskog']:.6f} "
@@ -171,44 +198,34 @@ def main():
     w("Two time steps of 1000 τ cannot resolve a slope of that size in κ′ itself; the difference of the two rules on")
     w("the same runs can.")
     w("")
-    if not os.path.exists(hf):
+    if not hf:
         w("*(no output: run `scripts/validate-sampling`)*")
     else:
-        dt_table(w, cases(hf, "heat_flux", "conductivity_over_kappa0"), "κ′/κ₀")
+        dt_table(w, cases(hf.path, "heat_flux", "conductivity_over_kappa0"), "κ′/κ₀")
     w("## Heat flux: plane Fourier flow of elastic hard spheres")
     w("")
     w("`configs/fourier_elastic.yaml` (diffuse walls at 0.9 and 1.1 T⁰, L = 10 λ⁰, 80 layers, N = 2·10⁵, δt = 0.05 τ⁰,")
     w("600 τ⁰ averaged from 150 τ⁰, 6 realizations), sampled both ways from the same seeds. κ = −q_y/(dT/dy) in the central 3 λ⁰ (q_y the")
     w("mean of its bins, dT/dy a straight line through their T), over the converged Chapman–Enskog conductivity")
-    w(f"{ELASTIC_KAPPA} κ₀(T), κ₀ = (75/64)√(T/πm)/σ² (001 Eq. 2.47) at the mean T of those bins. Here q_y is built by")
+    w("1.025218 κ₀(T), κ₀ = (75/64)√(T/πm)/σ² (001 Eq. 2.47) at the mean T of those bins: `profiles` writes both")
+    w("(`fourier_law: true`, from the moments pooled over the steady window of each realization). Here q_y is built by")
     w("the streaming and relaxed by the collisions, so the after-step sample sits at the bottom of the sawtooth.")
     w("")
-    if not os.path.exists(fourier):
+    if not fourier:
         w("*(no output: run `scripts/validate-sampling`)*")
     else:
         w("| L [λ⁰] | sampling | window [λ⁰] | κ/κ_CE, mean of the realizations | scatter of the realizations "
           "(standard deviation) | mean of the single runs' own error | realizations | T at the centre [T⁰] |")
         w("|---|---|---|---|---|---|---|---|")
         means = {}
-        for path, width in ((fourier, 10), (fourier_l20, 20)):
-            if not os.path.exists(path):
+        for width, label, half, r in fourier_rows(fourier):
+            if r is None:
+                w(f"| {width:g} | {label} | {2 * half:g} | not in this output (profiles before 1.4.0 wrote no "
+                  "Fourier-law fit): rerun `scripts/validate-sampling` | | | | |")
                 continue
-            with h5py.File(path, "r") as f:
-                groups = [(f["cases"][k], f["cases"][k].attrs["sweep.sampling"]) for k in sorted(f["cases"], key=int)] \
-                    if "cases" in f else [(f, "bracketed")]
-                for c, label in groups:
-                    label = label.decode() if isinstance(label, bytes) else str(label)
-                    g = c["diagnostics/profiles"]
-                    y = np.array(g["bin_centre"][:])
-                    for half in FOURIER_WINDOWS:
-                        runs = [fourier_kappa(g["realizations"][r], y, half) for r in sorted(g["realizations"], key=int)] \
-                            if "realizations" in g else [fourier_kappa(g, y, half)]
-                        v = np.array([r[0] for r in runs])
-                        spread = v.std(ddof=1) if len(v) > 1 else float("nan")
-                        means[(width, label, half)] = (v.mean(), spread / np.sqrt(len(v)))
-                        w(f"| {width} | {label} | {2 * half:g} | {v.mean():.4f} ± {spread / np.sqrt(len(v)):.4f} | "
-                          f"{spread:.4f} | {np.mean([r[1] for r in runs]):.4f} | {len(v)} | "
-                          f"{np.mean([r[2] for r in runs]):.4f} |")
+            mean, se, spread, own, K, centre = r
+            means[(width, label, half)] = (mean, se)
+            w(f"| {width:g} | {label} | {2 * half:g} | {mean:.4f} ± {se:.4f} | {spread:.4f} | {own:.4f} | {K} | {centre:.4f} |")
         w("")
         w("The error of a mean is the realizations' scatter over √K. A single run's own error (the scatter of")
         w("its bins about the line and about the mean of q_y, as if the bins were independent; the steady errors")
