@@ -151,10 +151,11 @@ TEST(ProfilesFourierLaw, RefusesAnInelasticGas) {
 // layers, dt = 0.1 tau0, 350 tau0 averaged from 150 tau0) in four seeds. The conductivity of the
 // central 5 lambda0 over Chapman-Enskog's is 0.983 +- 0.006 in the long runs of
 // docs/validation/sampling.md (the walls' Knudsen layers reach the centre at L = 10 lambda0); here
-// each seed scatters by about 0.07 (the long runs' 0.014 at 10 times the particles and 3 times the
-// window), so the mean of four is checked against 1 within 4 of its standard errors plus that 2 %
-// bias. A wrong unit (sqrt 2, pi or 2 in kappa or lambda0) or a fit on the transient would be
-// outside. The centre temperature is that of the walls' mean, 1 T0, within 0.02.
+// each seed scatters by about 0.1 (the long runs' 0.014 at 10 times the particles, 2.25 times the
+// window and half the layer width: 0.014 sqrt(22.5) = 0.07 and more; measured 1.006 +- 0.048 over
+// the four seeds), so the mean of four is checked against 1 within 4 of its standard errors plus
+// that 2 % bias. A wrong unit (sqrt 2, pi or 2 in kappa or lambda0) or a fit on the transient would
+// be outside. The centre temperature is that of the walls' mean, 1 T0, within 0.02.
 TEST(ProfilesFourierLaw, ElasticFourierFlowConductsAsChapmanEnskogSays) {
   t::TempDir dir;
   const std::string yaml = t::read_text(t::source_dir() / "configs" / "fourier_elastic.yaml");
@@ -184,5 +185,5 @@ TEST(ProfilesFourierLaw, ElasticFourierFlowConductsAsChapmanEnskogSays) {
   std::printf("  kappa/kappa_CE in the central 5 lambda0: %.4f +- %.4f over %zu seeds\n", m.mean, m.standard_error,
               ratio.size());
   EXPECT_NEAR(m.mean, 1.0, 4 * m.standard_error + 0.02);
-  EXPECT_LT(m.standard_error, 0.06);  // the seeds' scatter is of the size argued above, not wild
+  EXPECT_LT(m.standard_error, 0.08);  // the seeds' scatter is of the size argued above, not wild
 }
