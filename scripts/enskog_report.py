@@ -4,7 +4,9 @@ the Navier-Stokes shear viscosity of the Enskog gas (paper 002) against alpha an
 first-Sonine theory (Eqs. 16-18), the crossing densities, the transients of Figs. 1-2 and the
 elastic dilute limit against the converged Chapman-Enskog value.
 
-Usage: enskog_report.py SWEEP.h5 HCS.h5 SECONDS_SWEEP SECONDS_HCS [DOCDIR] > DOCDIR/enskog-viscosity.md
+Usage: enskog_report.py OUTDIR SECONDS_SWEEP SECONDS_HCS [DOCDIR] > DOCDIR/enskog-viscosity.md
+OUTDIR holds the sweep (configs/enskog_viscosity_sweep.yaml) and the HCS runs (configs/hcs.yaml swept over
+collision.alpha), found by their provenance (scripts/report_runs.py) whatever their file names.
 The figures (the paper's Figs. 1-4 drawn from the same data as the tables) go to
 DOCDIR/enskog-viscosity/*.png, DOCDIR being docs/validation unless given.
 Needs Debian's python3-h5py, python3-numpy and python3-matplotlib."""
@@ -16,6 +18,7 @@ import sys
 import h5py
 import numpy as np
 
+import report_runs
 from report_figures import band, paper_hline, paper_points, plt, runs_line, savefig
 
 # 002, Sec. 3: crossing densities from Eqs. 16-18, (phi0^k, phi0) per alpha.
@@ -52,9 +55,16 @@ def duration(seconds):
 
 
 def main():
-    sweep, hcs, sec_sweep, sec_hcs = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
-    docdir = sys.argv[5] if len(sys.argv) > 5 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
+    found = report_runs.index(sys.argv[1])
+    sec_sweep, sec_hcs = float(sys.argv[2]), float(sys.argv[3])
+    docdir = sys.argv[4] if len(sys.argv) > 4 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
                                                                    "validation")
+    sweep, hcs = found.one(config="enskog_viscosity_sweep"), found.one(config="hcs", axes=("collision.alpha",))
+    if not (sweep and hcs):
+        raise SystemExit(f"enskog_report: {sys.argv[1]} lacks " + " and ".join(
+            n for n, o in (("configs/enskog_viscosity_sweep.yaml", sweep), ("configs/hcs.yaml swept over collision.alpha", hcs))
+            if not o) + ": run scripts/validate-enskog-viscosity")
+    sweep, hcs = sweep.path, hcs.path
     out = []
     w = out.append
     with h5py.File(sweep) as f, h5py.File(hcs) as g:
