@@ -791,7 +791,7 @@ def main():
         w("  0.025) gives η/η₀ = 0.974 ± 0.004 and 0.986 ± 0.007, about 0.99 at a → 0, against 1.016 (the Enskog")
         w("  report's dilute η/η₀ was 0.993 ± 0.014). Both were protocol biases, resolved in")
         w("  `docs/validation/sampling.md`: the Fourier flow's κ is 1.7 % low at L = 10 λ⁰ from the walls' Knudsen layers")
-        w("  and agrees at L = 20 λ⁰ (1.0055 ± 0.0037 of κ_CE); the shear viscosity was sampled after the step, an O(δt)")
+        w("  and agrees at L = 20 λ⁰ (1.0056 ± 0.0038 of κ_CE); the shear viscosity was sampled after the step, an O(δt)")
         w("  bias that bracketed sampling removes (η/η₀ = 1.0165 ± 0.0036 at δt = 0.04 τ⁰ against 1.0126 with the")
         w("  thermostat's thinning).")
     w(f"- **Errors** are those of {K} realization means ({K - 1} degrees of freedom): a 3-error band holds the truth")
