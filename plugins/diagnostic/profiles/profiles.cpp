@@ -83,7 +83,8 @@ class Profiles final : public gdsmc::Diagnostic {
       "001 Ref. 37). Arrays over the windows: fourier_window [lambda0] (n dy), fourier_centre_temperature\n"
       "[T0] (T_c), fourier_conductivity and fourier_conductivity_error [kappa0(T0)], theory_fourier_conductivity\n"
       "[kappa0(T0)] (kappa_CE, role theory), fourier_conductivity_over_chapman_enskog and its _error [1]\n"
-      "(kappa/kappa_CE, the error of kappa over kappa_CE); NaN where a bin of the window is empty.";
+      "(kappa/kappa_CE, the error of kappa over kappa_CE), each declaring fourier_window its axis; NaN\n"
+      "where a bin of the window is empty.";
   static std::vector<gdsmc::ParamSpec> parameters() {
     return {gdsmc::ParamSpec::boolean("fourier_law",
                                       "fit Fourier's law to the steady T and q_y profiles of central windows and write "
@@ -242,6 +243,10 @@ class Profiles final : public gdsmc::Diagnostic {
     out.array("fourier_conductivity_over_chapman_enskog_error", ratio_error, shape, "1",
               "fourier_conductivity_error / kappa_CE");
     out.theory("theory_fourier_conductivity", "fourier_conductivity", "001 Eq. 2.47, Ref. 37");
+    for (const char* a : {"fourier_centre_temperature", "fourier_conductivity", "fourier_conductivity_error",
+                          "theory_fourier_conductivity", "fourier_conductivity_over_chapman_enskog",
+                          "fourier_conductivity_over_chapman_enskog_error"})
+      out.axis(a, "fourier_window");
   }
 
   std::size_t bins_ = 1;

@@ -131,6 +131,7 @@ TEST(ProfilesFourierLaw, ConductivityErrorAndTheoryOfAConstructedProfile) {
   const auto tag = b.out->theory_tags.find("theory_fourier_conductivity");
   ASSERT_NE(tag, b.out->theory_tags.end());
   EXPECT_EQ(tag->second.measured, "fourier_conductivity");
+  EXPECT_EQ(b.out->axes.at("fourier_conductivity_over_chapman_enskog"), "fourier_window");
 }
 
 // The theory beside kappa is that of dilute elastic hard spheres: an inelastic gas is refused,
