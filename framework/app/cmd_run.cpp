@@ -49,19 +49,12 @@ std::string output_origin(const Options& o, const Pipeline& p) {
   return p.file.string() + ": output file (the default name)";
 }
 
-// What the run reads and must never be written over: the pipeline and every plugin library.
-std::vector<RunInput> run_inputs(const LoadedPipeline& loaded, const std::vector<StudyCase>& cases) {
+// What the run reads and must never be written over: the pipeline and every plugin library found
+// (every case's entries are resolved against these, so no case adds a library of its own).
+std::vector<RunInput> run_inputs(const LoadedPipeline& loaded) {
   std::vector<RunInput> in{{loaded.pipeline.file, "the pipeline"}};
-  auto add = [&](const LoadedPlugin* lp) {
-    if (lp) in.push_back({lp->file, "the library of plugin '" + lp->descriptor->name + "'"});
-  };
-  for (const auto& lp : loaded.plugins->plugins()) add(&lp);
-  for (const auto& c : cases) {
-    const Pipeline& q = c.pipeline;
-    for (const PluginUse* u : {&q.initial_state, &q.collision}) add(u->plugin.get());
-    for (const auto* uses : {&q.forcings, &q.boundaries, &q.diagnostics})
-      for (const auto& u : *uses) add(u.plugin.get());
-  }
+  for (const auto& lp : loaded.plugins->plugins())
+    in.push_back({lp.file, "the library of plugin '" + lp.descriptor->name + "'"});
   return in;
 }
 
@@ -139,7 +132,7 @@ int prepare(const Options& o, bool run_it, LoadedPipeline& loaded, std::vector<S
       for (auto& c : cases) c.pipeline.threads = p.threads;
     }
     try {
-      target = check_output_path(p.output_file, run_inputs(loaded, cases));
+      target = check_output_path(p.output_file, run_inputs(loaded));
       if (!run_it) probe_temporary(target);
       if (p.checkpoint || o.resume) {  // the checkpoint directory, and its longest file name
         std::size_t runs = 0;

@@ -194,7 +194,7 @@ void check_wall_hits(Checker& c, const YAML::Node& root, Pipeline& p) {
                        kMaxWallHitsPerStep, largest));
   else
     c.warn(c.where("system.box.y", at).str() + ": system.box.y: " + what +
-                         fmt(": the gap is crossed within a step; a step of at most %.3g tau0 resolves it", largest));
+           fmt(": the gap is crossed within a step; a step of at most %.3g tau0 resolves it", largest));
 }
 
 // The document's top-level keys (before the registry is built, so their errors come first).
