@@ -23,6 +23,10 @@
 //   std::vector<std::string> tallies() const;  // names of the sums collide() adds to pair.tally[k]
 //   double rate_bound(double speed) const;  // general kernels: max over s of rate(g, s) for
 //                                           // |g| <= speed (default: speed, i.e. rate <= |g|)
+//   static constexpr bool species_aware = true;  // runs in mixtures (SDK 6.5): collide() weighs
+//                                           // the pair by its species' masses (pair.particles
+//                                           // .species_of(pair.i), SystemInfo::species_mass) and
+//                                           // pair.sigma is their sigma_ab
 // collide() is called concurrently for different cells: it must not modify the rule.
 #pragma once
 #include <algorithm>
@@ -69,6 +73,8 @@ concept HasRateBound = requires(const R& r, double speed) {
   { r.rate_bound(speed) } -> std::convertible_to<double>;
 };
 template <class R>
+concept SpeciesAware = requires { requires R::species_aware; };
+template <class R>
 concept HasAttributes = requires(const R& r) {
   { r.attributes() } -> std::convertible_to<std::vector<AttributeSpec>>;
 };
@@ -90,6 +96,13 @@ class CollisionRuleAdapter final : public CollisionRule {
   explicit CollisionRuleAdapter(Rule rule) : rule_(std::move(rule)) {}
 
   const Rule& rule() const { return rule_; }
+
+  // A rule struct that declares `static constexpr bool species_aware = true` runs in mixtures
+  // (extension "gdsmc.species", plugin.hpp).
+  const void* extension(const char* id) const override {
+    if constexpr (detail::SpeciesAware<Rule>) return offer_species(id);
+    else return CollisionRule::extension(id);
+  }
 
   std::vector<AttributeSpec> attributes() const override {
     if constexpr (detail::HasAttributes<Rule>) return rule_.attributes();

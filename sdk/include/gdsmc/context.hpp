@@ -13,12 +13,13 @@ namespace gdsmc {
 
 enum class Geometry : std::uint32_t { homogeneous = 0, slab = 1 };
 
-// One species of the gas (a mixture lists several; SystemInfo::species).
+// One species of the gas (a mixture lists several; SystemInfo::species). Mass in units of the
+// reference mass m (SystemInfo::mass = 1), diameter in units of the reference diameter sigma.
 struct SpeciesInfo {
   const char* name = "";
   double mass = 1;
   double diameter = 1;
-  double fraction = 1;  // number fraction
+  double fraction = 1;  // number fraction N_s / N
 };
 
 // Fixed for a run. Reduced units: m = 1, k_B = 1, lengths in the same unit as sigma. Like every
@@ -47,8 +48,18 @@ struct SystemInfo {
   // two steps (cells does not); read them at each call.
   const double* layer_edges = nullptr;
   // The species (species_count entries); nullptr: one species of mass `mass` and diameter `sigma`.
+  // A mixture (SDK 6.5: system.species) runs only plugins that offer the extension
+  // "gdsmc.species" (plugin.hpp); particle i is species ParticleSpan::species_of(i), and species s
+  // has mass species_mass(s) and diameter species_diameter(s), in reduced units.
   std::size_t species_count = 1;
   const SpeciesInfo* species = nullptr;
+
+  double species_mass(std::size_t s) const { return species ? species[s].mass * mass : mass; }
+  double species_diameter(std::size_t s) const { return species ? species[s].diameter * sigma : sigma; }
+  // sigma_ab = (sigma_a + sigma_b) / 2: the contact distance of a pair (additive hard spheres).
+  double pair_diameter(std::size_t a, std::size_t b) const {
+    return 0.5 * (species_diameter(a) + species_diameter(b));
+  }
 
   double layer_lower(std::size_t I) const {
     return layer_edges ? layer_edges[I] : -0.5 * box[1] + static_cast<double>(I) * uniform_layer_width();
@@ -110,6 +121,12 @@ struct CellMoments {
 // (homogeneous: the mean of all particles). So in a slab `local.temperature` is T-bar of
 // 000 Eq. (4.8), number_density * local.second is the mean pressure tensor P-bar of Eq. (4.9), and
 // a2, a3 are the cumulants of the local peculiar velocities.
+//
+// In a mixture (SDK 6.5) every moment here and in CellMoments weighs a particle by its species'
+// mass m_i: the mean velocity is the barycentric one, sum m_i v_i / sum m_i; second is
+// sum m_i V_a V_b / N (number_density * second is still the pressure tensor); temperature is
+// sum m_i V_i^2 / 3N; fourth and sixth are the means of (m_i V_i^2)^2 and (m_i V_i^2)^3, so that
+// a2() and a3() read as above with m = 1; kinetic_energy is sum m_i v_i^2 / 2.
 struct SampledMoments {
   VelocityMoments local;           // local.mean: the mean velocity of all particles
   // The fresh mean velocity of every cell that `local` subtracts: u_I at index 3 I + a (cell_count
@@ -216,6 +233,10 @@ struct StepContext {
   // ledger) hold the previous step's; after them, this step's collisions and wall hits but not the
   // forcings that act after the collisions.
   SamplePhase sample_phase = SamplePhase::after_step;
+  // [SDK 6.5] A mixture's boundary tallies per species: the tally of species s at boundary b
+  // (0: y_min, 1: y_max) at species_boundaries[b * system->species_count + s]; nullptr in a
+  // one-species run or a homogeneous system.
+  const BoundaryTally* species_boundaries = nullptr;
 
   // s(t): accepted collisions divided by the number of particles (000, text after Fig. 4); each
   // collision involves two particles, so the mean number of collisions a particle took part in

@@ -118,6 +118,24 @@ inline const void* offer_moments_read(const char* id) {
   return std::string_view(id) == moments_read_id ? &moments_read<Parts> : nullptr;
 }
 
+// Extension "gdsmc.species" (SDK 6.5): the plugin handles a mixture (SystemInfo::species): it
+// weighs every particle's velocity by its species' mass (momentum m_i v_i, energy m_i v_i^2 / 2,
+// temperature m_i <V_i^2> / 3) and reads any per-species parameter it takes. The host refuses a
+// pipeline with system.species in which some plugin does not offer it, naming the plugin: a plugin
+// written for one species of unit mass would give wrong physics without an error. A one-species run
+// never asks. A plugin class offers it with
+//   const void* extension(const char* id) const override { return gdsmc::offer_species(id); }
+// (chained with its other offers: if (const void* e = gdsmc::offer_species(id)) return e; ...),
+// and a collision rule struct by declaring  static constexpr bool species_aware = true;
+inline constexpr const char species_id[] = "gdsmc.species";
+struct SpeciesSupport {
+  std::uint32_t version = 1;
+};
+inline constexpr SpeciesSupport species_support{};
+inline const void* offer_species(const char* id) {
+  return std::string_view(id) == species_id ? &species_support : nullptr;
+}
+
 // The form of a collision rule's kernel B(g, s) (rate per unit solid angle, in units of
 // sigma^2 x speed), which tells the host how to draw candidates for it (000 Eqs. 4.13, 4.23):
 //   hard_sphere: B = scale Theta(g.s)(g.s); the host draws P sigma^2 pi W dt / V candidates with
@@ -162,7 +180,7 @@ struct PairBatch {
   std::uint64_t exceeded = 0;         // candidates whose rate exceeded the bound (accepted with p = 1)
   double max_rate = 0;                // the largest rate seen, as the speed bound it would need:
                                       // |g| (hard sphere), w rate / W (general); the host raises w
-  double energy_change = 0;           // sum of the declared kinetic-energy changes (m = 1)
+  double energy_change = 0;           // sum of the declared kinetic-energy changes (m_i v_i^2 / 2)
   // Sum over the exceeded candidates of rate / bound - 1: the collisions the bound missed (each
   // was accepted once where its rate asked for more), which the host reports beside `collided`.
   double missed = 0;
@@ -243,6 +261,9 @@ struct WallHit {
   Vec3 velocity{0, 0, 0};    // at the hit, the acceleration applied up to it (in); after (out)
   double time = 0;           // of the hit (reduced units, from the start of the run)
   double remaining = 0;      // flight time left in this step: the host streams it afterwards
+  // [SDK 6.5] The particle's species (SystemInfo::species; 0 in a one-species run): its mass is
+  // system.species_mass(species).
+  std::uint32_t species = 0;
 };
 
 enum class HitResult : std::uint32_t {
