@@ -145,6 +145,18 @@ class CellGrid {
     double count = 0, temperature = 0, speed_max = 0;
   };
   const SpeciesCellMoments* species_cell_moments() const { return species_cells_.data(); }
+  // Checkpoints: those moments as 3 values per cell and species, and back (their size checked).
+  std::vector<double> species_cell_values() const {
+    std::vector<double> v;
+    for (const SpeciesCellMoments& m : species_cells_) v.insert(v.end(), {m.count, m.temperature, m.speed_max});
+    return v;
+  }
+  bool set_species_cell_values(const std::vector<double>& v) {
+    if (v.size() != 3 * layers_ * species_count_) return false;
+    species_cells_.resize(layers_ * species_count_);
+    for (std::size_t k = 0; k < species_cells_.size(); ++k) species_cells_[k] = {v[3 * k], v[3 * k + 1], v[3 * k + 2]};
+    return true;
+  }
   // The shared moments of a sampled step: peculiar velocities relative to each particle's cell
   // mean (computed fresh here), cumulants, pressure tensor, kinetic energy. Two passes (the means,
   // then the peculiar sums), or, in a homogeneous system given `conserved_mean` (a mean velocity

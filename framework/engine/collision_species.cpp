@@ -12,6 +12,7 @@
 #include "engine/collision_stage.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/majorant.hpp"
+#include "engine/weighted_layer.hpp"
 
 namespace gdsmc::host {
 
@@ -82,69 +83,140 @@ void CollisionStage::collide_group_species(const CollisionRule& rule, const Part
     const std::uint32_t i = particle(a);
     sorted[next[particles.species[i]]++] = i;
   }
-  double* const vx = particles.vx.data;
-  double* const vy = particles.vy.data;
-  double* const vz = particles.vz.data;
   thread_local BatchScratch s;
   s.open(batch);
   batch.speed_bounds = nullptr;
-  const std::size_t classes = class_count();
   std::uint64_t tested = 0;
+  const bool weighted = weighted_ && group.members && (slab_ || selection_ == PairSelection::weighted);
   for (std::size_t a = 0, k = 0; a < species_; ++a)
     for (std::size_t b = a; b < species_; ++b, ++k) {
-      const std::uint32_t na = start[a + 1] - start[a], nb = start[b + 1] - start[b];
-      double& remainder = class_remainder_[c * classes + k];
-      double& ratio = class_ratio_[c * classes + k];
-      const double pairs = a == b ? pair_count(scheme_, na) : static_cast<double>(na) * nb;
-      const double scale = class_scale(c, a, b), w = ratio * scale;
-      if (!(pairs > 0) || !(w > 0)) {
-        remainder = 0;
+      if (weighted && collide_class_weighted(rule, particles, c, a, b, sorted.data(), start, dt, select, batch)) {
+        batch.speed_bounds = nullptr;
+        s.open(batch);  // the uniform scratch again (weighted_step opened its own)
         continue;
       }
-      const double sigma = 0.5 * (species_diameter_[a] + species_diameter_[b]);  // sigma_ab
-      const double bound = rule.rate_bound(w);
-      const double per_time = pairs * sigma * sigma * solid_angle_ * bound / group.volume;
-      batch.sigma = sigma;
-      batch.speed_bound = w;
-      batch.rate_bound = bound;
-      batch.max_rate = 0;
-      const double slices = estimate_[c] * 4.0 > kCandidatesPerSlice ? std::ceil(4.0 * estimate_[c] / kCandidatesPerSlice) : 1.0;
-      std::uint32_t m = 0;
-      const auto flush = [&] {
-        s.load_velocities(m, vx, vy, vz);
-        batch.count = m;
-        rule.collide_batch(batch);
-        s.store_accepted(m, vx, vy, vz);
-        s.close(m);
-        m = 0;
-      };
-      for (double slice = 0; slice < slices; ++slice) {
-        if (slice > 0) poll_interrupt(interrupt_);
-        const double expected = per_time * (dt / slices) + remainder;
-        const auto candidates = static_cast<std::uint64_t>(expected);
-        remainder = expected - static_cast<double>(candidates);
-        for (std::uint64_t q = 0; q < candidates; ++q) {
-          std::uint32_t x = select.below(na), y;
-          if (a == b) {
-            y = select.below(na - 1);
-            y += (y >= x);
-          } else {
-            y = select.below(nb);
-          }
-          const double u = select.uniform32();
-          x += start[a];  // local indices: places in `sorted`, distinct across the classes' lists
-          y += start[b];
-          if (m > 0 && (s.holds(x) || s.holds(y))) flush();
-          s.put(m, x, y, sorted[x], sorted[y], u, vx, vy, vz);
-          if (++m == kPairBatch) flush();
-        }
-        if (m > 0) flush();
-        tested += candidates;
-      }
-      if (batch.max_rate > w) ratio = kMajorantHeadroom * batch.max_rate / scale;
-      max_rate_[c] = std::max(max_rate_[c], batch.max_rate);
+      tested += collide_class_uniform(rule, particles, c, a, b, k, sorted.data(), start, dt, select, s, batch);
     }
   counts_[3 * c] += tested;
+}
+
+// Class (a, b) of group c (the k-th) with uniform candidates against its majorant w_ab: returns the
+// candidates tested.
+std::uint64_t CollisionStage::collide_class_uniform(const CollisionRule& rule, const ParticleSpan& particles,
+                                                    std::size_t c, std::size_t a, std::size_t b, std::size_t k,
+                                                    const std::uint32_t* sorted, const std::uint32_t* start, double dt,
+                                                    Rng& select, BatchScratch& s, PairBatch& batch) {
+  const Group& group = groups_[c];
+  const std::size_t classes = class_count();
+  double* const vx = particles.vx.data;
+  double* const vy = particles.vy.data;
+  double* const vz = particles.vz.data;
+  std::uint64_t tested = 0;
+  const std::uint32_t na = start[a + 1] - start[a], nb = start[b + 1] - start[b];
+  double& remainder = class_remainder_[c * classes + k];
+  double& ratio = class_ratio_[c * classes + k];
+  const double pairs = a == b ? pair_count(scheme_, na) : static_cast<double>(na) * nb;
+  const double scale = class_scale(c, a, b), w = ratio * scale;
+  if (!(pairs > 0) || !(w > 0)) {
+    remainder = 0;
+    return 0;
+  }
+  const double sigma = 0.5 * (species_diameter_[a] + species_diameter_[b]);  // sigma_ab
+  const double bound = rule.rate_bound(w);
+  const double per_time = pairs * sigma * sigma * solid_angle_ * bound / group.volume;
+  batch.sigma = sigma;
+  batch.speed_bound = w;
+  batch.rate_bound = bound;
+  batch.max_rate = 0;
+  const double slices = estimate_[c] * 4.0 > kCandidatesPerSlice ? std::ceil(4.0 * estimate_[c] / kCandidatesPerSlice) : 1.0;
+  std::uint32_t m = 0;
+  const auto flush = [&] {
+    s.load_velocities(m, vx, vy, vz);
+    batch.count = m;
+    rule.collide_batch(batch);
+    s.store_accepted(m, vx, vy, vz);
+    s.close(m);
+    m = 0;
+  };
+  for (double slice = 0; slice < slices; ++slice) {
+    if (slice > 0) poll_interrupt(interrupt_);
+    const double expected = per_time * (dt / slices) + remainder;
+    const auto candidates = static_cast<std::uint64_t>(expected);
+    remainder = expected - static_cast<double>(candidates);
+    for (std::uint64_t q = 0; q < candidates; ++q) {
+      std::uint32_t x = select.below(na), y;
+      if (a == b) {
+        y = select.below(na - 1);
+        y += (y >= x);
+      } else {
+        y = select.below(nb);
+      }
+      const double u = select.uniform32();
+      x += start[a];  // local indices: places in `sorted`, distinct across the classes' lists
+      y += start[b];
+      if (m > 0 && (s.holds(x) || s.holds(y))) flush();
+      s.put(m, x, y, sorted[x], sorted[y], u, vx, vy, vz);
+      if (++m == kPairBatch) flush();
+    }
+    if (m > 0) flush();
+    tested += candidates;
+  }
+  if (batch.max_rate > w) ratio = kMajorantHeadroom * batch.max_rate / scale;
+  max_rate_[c] = std::max(max_rate_[c], batch.max_rate);
+  return tested;
+}
+
+// Class (a, b) over the step with weighted pairs (collide_weighted, one species' scheme per class):
+// like species, K = sigma_aa^2 pi scale (2 P(N_a) / N_a) / V_c with the partner from the same
+// species; unlike species, a member of a initiates at K' N_b times its bound and one of b at K' N_a,
+// K' = sigma_ab^2 pi scale / V_c, the partner drawn from the other species, so that the pair (i, j)
+// is a candidate at the rate K' (c_i + c_j) and collides at sigma_ab^2 pi scale |g| / V_c, the
+// uniform class's rate. Both envelopes are about the cell's barycentric velocity.
+bool CollisionStage::collide_class_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                                            std::size_t a, std::size_t b, const std::uint32_t* sorted,
+                                            const std::uint32_t* start, double dt, Rng& select, PairBatch& batch) {
+  const Group& group = groups_[c];
+  double& credit = class_remainder_[c * class_count() + (a * (2 * species_ - a + 1)) / 2 + (b - a)];
+  const std::uint32_t na = start[a + 1] - start[a], nb = start[b + 1] - start[b];
+  if (a == b ? na < 2 : (na == 0 || nb == 0)) {
+    credit = 0;
+    return true;
+  }
+  double u[3] = {0, 0, 0};
+  if (cells_ && cells_[c].count >= 2) {
+    std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
+  } else {
+    for (std::uint32_t q = 0; q < group.count; ++q) {
+      const std::uint32_t i = sorted[q];
+      u[0] += particles.vx[i], u[1] += particles.vy[i], u[2] += particles.vz[i];
+    }
+    for (double& x : u) x /= group.count;
+  }
+  thread_local WeightedLayer layers[2];
+  WeightedSides sides;
+  sides.n = a == b ? 1 : 2;
+  const std::size_t species[2] = {a, b};
+  for (int k = 0; k < sides.n; ++k) {
+    const std::size_t s = species[k];
+    sides.layer[k] = &layers[k];
+    sides.members[k] = sorted + start[s];
+    sides.count[k] = start[s + 1] - start[s];
+    sides.offset[k] = start[s];
+    // A species whose members all sit at u (no peculiar speed: measure zero but for a cold start)
+    // has no envelope: the class then draws uniform candidates this step.
+    if (!layers[k].build(particles, sides.members[k], sides.count[k], u, kBulkSpeedBound)) return false;
+  }
+  const double sigma = 0.5 * (species_diameter_[a] + species_diameter_[b]);  // sigma_ab
+  const double k_prime = sigma * sigma * M_PI * rule.rate_bound(1.0) / group.volume;
+  if (a == b) {
+    sides.per_bound[0] = 2.0 * pair_count(scheme_, na) / na * k_prime;
+  } else {
+    sides.per_bound[0] = k_prime * nb;
+    sides.per_bound[1] = k_prime * na;
+  }
+  batch.sigma = sigma;
+  credit = collide_weighted(rule, particles, c, sides, credit, dt, select, batch);
+  return true;
 }
 
 }  // namespace gdsmc::host

@@ -20,7 +20,11 @@
 
 namespace gdsmc::host {
 
-class WeightedLayer;  // engine/weighted_layer.hpp
+class WeightedLayer;         // engine/weighted_layer.hpp
+namespace candidates {
+struct BatchScratch;         // engine/candidate_batch.hpp
+}
+struct WeightedSides;
 
 // How many pairs a cell of N_c particles offers to the candidate count (CellCollision::pairs).
 enum class PairCount : std::uint32_t {
@@ -82,8 +86,10 @@ class CollisionStage {
   // reduced units (nullptr: one species, the scheme above). Every group then draws its candidates
   // per pair of species (a, b), each class with its own majorant ratio and remainder; the species'
   // temperatures of the last moment update (CellGrid::species_cell_moments, set_species_cells) set
-  // each class's speed scale. Uniform pairs in every group: the weighted pairs and kept bounds serve
-  // one species.
+  // each class's speed scale, and its uniform candidates are tested against the class majorant; with
+  // weighted pairs (run.pair_selection auto or weighted in a slab's layers, weighted in a
+  // homogeneous group) each class draws its pairs from the envelopes of its species' peculiar
+  // speeds instead (collide_class_weighted). The kept bounds serve one species.
   void set_species(const double* mass, const double* diameter, std::size_t count);
   void set_species_cells(const CellGrid::SpeciesCellMoments* moments) { species_cells_ = moments; }
   // At a slab's moment update: every class's ratio from its species' largest peculiar speeds.
@@ -229,11 +235,11 @@ class CollisionStage {
   // Group c's step with weighted pairs (a slab layer, the hard-sphere form): returns the time
   // counter's credit at dt.
   double collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                          WeightedLayer& layer, double credit, double dt, Rng& select, PairBatch& batch);
+                          const WeightedSides& sides, double credit, double dt, Rng& select, PairBatch& batch);
   // Its events and candidates drawn from `select` (a copy of the stream, or a BulkRng of it).
   template <class Draws>
-  double weighted_step(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, WeightedLayer& layer,
-                       double credit, double dt, Draws& select, PairBatch& batch);
+  double weighted_step(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                       const WeightedSides& sides, double credit, double dt, Draws& select, PairBatch& batch);
   double solid_angle_ = M_PI;  // Omega_B of the rule's kernel form (pi: hard sphere; 4 pi: general)
   // run() with pending members: the pieces in order (block b < blocks, or blocks + layer), and
   // each block's stamp once it is scattered (the run's number: nothing to clear between steps).
@@ -261,6 +267,16 @@ class CollisionStage {
   double species_estimate(const CollisionRule& rule, std::size_t c, double dt) const;
   void collide_group_species(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double dt,
                              Rng& select, PairBatch& batch);
+  // Class (a, b) of group c with weighted pairs, its species' members at sorted[start[s] ..]: the
+  // envelopes of both species built about one velocity, then weighted_step over them.
+  std::uint64_t collide_class_uniform(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
+                                      std::size_t a, std::size_t b, std::size_t k, const std::uint32_t* sorted,
+                                      const std::uint32_t* start, double dt, Rng& select,
+                                      candidates::BatchScratch& s, PairBatch& batch);
+  // False (nothing done) when a species has no envelope: the class then draws uniform candidates.
+  bool collide_class_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, std::size_t a,
+                              std::size_t b, const std::uint32_t* sorted, const std::uint32_t* start, double dt,
+                              Rng& select, PairBatch& batch);
 };
 
 }  // namespace gdsmc::host

@@ -69,8 +69,7 @@ struct ExtraEvent {
   bool rose = false;
 };
 template <class Draws>
-ExtraEvent first_extra_event(const BatchScratch& s, std::uint32_t m, WeightedLayer& layer, Draws& select,
-                             double per_bound) {
+ExtraEvent first_extra_event(const BatchScratch& s, std::uint32_t m, const WeightedSides& sides, Draws& select) {
   ExtraEvent x;
   x.kept = m;
   for (std::uint32_t q = 0; q < m; ++q) {
@@ -82,10 +81,13 @@ ExtraEvent first_extra_event(const BatchScratch& s, std::uint32_t m, WeightedLay
     const Vec3 after[2] = {s.v1[q], s.v2[q]};
     for (int e = 0; e < 2; ++e) {
       const std::uint32_t a = e == 0 ? s.la[q] : s.lb[q];
-      const double lift = layer.rise(a, layer.peculiar_square(after[e].x, after[e].y, after[e].z));
+      const int side = sides.side_of(a);
+      WeightedLayer& layer = *sides.layer[side];
+      const double lift =
+          layer.rise(a - sides.offset[side], layer.peculiar_square(after[e].x, after[e].y, after[e].z));
       if (lift > 0) {
         x.rose = true;
-        const double t = s.t[q] - std::log1p(-select.uniform()) / (per_bound * lift);
+        const double t = s.t[q] - std::log1p(-select.uniform()) / (sides.per_bound[side] * lift);
         if (t < x.time) x.time = t, x.particle = a;
       }
     }
@@ -98,14 +100,14 @@ ExtraEvent first_extra_event(const BatchScratch& s, std::uint32_t m, WeightedLay
 // same outcomes for them, and results and tallies that hold those pairs only).
 template <class Draws>
 ExtraEvent collide_to_first_extra(const CollisionRule& rule, PairBatch& batch, BatchScratch& s, std::uint32_t m,
-                                  WeightedLayer& layer, Draws& select, double per_bound, const ParticleSpan& p,
+                                  const WeightedSides& sides, Draws& select, const ParticleSpan& p,
                                   std::vector<double>& saved_tally) {
   s.load_velocities(m, p.vx.data, p.vy.data, p.vz.data);
   BatchResults before;
   before.save(batch, saved_tally);
   batch.count = m;
   rule.collide_batch(batch);
-  const ExtraEvent extra = first_extra_event(s, m, layer, select, per_bound);
+  const ExtraEvent extra = first_extra_event(s, m, sides, select);
   if (extra.kept < m) {
     before.restore(batch, saved_tally);
     s.load_velocities(extra.kept, p.vx.data, p.vy.data, p.vz.data);
@@ -113,6 +115,19 @@ ExtraEvent collide_to_first_extra(const CollisionRule& rule, PairBatch& batch, B
     rule.collide_batch(batch);
   }
   return extra;
+}
+// An envelope event from x uniform in [0, 1): its side (two sides: by their shares of the events,
+// x rescaled within the side's) and the member that initiates it (WeightedLayer::pick).
+std::uint32_t pick_initiator(const WeightedSides& sides, double x, int& side, double& thin, bool& from_bulk) {
+  side = 0;
+  if (sides.n == 2) {
+    const double r0 = sides.per_bound[0] * sides.layer[0]->envelope(), total = sides.rate();
+    const double y = x * total;
+    side = y < r0 ? 0 : 1;
+    x = side == 0 ? y / r0 : (y - r0) / (total - r0);
+    x = std::min(std::max(x, 0.0), std::nextafter(1.0, 0.0));
+  }
+  return sides.layer[side]->pick(x, thin, from_bulk);
 }
 }  // namespace
 
@@ -131,16 +146,14 @@ ExtraEvent collide_to_first_extra(const CollisionRule& rule, PairBatch& batch, B
 // the next candidate, and the time counter starts again at E. Returns the credit left at dt.
 template <class Draws>
 double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                     WeightedLayer& layer, double credit, double dt, Draws& select, PairBatch& batch) {
-  const Group& group = groups_[c];
-  const std::uint32_t* const members = group.members;
-  const std::uint32_t count = group.count;
+                                     const WeightedSides& sides, double credit, double dt, Draws& select,
+                                     PairBatch& batch) {
   double* const vx = particles.vx.data;
   double* const vy = particles.vy.data;
   double* const vz = particles.vz.data;
-  const double per_bound = 2.0 * pair_count(scheme_, count) / count * batch.sigma * batch.sigma * M_PI *
-                           rule.rate_bound(1.0) / group.volume;  // K
-  batch.speed_bound = 2.0 * layer.bulk_bound();  // the bulk's pair bound (for a rule that looks)
+  // the bulk's pair bound (for a rule that looks)
+  batch.speed_bound = sides.n == 1 ? 2.0 * sides.layer[0]->bulk_bound()
+                                   : sides.layer[0]->bulk_bound() + sides.layer[1]->bulk_bound();
   batch.rate_bound = rule.rate_bound(batch.speed_bound);
   thread_local BatchScratch s;
   s.open(batch);
@@ -148,15 +161,15 @@ double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSp
   std::uint32_t m = 0;
   std::uint64_t candidates = 0;
   EventClock clock;
-  clock.start(credit, per_bound * layer.envelope(), dt);
-  std::int64_t initiator = -1;  // an extra event's particle, the next candidate (at t0)
+  clock.start(credit, sides.rate(), dt);
+  std::int64_t initiator = -1;  // an extra event's particle (local index), the next candidate (at t0)
   thread_local std::vector<double> saved_tally;  // the tallies before a pass, should it be undone
   saved_tally.resize(tally_count_);
   // Close the batch, whose newest event is at `last`: the rule's pass, every collided particle's new
   // speed, the extra events of those that rose. True if the batch was cut (an extra event before
   // `last`: `initiator` is set, and the time counter starts again at its time).
   const auto flush = [&](double last) -> bool {
-    const ExtraEvent extra = collide_to_first_extra(rule, batch, s, m, layer, select, per_bound, particles, saved_tally);
+    const ExtraEvent extra = collide_to_first_extra(rule, batch, s, m, sides, select, particles, saved_tally);
     s.store_accepted(extra.kept, vx, vy, vz);
     candidates += extra.kept;
     s.close(m);
@@ -164,20 +177,21 @@ double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSp
     if (extra.time <= last) {
       // The envelope events after E are dropped; the counter goes on from E with the new envelope.
       const double due = clock.due(extra.time);
-      clock.anchor(extra.time, due - std::floor(due), per_bound * layer.envelope(), dt);
+      clock.anchor(extra.time, due - std::floor(due), sides.rate(), dt);
       initiator = extra.particle;
       return true;
     }
-    if (extra.rose)
-      clock.anchor(last, clock.due(last) - static_cast<double>(clock.events), per_bound * layer.envelope(), dt);
+    if (extra.rose) clock.anchor(last, clock.due(last) - static_cast<double>(clock.events), sides.rate(), dt);
     return false;
   };
   for (;;) {
     std::uint32_t a;
+    int side = 0;
     double t, thin;
     bool from_bulk = false;
     if (initiator >= 0) {
-      a = static_cast<std::uint32_t>(initiator);
+      side = sides.side_of(static_cast<std::uint32_t>(initiator));
+      a = static_cast<std::uint32_t>(initiator) - sides.offset[side];
       initiator = -1;
       t = clock.t0;
       thin = select.uniform();
@@ -185,25 +199,29 @@ double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSp
       ++clock.events;
       if ((clock.events & 0xFFFF) == 0) poll_interrupt(interrupt_);
       t = clock.draw_time();
-      a = layer.pick(select.uniform(), thin, from_bulk);
+      a = pick_initiator(sides, select.uniform(), side, thin, from_bulk);
     } else {
       if (m > 0 && flush(dt)) continue;
       break;
     }
+    const WeightedLayer& layer = *sides.layer[side];
+    const int other = sides.n == 1 ? 0 : 1 - side;
     // a thinned first (its speed is current once no open pair holds it), then its partner and the
     // acceptance number for a candidate only.
-    if (m > 0 && s.holds(a) && flush(t)) continue;  // cut before t: this draw goes
+    const std::uint32_t la = sides.offset[side] + a;
+    if (m > 0 && s.holds(la) && flush(t)) continue;  // cut before t: this draw goes
     if (!layer.candidate(a, thin, from_bulk)) continue;
-    std::uint32_t b = select.below(count - 1);
-    b += (b >= a);
+    std::uint32_t b = select.below(sides.n == 1 ? sides.count[0] - 1 : sides.count[other]);
+    if (sides.n == 1) b += (b >= a);  // the partner from the same list: not a itself
     const double u = select.uniform32();
-    if (m > 0 && s.holds(b) && flush(t)) continue;
-    s.put(m, a, b, members[a], members[b], u, vx, vy, vz);
+    const std::uint32_t lb = sides.offset[other] + b;
+    if (m > 0 && s.holds(lb) && flush(t)) continue;
+    s.put(m, la, lb, sides.members[side][a], sides.members[other][b], u, vx, vy, vz);
     s.t[m] = t;
-    s.w[m] = layer.speed(a) + layer.speed(b);
+    s.w[m] = layer.speed(a) + sides.layer[other]->speed(b);
     if (++m == kPairBatch) flush(t);
   }
-  counts_[3 * c] = candidates;
+  counts_[3 * c] += candidates;
   return clock.due(dt) - static_cast<double>(clock.events);
 }
 
@@ -211,11 +229,11 @@ double CollisionStage::weighted_step(const CollisionRule& rule, const ParticleSp
 // least, which sixteen side by side (AVX2, AVX-512) cost less than one after the other; without a
 // vector version, from a local copy of the stream.
 double CollisionStage::collide_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                        WeightedLayer& layer, double credit, double dt, Rng& stream,
+                                        const WeightedSides& sides, double credit, double dt, Rng& stream,
                                         PairBatch& batch) {
   double left = 0;
   draw_from(stream, philox_sixteen_vectorized(),
-            [&](auto& draws) { left = weighted_step(rule, particles, c, layer, credit, dt, draws, batch); });
+            [&](auto& draws) { left = weighted_step(rule, particles, c, sides, credit, dt, draws, batch); });
   return left;
 }
 
@@ -252,7 +270,14 @@ void CollisionStage::collide_group_weighted(const CollisionRule& rule, const Par
   // The remainder is a fraction of an envelope event here and of a uniform candidate otherwise:
   // in [0, 1) either way, so a layer that changes its draw (run.pair_selection at a resume)
   // carries less than one.
-  remainder_[c] = collide_weighted(rule, particles, c, layer, remainder_[c], dt, select, batch);
+  // K = sigma^2 pi scale (2 P(N_c) / N_c) / V_c (weighted_step)
+  WeightedSides sides;
+  sides.layer[0] = &layer;
+  sides.members[0] = group.members;
+  sides.count[0] = group.count;
+  sides.per_bound[0] = 2.0 * pair_count(scheme_, group.count) / group.count * batch.sigma * batch.sigma * M_PI *
+                       rule.rate_bound(1.0) / group.volume;
+  remainder_[c] = collide_weighted(rule, particles, c, sides, remainder_[c], dt, select, batch);
   counts[1] = batch.collided;
   counts[2] = batch.exceeded;
   energy_[c] = batch.energy_change;

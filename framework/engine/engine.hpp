@@ -133,6 +133,7 @@ class Engine {
   Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads,
          StateReader* state = nullptr);
   void load(StateReader& in);
+  void load_moments(StateReader& in);
   // The stages of construction, in order.
   void build_objects();
   void refuse_one_species_plugins();

@@ -46,6 +46,7 @@ void Engine::save(StateWriter& out) const {
   out.write("moments.count", cell_counts);
   out.write("moments.values", cell_values);
   out.write("moments.kinetic_energy", sampled_.kinetic_energy);
+  if (species_mass()) out.write("moments.species", grid_.species_cell_values());  // a mixture's majorant scales
   walls_.save(out);
   collision_tallies_.save(out);
   ledger_.save(out);
@@ -63,6 +64,33 @@ void Engine::save(StateWriter& out) const {
     out.write("plugin." + object_uses_[k]->path, plugin.bytes());
   }
   layers_.save(out);
+}
+
+// The moments of the last update (cells, global, a mixture's per species) as save() wrote them.
+void Engine::load_moments(StateReader& in) {
+  std::vector<std::uint64_t> cell_counts;
+  std::vector<double> cell_values;
+  in.read("moments.count", cell_counts);
+  in.read("moments.values", cell_values);
+  if (cell_counts.size() != cells_.size() + 1 || cell_values.size() != 5 * cell_counts.size())
+    throw StateError("checkpoint entry 'moments': " + std::to_string(cell_counts.size()) + " cells where the system has " +
+                     std::to_string(cells_.size()) + " (and the global moments)");
+  for (std::size_t k = 0; k < cell_counts.size(); ++k) {
+    CellMoments& c = k == cells_.size() ? global_ : cells_[k];
+    c.count = cell_counts[k];
+    const double* v = cell_values.data() + 5 * k;
+    c.number_density = v[0];
+    for (int a = 0; a < 3; ++a) c.mean_velocity[a] = v[1 + a];
+    c.temperature = v[4];
+  }
+  in.read("moments.kinetic_energy", sampled_.kinetic_energy);
+  if (species_mass()) {
+    std::vector<double> species;
+    in.read("moments.species", species);
+    if (!grid_.set_species_cell_values(species))
+      throw StateError("checkpoint entry 'moments.species': " + std::to_string(species.size()) +
+                       " values where the mixture has " + std::to_string(3 * cells_.size() * system_.species_count));
+  }
 }
 
 void Engine::load(StateReader& in) {
@@ -95,22 +123,7 @@ void Engine::load(StateReader& in) {
   } else if (!finished_) {
     throw StateError("checkpoint: an unfinished run without its particles");
   }
-  std::vector<std::uint64_t> cell_counts;
-  std::vector<double> cell_values;
-  in.read("moments.count", cell_counts);
-  in.read("moments.values", cell_values);
-  if (cell_counts.size() != cells_.size() + 1 || cell_values.size() != 5 * cell_counts.size())
-    throw StateError("checkpoint entry 'moments': " + std::to_string(cell_counts.size()) + " cells where the system has " +
-                     std::to_string(cells_.size()) + " (and the global moments)");
-  for (std::size_t k = 0; k < cell_counts.size(); ++k) {
-    CellMoments& c = k == cells_.size() ? global_ : cells_[k];
-    c.count = cell_counts[k];
-    const double* v = cell_values.data() + 5 * k;
-    c.number_density = v[0];
-    for (int a = 0; a < 3; ++a) c.mean_velocity[a] = v[1 + a];
-    c.temperature = v[4];
-  }
-  in.read("moments.kinetic_energy", sampled_.kinetic_energy);
+  load_moments(in);
   walls_.load(in);
   collision_tallies_.load(in);
   ledger_.load(in);

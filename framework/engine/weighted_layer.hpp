@@ -145,4 +145,26 @@ class WeightedLayer {
   int top_ = 0;  // classes 0 .. top_ - 1 hold listed members
 };
 
+// The sides of one weighted pair class in a cell: one (pairs within one list: every member, or one
+// species of a mixture) or two (pairs across two species' lists, a particle from each). Side k's
+// members are listed in `layer[k]` (built about one velocity u shared by both sides, so that
+// |g| <= c_a + c_b holds across them) and are the local indices offset[k] .. offset[k] + count[k] - 1
+// of the cell (the batch's set of open particles); a member of side k initiates envelope events at
+// the rate per_bound[k] times its bound, its partner drawn uniformly from side k (one side: not
+// itself) or from the other side.
+struct WeightedSides {
+  int n = 1;
+  WeightedLayer* layer[2] = {nullptr, nullptr};
+  const std::uint32_t* members[2] = {nullptr, nullptr};
+  std::uint32_t count[2] = {0, 0};
+  std::uint32_t offset[2] = {0, 0};
+  double per_bound[2] = {0, 0};
+  double rate() const {
+    return n == 1 ? per_bound[0] * layer[0]->envelope()
+                  : per_bound[0] * layer[0]->envelope() + per_bound[1] * layer[1]->envelope();
+  }
+  // The side of local index a, and a's index in its layer.
+  int side_of(std::uint32_t a) const { return n == 2 && a >= offset[1] ? 1 : 0; }
+};
+
 }  // namespace gdsmc::host

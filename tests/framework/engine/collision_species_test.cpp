@@ -91,9 +91,10 @@ struct Mixture {
 // `steps` collision stages of dt, moments every 4 as the engine updates them; the per-class tallies summed.
 struct Totals {
   double tallies[3] = {0, 0, 0};
-  std::uint64_t exceeded = 0, accepted = 0;
+  std::uint64_t exceeded = 0, accepted = 0, candidates = 0;
 };
-Totals collide(Mixture& gas, std::size_t steps, double dt, unsigned threads, std::size_t subpopulation) {
+Totals collide(Mixture& gas, std::size_t steps, double dt, unsigned threads, std::size_t subpopulation,
+               host::PairSelection selection = host::PairSelection::uniform) {
   host::WorkPool pool(threads);
   host::CellGrid grid;
   grid.homogeneous(gas.id.size(), gas.volume);
@@ -101,6 +102,7 @@ Totals collide(Mixture& gas, std::size_t steps, double dt, unsigned threads, std
   host::CollisionStage stage;
   stage.set_species(kMass, kDiameter, 2);
   stage.set_subpopulation(subpopulation);
+  stage.set_pair_selection(selection);
   stage.set_pool(&pool);
   stage.set_tally_count(3);
   const CollisionRuleAdapter<MixtureElastic> rule{MixtureElastic{}};
@@ -119,23 +121,25 @@ Totals collide(Mixture& gas, std::size_t steps, double dt, unsigned threads, std
     for (int c = 0; c < 3; ++c) out.tallies[c] += t.tallies[c];
     out.exceeded += t.majorant_exceeded;
     out.accepted += t.accepted;
+    out.candidates += t.candidates;
   }
   return out;
 }
 
 // 2 x 3000 particles at T = 1, n = 6000 / 2e5: Z_ab V dt per step for each class, against the
-// tallies over 300 steps (3e4 to 1.4e5 collisions in each class: Poisson errors below 0.6 %), in one
-// group of all particles and in four sub-populations of 1500 (their volume V (N_c - 1)/(N - 1)
-// gives every class its rate too: the expected pairs of a random sub-population are the whole
-// system's times N_c (N_c - 1) / (N (N - 1)), for like and unlike species alike).
-class CollisionSpeciesRates : public ::testing::TestWithParam<std::size_t> {};
+// tallies over 300 steps (3e4 to 1.4e5 collisions in each class: Poisson errors below 0.6 %): in one
+// group of all particles, uniform candidates against each class's majorant and weighted pairs from
+// the species' speed envelopes (a slab layer's draw), and in four sub-populations of 1500 (their
+// volume V (N_c - 1)/(N - 1) gives every class its rate too: the expected pairs of a random
+// sub-population are the whole system's times N_c (N_c - 1) / (N (N - 1)), like or unlike species).
+class CollisionSpeciesRates : public ::testing::TestWithParam<std::pair<std::size_t, host::PairSelection>> {};
 
 TEST_P(CollisionSpeciesRates, EveryPairClassCollidesAtItsEquilibriumRate) {
   Mixture gas(6000, 2.0e5, 1.0, 1.0);
   const double dt = 0.8, steps = 300;
   const Vec3 p0 = gas.momentum();
   const double e0 = gas.energy();
-  const Totals run = collide(gas, static_cast<std::size_t>(steps), dt, 1, GetParam());
+  const Totals run = collide(gas, static_cast<std::size_t>(steps), dt, 1, GetParam().first, GetParam().second);
   // The temperature the energy fixes (the momentum is zero): the sample's, not T = 1 (1 % apart at N = 6000).
   const double n_s = 3000, T = 2.0 * e0 / (3.0 * 6000);
   for (int a = 0; a < 2; ++a)
@@ -158,7 +162,10 @@ TEST_P(CollisionSpeciesRates, EveryPairClassCollidesAtItsEquilibriumRate) {
   EXPECT_NEAR(gas.temperature(0) / gas.temperature(1), 1.0, 4.0 * std::sqrt(2.0 * 2.0 / (3.0 * n_s)));
 }
 
-INSTANTIATE_TEST_SUITE_P(Groups, CollisionSpeciesRates, ::testing::Values(std::size_t{0}, std::size_t{1500}));
+INSTANTIATE_TEST_SUITE_P(Groups, CollisionSpeciesRates,
+                         ::testing::Values(std::pair{std::size_t{0}, host::PairSelection::uniform},
+                                           std::pair{std::size_t{0}, host::PairSelection::weighted},
+                                           std::pair{std::size_t{1500}, host::PairSelection::uniform}));
 
 TEST(CollisionSpecies, UnequalTemperaturesRelaxToEquipartition) {
   // T_0 = 2, T_1 = 0.5 at the start; elastic collisions exchange energy until T_0 = T_1 = 1.25
@@ -169,6 +176,16 @@ TEST(CollisionSpecies, UnequalTemperaturesRelaxToEquipartition) {
   const double t0 = gas.temperature(0), t1 = gas.temperature(1);
   EXPECT_NEAR(0.5 * (t0 + t1), before, 1e-9);
   EXPECT_NEAR(t0 / t1, 1.0, 4.0 * std::sqrt(4.0 / (3.0 * 3000)));
+}
+
+TEST(CollisionSpecies, WeightedPairsAcceptMostCandidatesAndRelaxToEquipartition) {
+  // The envelopes bound |g| by c_i + c_j: most candidates collide (one species: 68-72 %), none
+  // exceeds its bound, and the temperatures relax as with uniform candidates.
+  Mixture gas(6000, 2.0e5, 2.0, 0.5);
+  const Totals run = collide(gas, 1000, 0.8, 1, 0, host::PairSelection::weighted);
+  EXPECT_EQ(run.exceeded, 0u);
+  EXPECT_GT(static_cast<double>(run.accepted), 0.6 * static_cast<double>(run.candidates));  // 73.5 % here
+  EXPECT_NEAR(gas.temperature(0) / gas.temperature(1), 1.0, 4.0 * std::sqrt(4.0 / (3.0 * 3000)));
 }
 
 TEST(CollisionSpecies, SameBitsOnOneThreadAndOnTwoWithSubpopulations) {
