@@ -33,20 +33,20 @@ std::vector<PairEntry> parse_pairs(const std::string& text) {
     const std::string item = trim(text.substr(start, comma - start));
     start = comma + 1;
     if (item.empty()) {
-      if (comma < text.size()) throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: an empty entry" + form);
+      if (comma < text.size()) throw gdsmc::ParameterError(kPairsParam, "an empty entry" + form);
       continue;
     }
     const std::size_t colon = item.find(':');
     if (colon == std::string::npos)
-      throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: '" + item + "' has no ':'" + form);
+      throw gdsmc::ParameterError(kPairsParam, "'" + item + "' has no ':'" + form);
     PairEntry e{trim(item.substr(0, colon)), 0};
     const std::string number = trim(item.substr(colon + 1));
     char* end = nullptr;
     e.value = std::strtod(number.c_str(), &end);
     if (number.empty() || *end != '\0')
-      throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: '" + number + "' in '" + item + "' is not a number" + form);
+      throw gdsmc::ParameterError(kPairsParam, "'" + number + "' in '" + item + "' is not a number" + form);
     if (!(e.value >= 0 && e.value <= 1))
-      throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: " + number + " for '" + e.names +
+      throw gdsmc::ParameterError(kPairsParam, number + " for '" + e.names +
                                                    "' is outside [0, 1] (a coefficient of normal restitution)");
     out.push_back(e);
   }
@@ -158,7 +158,7 @@ std::string split_pair(const std::string& names, const std::vector<std::string>&
 void InelasticHardSpheres::begin(const gdsmc::SystemInfo& system, gdsmc::QuantityBoard& board) {
   if (!system.species) {
     if (!pair_entries.empty())
-      throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: the system has a single species (no system.species); "
+      throw gdsmc::ParameterError(kPairsParam, "the system has a single species (no system.species); "
                                                "use alpha, or list the species under system.species");
     return;  // one species: collide() keeps the arithmetic of Eq. (2.8)
   }
@@ -173,9 +173,9 @@ void InelasticHardSpheres::begin(const gdsmc::SystemInfo& system, gdsmc::Quantit
     std::size_t a = 0, b = 0;
     const std::string error = split_pair(e.names, species_names, a, b);
     if (!error.empty())
-      throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: " + error + "; the species are: " + listed);
+      throw gdsmc::ParameterError(kPairsParam, error + "; the species are: " + listed);
     if (given[a * n + b])
-      throw gdsmc::ParameterError(kPairsParam, "restitution_pairs: the pair " + species_names[a] + "-" + species_names[b] +
+      throw gdsmc::ParameterError(kPairsParam, "the pair " + species_names[a] + "-" + species_names[b] +
                                                    " is given twice (the order of the two names does not matter)");
     given[a * n + b] = given[b * n + a] = true;
     restitution[a * n + b] = restitution[b * n + a] = e.value;
