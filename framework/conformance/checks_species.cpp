@@ -1,5 +1,6 @@
 // The mixture check of a species-aware collision rule (SDK 6.5, extension "gdsmc.species"): the
 // pair kernel on pairs of unequal masses and diameters, weighed by the species' masses.
+#include "config/system_info.hpp"
 #include "conformance/internal.hpp"
 
 namespace gdsmc::host::conformance {
@@ -7,10 +8,19 @@ namespace gdsmc::host::conformance {
 namespace {
 
 // The test mixture: masses and diameters far from each other and from 1 (a rule that drops a mass
-// or takes sigma for sigma_ab shows), equal fractions.
-const std::vector<SpeciesInfo>& test_species() {
-  static const std::vector<SpeciesInfo> species = {{"light", 1.0, 1.0, 0.5}, {"heavy", 3.7, 2.0, 0.5}};
-  return species;
+// or takes sigma for sigma_ab shows), equal fractions; or the context's own mixture (its
+// system.species), whose names the rule's parameters may refer to.
+std::vector<SpeciesInfo> test_species(const Pipeline& p) {
+  const SystemInfo sys = system_info(p, 16, 0);
+  if (sys.species && sys.species_count >= 2) return {sys.species, sys.species + sys.species_count};
+  return {{"light", 1.0, 1.0, 0.5}, {"heavy", 3.7, 2.0, 0.5}};
+}
+
+// "a mixture of light (m = 1, sigma = 1), heavy (m = 3.7, sigma = 2)"
+std::string mixture_text(const std::vector<SpeciesInfo>& species) {
+  std::vector<std::string> parts;
+  for (const auto& s : species) parts.push_back(fmt("%s (m = %g, sigma = %g)", s.name, s.mass, s.diameter));
+  return fmt("a %zu-species mixture of ", species.size()) + join(parts, ", ");
 }
 
 struct MixtureReport {
@@ -69,8 +79,10 @@ MixtureReport mixture_suite(const BegunRule& begun, std::uint64_t seed, std::siz
   for (std::size_t c = 0; c < cases.size(); ++c) {
     PairCase pc = cases[c];
     const std::uint32_t i = c % 2 ? 3 : 0, j = c % 2 ? 1 : 2;
-    const auto sa = static_cast<std::uint32_t>((c / 2) % 2), sb = static_cast<std::uint32_t>((c / 4) % 2);
-    for (std::uint32_t k = 0; k < 4; ++k) species[k] = case_rng.uniform() < 0.5 ? 0 : 1;
+    const std::size_t n = sys.species_count;
+    const auto sa = static_cast<std::uint32_t>((c / 2) % n), sb = static_cast<std::uint32_t>((c / (2 * n)) % n);
+    for (std::uint32_t k = 0; k < 4; ++k)
+      species[k] = static_cast<std::uint32_t>(std::min<double>(n - 1, case_rng.uniform() * static_cast<double>(n)));
     species[i] = sa;
     species[j] = sb;
     pc.sigma = sys.pair_diameter(sa, sb);
@@ -95,24 +107,26 @@ constexpr std::size_t kMixturePairs = 8000;
 }  // namespace
 
 // collision.species: a rule that offers "gdsmc.species" runs in mixtures, where the host hands it
-// pairs of any two species; begun on a two-species system (masses 1 and 3.7, diameters 1 and 2),
-// each pair must conserve sum m v to round-off, declare the mass-weighted energy change, and change
-// nothing but the pair.
+// pairs of any two species; begun on a two-species system (masses 1 and 3.7, diameters 1 and 2;
+// or the context's mixture), each pair must conserve sum m v to round-off, declare the
+// mass-weighted energy change, and change nothing but the pair.
 Result check_collision_species(const Subject& s) {
   const std::unique_ptr<Pipeline> p = load_test_pipeline(s, base_assignment(s), 16);
   if (!create_object(*p->collision.plugin, p->collision.params)->extension(species_id))
     return skip("the rule does not offer the extension gdsmc.species (static constexpr bool species_aware = true in "
                 "a rule struct): the host refuses it in a mixture, so only one species of unit mass is asked of it");
+  const std::vector<SpeciesInfo> species = test_species(*p);
+  const std::string mixture = mixture_text(species);
   std::optional<BegunRule> begun;
   try {
-    begun = begun_rule(*p, &test_species());
+    begun = begun_rule(*p, &species);
   } catch (const ParameterError& e) {
-    return skip(fmt("begin() refused the test mixture (light: m = 1, sigma = 1; heavy: m = 3.7, sigma = 2; parameter "
-                    "'%s'): %s", e.parameter().c_str(), e.what()));
+    return skip(fmt("begin() refused %s (parameter '%s'): %s; give a --context whose system.species the parameters "
+                    "name", mixture.c_str(), e.parameter().c_str(), e.what()));
   }
   const MixtureReport m = mixture_suite(*begun, s.cfg.seed, kMixturePairs);
   const PairReport& r = m.pairs;
-  const std::string where = " in a two-species mixture (masses 1 and 3.7, diameters 1 and 2): ";
+  const std::string where = " in " + mixture + ": ";
   if (!r.nonfinite.empty()) return fail("not finite" + where + r.nonfinite);
   if (!r.locality.empty()) return fail("mass" + where + "collide_batch " + r.locality);
   if (r.worst_momentum > 1)
@@ -120,10 +134,9 @@ Result check_collision_species(const Subject& s) {
                 "SystemInfo::species_mass of pair.particles.species_of(pair.i) and (pair.j))");
   if (r.worst_energy > 1)
     return fail("energy change differs from the declared mass-weighted one" + where + r.energy_case);
-  return pass(fmt("%zu pairs (%zu of two species) of a mixture of masses 1 and 3.7, diameters 1 and 2, at sigma_ab: "
-                  "sum m v conserved to round-off (worst %.2g of the tolerance), the declared energy change equals "
-                  "sum (m/2) dv^2 (worst %.2g), only the colliding pair changes",
-                  r.cases, m.cross, r.worst_momentum, r.worst_energy));
+  return pass(fmt("%zu pairs (%zu of two species) of %s, at sigma_ab: sum m v conserved to round-off (worst %.2g of "
+                  "the tolerance), the declared energy change equals sum (m/2) dv^2 (worst %.2g), only the colliding "
+                  "pair changes", r.cases, m.cross, mixture.c_str(), r.worst_momentum, r.worst_energy));
 }
 
 }  // namespace gdsmc::host::conformance

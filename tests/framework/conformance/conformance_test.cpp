@@ -133,7 +133,7 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       // Species-aware, but collides every pair as two unit masses: sum m v changes in a mixture.
       {"conformance_massless_mixture",
        "collision.species",
-       {"conformance_massless_mixture", "momentum not conserved", "two-species mixture", "heavy (m = 3.7)",
+       {"conformance_massless_mixture", "momentum not conserved", "2-species mixture of light (m = 1, sigma = 1), heavy (m = 3.7, sigma = 2)", "heavy (m = 3.7)",
         "|sum m v' - sum m v|", "species_mass"}},
       // The right masses in the velocities, the loss of two unit masses declared.
       {"conformance_unweighted_energy",
