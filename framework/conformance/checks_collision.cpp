@@ -8,13 +8,6 @@ namespace gdsmc::host::conformance {
 // --------------------------------------------------------------------------------------------
 // Collision rules
 
-struct PairCase {
-  Vec3 v1, v2, s;
-  const char* what;
-  double sigma = 1;  // the diameter handed to the kernel (PairBatch::sigma)
-};
-
-
 std::string case_text(const PairCase& c) {
   return fmt("%s pair v1 = %s, v2 = %s, sigma_hat = %s (g.sigma_hat = %.6g), sigma = %g", c.what, vec_text(c.v1).c_str(),
              vec_text(c.v2).c_str(), vec_text(c.s).c_str(), dot(c.v1 - c.v2, c.s), c.sigma);
@@ -63,8 +56,6 @@ std::vector<PairCase> pair_cases(const CollisionRule& rule, Rng& rng, std::size_
   return cases;
 }
 
-namespace {
-
 // A random 4-particle state around the pair case: slots i and j hold the pair's velocities.
 void fill_case(const ParticleSpan& p, const PairCase& pc, std::uint32_t i, std::uint32_t j, Rng& case_rng) {
   const double scale = std::max({norm(pc.v1), norm(pc.v2), 1e-300});
@@ -90,6 +81,8 @@ void copy_all(const ParticleSpan& from, const ParticleSpan& to) {
     std::copy(from.attribute_data[a], from.attribute_data[a] + from.count * from.attribute_specs[a].components,
               to.attribute_data[a]);
 }
+
+namespace {
 
 // pair_rate finite, >= 0 and within rate_bound(|g|) along the case's direction, its opposite and
 // a random one.
@@ -127,6 +120,8 @@ void check_finite(const ParticleSpan& p, const PairCase& pc, double declared, co
   if (!bad.empty()) r.nonfinite = bad + " for the " + case_text(pc);
 }
 
+}  // namespace
+
 // Mass / locality: nothing but the velocities and attributes of i and j may change.
 void check_locality(const ParticleSpan& p, const ParticleSpan& b, std::uint32_t i, std::uint32_t j, PairReport& r) {
   for (std::size_t k = 0; k < 4 && r.locality.empty(); ++k) {
@@ -145,6 +140,8 @@ void check_locality(const ParticleSpan& p, const ParticleSpan& b, std::uint32_t 
       }
   }
 }
+
+namespace {
 
 void check_momentum(const PairCase& pc, const Vec3& w1, const Vec3& w2, PairReport& r) {
   const Vec3 dp = (w1 + w2) - (pc.v1 + pc.v2);
@@ -246,8 +243,12 @@ std::string pair_failure(const PairReport& r) {
 
 constexpr std::size_t kRandomPairs = 20000;
 
-BegunRule begun_rule(const Pipeline& p) {
+BegunRule begun_rule(const Pipeline& p, const std::vector<SpeciesInfo>* species) {
   BegunRule r{create_object(*p.collision.plugin, p.collision.params), system_info(p, 16, 0)};
+  if (species) {  // a mixture (collision.species): the rule reads the species in begin()
+    r.system.species = species->data();
+    r.system.species_count = species->size();
+  }
   QuantityBoard board;
   r.object->publish(board);
   for (const auto& f : p.forcings) create_object(*f.plugin, f.params)->publish(board);

@@ -148,6 +148,21 @@ Result check_determinism(const Subject& s);
 Result check_threads(const Subject& s);
 Result check_checkpoint(const Subject& s);
 Vec3 gaussian(Rng& rng, double scale);
+// A pair of the collision checks: velocities, impact direction, what kind of pair it is.
+struct PairCase {
+  Vec3 v1, v2, s;
+  const char* what;
+  double sigma = 1;  // the diameter handed to the kernel (PairBatch::sigma)
+};
+std::string case_text(const PairCase& c);
+// `random_pairs` random pairs and the edge cases (zero relative velocity, grazing, huge and tiny
+// speeds, fast centre of mass, head-on), directions on the side the kernel selects.
+std::vector<PairCase> pair_cases(const CollisionRule& rule, Rng& rng, std::size_t random_pairs);
+// A random 4-particle state around the pair case: slots i and j hold the pair's velocities.
+void fill_case(const ParticleSpan& p, const PairCase& pc, std::uint32_t i, std::uint32_t j, Rng& case_rng);
+void copy_all(const ParticleSpan& from, const ParticleSpan& to);
+// Mass / locality: nothing but the velocities and attributes of i and j may change (r.locality).
+void check_locality(const ParticleSpan& p, const ParticleSpan& b, std::uint32_t i, std::uint32_t j, PairReport& r);
 // One collision of slots i and j with the impact direction s, through the rule's pair kernel (a
 // batch of one pair, PairBatch::direction); writes the velocities back, returns the declared
 // energy change. An empty `tally`: none.
@@ -160,7 +175,8 @@ struct BegunRule {
   SystemInfo system;
   CollisionRule& rule() const { return *static_cast<CollisionRule*>(object.get()); }
 };
-BegunRule begun_rule(const Pipeline& p);  // the rule of p's collision slot
+// The rule of p's collision slot; with `species` (kept alive by the caller), begun in a mixture of them.
+BegunRule begun_rule(const Pipeline& p, const std::vector<SpeciesInfo>* species = nullptr);
 BegunRule begun_rule(const Subject& s);   // the subject with its base assignment
 
 PairReport pair_suite(CollisionRule& rule, const std::vector<AttributeSpec>& attributes, std::uint64_t seed,
@@ -173,6 +189,7 @@ Result check_collision_energy(const Subject& s);
 Result check_collision_rate(const Subject& s);
 Result check_collision_acceptance(const Subject& s);
 Result check_collision_cell(const Subject& s);
+Result check_collision_species(const Subject& s);
 Result check_forcing_conservation(const Subject& s);
 Result check_forcing_energy(const Subject& s);
 Result check_forcing_expected_energy(const Subject& s);

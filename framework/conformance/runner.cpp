@@ -39,7 +39,10 @@ Checks (by kind):
                collision.acceptance (collide_batch accepts each candidate with probability
                rate/bound on a grid of relative speeds up to 1.5 times the majorant, tails
                included, and reports the candidates above it), collision.cell (the host's
-               collision stage with the rule on a population)
+               collision stage with the rule on a population), collision.species (a rule
+               offering gdsmc.species, in a mixture of masses 1 and 3.7, diameters 1 and 2:
+               sum m v conserved, the mass-weighted energy change declared, only the pair
+               changed; SKIP for a rule without it)
   forcing      forcing.conservation (what conserves() declares), forcing.energy (the energy
                apply() returns equals the measured change), forcing.expected_energy (a
                forcing that declares expected_energy_rate(): the mean measured energy input
@@ -97,7 +100,8 @@ const std::vector<KindChecks>& kind_checks() {
         {"collision.energy", check_collision_energy},
         {"collision.rate", check_collision_rate},
         {"collision.acceptance", check_collision_acceptance},
-        {"collision.cell", check_collision_cell}}},
+        {"collision.cell", check_collision_cell},
+        {"collision.species", check_collision_species}}},
       {PluginKind::forcing,
        {{"forcing.conservation", check_forcing_conservation},
         {"forcing.energy", check_forcing_energy},

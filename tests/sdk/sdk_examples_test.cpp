@@ -115,6 +115,25 @@ TEST_F(SdkExample, ViscoelasticRestitution) {
   EXPECT_NE(p.out.find("Brilliantov"), std::string::npos) << p.out;
 }
 
+// A mixture rule (SDK 6.5): restitution per pair of species and impact speed. It passes
+// collision.species (sum m v and the mass-weighted energy in a two-species system), and the binary
+// mixture of its pipeline (small: m = 1, sigma = 1; large: m = 8, sigma = 2) cools.
+TEST_F(SdkExample, ViscoelasticMixture) {
+  const fs::path dir = build("viscoelastic_mixture");
+  const fs::path plugin = dir / "plugins/gdsmc_viscoelastic_mixture.so";
+  ASSERT_TRUE(fs::exists(plugin));
+  const Outcome c = sh(q(gdsmc_) + " conformance " + q(plugin) + " --only collision.species");
+  EXPECT_EQ(c.status, 0) << c.out;
+  EXPECT_NE(c.out.find("PASS   collision.species"), std::string::npos) << c.out;
+  conforms(plugin);
+  const fs::path h5 = run("viscoelastic_mixture", "viscoelastic_mixture.yaml", dir);
+  const auto T = read(h5, "/diagnostics/temperature/temperature");
+  ASSERT_TRUE(all_finite(T));
+  EXPECT_NEAR(T.front(), 1.0, 0.05);  // the mass-weighted temperature of the initial Maxwellians
+  EXPECT_LT(T.back(), 0.95 * T.front());  // it cools
+  EXPECT_GT(T.back(), 0.05);
+}
+
 TEST_F(SdkExample, RoughSpheres) {
   const fs::path dir = build("rough_spheres");
   const fs::path rule = dir / "plugins/gdsmc_rough_spheres.so";

@@ -130,6 +130,15 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
       {"conformance_white_noise_half",
        "forcing.expected_energy",
        {"conformance_white_noise_half", "differs from the declared expected_energy_rate()", "standard errors"}},
+      // Species-aware, but collides every pair as two unit masses: sum m v changes in a mixture.
+      {"conformance_massless_mixture",
+       "collision.species",
+       {"conformance_massless_mixture", "momentum not conserved", "2-species mixture of light (m = 1, sigma = 1), heavy (m = 3.7, sigma = 2)", "heavy (m = 3.7)",
+        "|sum m v' - sum m v|", "species_mass"}},
+      // The right masses in the velocities, the loss of two unit masses declared.
+      {"conformance_unweighted_energy",
+       "collision.species",
+       {"conformance_unweighted_energy", "differs from the declared mass-weighted one", "heavy (m = 3.7)"}},
   };
   for (const auto& b : bad) {
     SCOPED_TRACE(b.plugin);
@@ -142,6 +151,29 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
     EXPECT_EQ(r.out.find("CRASH"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("NOT CONFORMING"), std::string::npos) << r.out;
   }
+}
+
+// collision.species asks a species-aware rule only: the two broken mixture rules pass every
+// one-species check and fail the mixture one alone; a rule without gdsmc.species is skipped, saying
+// why (conformance_wrong_loss, a one-species rule); inelastic_hard_spheres passes it.
+TEST(Conformance, MixtureCheckAsksSpeciesAwareRulesOnly) {
+  for (const char* plugin : {"conformance_massless_mixture", "conformance_unweighted_energy"}) {
+    SCOPED_TRACE(plugin);
+    const Outcome r = run("conformance '" + test_plugin(plugin) + "' --only collision");
+    EXPECT_EQ(r.status, 1) << r.out;
+    for (const char* c : {"collision.finite", "collision.mass", "collision.momentum", "collision.energy", "collision.rate",
+                          "collision.acceptance", "collision.cell"})
+      EXPECT_EQ(line_of(r.out, c).rfind("PASS", 0), 0u) << c << ":\n" << r.out;
+    EXPECT_EQ(line_of(r.out, "collision.species").rfind("FAIL", 0), 0u) << r.out;
+  }
+  const std::string dir = GDSMC_TEST_PLUGIN_DIR;
+  const Outcome plain = run("conformance '" + test_plugin("conformance_wrong_loss") + "' --only collision.species");
+  const std::string skipped = line_of(plain.out, "collision.species");
+  EXPECT_EQ(skipped.rfind("SKIP", 0), 0u) << plain.out;
+  EXPECT_NE(skipped.find("does not offer the extension gdsmc.species"), std::string::npos) << skipped;
+  const Outcome ihs = run("conformance '" + dir + "/gdsmc_inelastic_hard_spheres.so' --only collision.species");
+  EXPECT_EQ(ihs.status, 0) << ihs.out;
+  EXPECT_EQ(line_of(ihs.out, "collision.species").rfind("PASS", 0), 0u) << ihs.out;
 }
 
 TEST(Conformance, CrashingPluginGivesCrashLinesAndTheRunnerCarriesOn) {
