@@ -10,7 +10,7 @@ namespace {
 class LeesEdwards final : public gdsmc::Boundary {
  public:
   static constexpr const char* name = "lees_edwards";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary =
       "Lees-Edwards boundary (000 Eqs. 3.1, 4.11): sliding periodic images for uniform shear flow u_x = a y";
   static constexpr const char* documentation =
@@ -32,13 +32,20 @@ class LeesEdwards final : public gdsmc::Boundary {
       "viscous heating -a Omega P_xy (000, after Eq. 3.1), which the host's tally of y_min and y_max\n"
       "records. A run with a body acceleration (a forcing that declares one) is refused: the images move\n"
       "with constant velocities +-aL/2 and are not accelerated, so with a body force Eq. 3.1 is no longer\n"
-      "a symmetry of the flow.";
+      "a symmetry of the flow.\n"
+      "Mixtures (system.species): runs in them (gdsmc.species). The images slide with the same\n"
+      "velocity +-aL for every species (Eq. 3.1 holds for each f_s), so the shift v_x -> v_x -+ a L\n"
+      "does not involve the mass; a crossing of species s gives the gas -+ m_s a L along x and the\n"
+      "energy (m_s/2)[(v_x -+ a L)^2 - v_x^2], which the host tallies mass-weighted per species.";
 
   static std::vector<gdsmc::ParamSpec> parameters() {
     return {gdsmc::ParamSpec::real("shear_rate", "imposed shear rate a (bare numbers: a tau0)")
                 .unit(gdsmc::Dimension::inverse_time)};
   }
   explicit LeesEdwards(const gdsmc::Params& p) : a_(p.real("shear_rate")) {}
+
+  // The boundary does not involve the particle's mass (see the documentation): runs in mixtures.
+  const void* extension(const char* id) const override { return gdsmc::offer_species(id); }
 
   void publish(gdsmc::QuantityBoard& board) const override { board.publish("shear_rate", a_); }
 

@@ -7,7 +7,7 @@ namespace {
 class Periodic final : public gdsmc::Boundary {
  public:
   static constexpr const char* name = "periodic";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* summary = "Periodic boundary along y: re-entry through the opposite plane, velocity unchanged";
   static constexpr const char* documentation =
       "Periodic y boundary: the slab is repeated along y with period Ly (the Lees-Edwards condition,\n"
@@ -17,10 +17,16 @@ class Periodic final : public gdsmc::Boundary {
       "(under the body acceleration, if any) from the opposite plane. Both y_min and y_max must be\n"
       "this plugin (transfers() = true). No parameters. Conserves mass, momentum and energy exactly:\n"
       "the boundary tallies stay zero. (The only change it can make to a velocity: a v_y that is\n"
-      "exactly 0 at the crossing becomes the smallest positive double pointing inward.)";
+      "exactly 0 at the crossing becomes the smallest positive double pointing inward.)\n"
+      "Mixtures (system.species): runs in them (gdsmc.species). The transfer moves a particle and\n"
+      "keeps its velocity whatever its mass, so it conserves every species' number, momentum and\n"
+      "energy exactly.";
 
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Periodic(const gdsmc::Params&) {}
+
+  // The boundary does not involve the particle's mass (see the documentation): runs in mixtures.
+  const void* extension(const char* id) const override { return gdsmc::offer_species(id); }
 
   bool transfers() const override { return true; }
   gdsmc::HitResult interact(const gdsmc::StepContext& ctx, gdsmc::WallHit& hit, gdsmc::Rng&) const override {

@@ -1,16 +1,19 @@
 // Local equilibrium with the linear shear profile (000 Eq. 3.12).
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gdsmc/gdsmc.hpp>
 #include <gdsmc/physics.hpp>
+#include <gdsmc/physics/mixture_maxwellian.hpp>
+#include <gdsmc/physics/species_values.hpp>
 
 namespace {
 
 class LocalEquilibrium final : public gdsmc::InitialState {
  public:
   static constexpr const char* name = "local_equilibrium";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary =
       "Local equilibrium of uniform shear flow (Eq. 3.12): Maxwellian about the profile a y x_hat";
   static constexpr const char* documentation =
@@ -26,7 +29,16 @@ class LocalEquilibrium final : public gdsmc::InitialState {
       "of its identity), so the state does not depend on the storage order. shear_rate (used only by\n"
       "frame: laboratory): a bare number is a tau0 (any sign); when it is not given (the default\n"
       "shown as -1 means 'not given') the shear rate is the quantity 'shear_rate' that another plugin\n"
-      "publishes (the lees_edwards boundary), and the run is refused if none does.";
+      "publishes (the lees_edwards boundary), and the run is refused if none does.\n"
+      "Mixtures (system.species): species s of mass m_s is Maxwellian at its own T_s about the same\n"
+      "profile a y x_hat (the flow is common to all species), each peculiar velocity component with\n"
+      "standard deviation sqrt(T_s / m_s); T_s is `temperature` unless species_temperatures names\n"
+      "the species (\"heavy: 2.0\", bare numbers in units of T0, entries separated by commas). With\n"
+      "exact_moments every species of two or more particles has zero mean peculiar velocity and\n"
+      "exactly T_s = m_s <V^2> / 3, hence zero barycentric peculiar velocity and the mixture\n"
+      "temperature sum m_i V_i^2 / 3N = sum_s x_s T_s to round-off (a species of one particle is left\n"
+      "as drawn and the barycentric velocity removed instead). A one-species run draws exactly the\n"
+      "numbers it drew before mixtures.";
 
   static std::vector<gdsmc::ParamSpec> parameters() {
     return {gdsmc::ParamSpec::real("temperature", "initial temperature T").above(0.0).unit(gdsmc::Dimension::temperature).default_value(1.0),
@@ -39,14 +51,21 @@ class LocalEquilibrium final : public gdsmc::InitialState {
                                      "store peculiar (lagrangian) or laboratory velocities")
                 .default_value("lagrangian"),
             gdsmc::ParamSpec::boolean("exact_moments", "shift to zero mean peculiar velocity and rescale to exactly T")
-                .default_value(true)};
+                .default_value(true),
+            gdsmc::ParamSpec::string("species_temperatures",
+                                     "mixtures: initial temperatures of named species, \"name: T_s/T0, ...\" (others: temperature)")
+                .default_value("")};
   }
   explicit LocalEquilibrium(const gdsmc::Params& p)
       : temperature_(p.real("temperature")),
         shear_rate_(p.real("shear_rate")),
         published_shear_rate_(p.entry("shear_rate").defaulted),
         laboratory_(p.string("frame") == "laboratory"),
-        exact_(p.boolean("exact_moments")) {}
+        exact_(p.boolean("exact_moments")),
+        species_temperatures_(gdsmc::parse_species_values(name, "species_temperatures", p.string("species_temperatures"),
+                                                          {0.0, HUGE_VAL, true})) {}
+
+  const void* extension(const char* id) const override { return gdsmc::offer_species(id); }
 
   void generate(const gdsmc::SystemInfo& sys, const gdsmc::QuantityBoard& quantities, const gdsmc::ParticleSpan& p,
                 const gdsmc::Streams& streams) override {
@@ -64,8 +83,15 @@ class LocalEquilibrium final : public gdsmc::InitialState {
                                     "boundary that publishes 'shear_rate' (lees_edwards)");
       a = *published;
     }
-    gdsmc::sample_maxwellian(sys, p, temperature_, streams);
-    if (exact_) gdsmc::impose_exact_moments(p, temperature_);
+    if (!gdsmc::has_species_masses(sys) && species_temperatures_.empty()) {
+      gdsmc::sample_maxwellian(sys, p, temperature_, streams);
+      if (exact_) gdsmc::impose_exact_moments(p, temperature_);
+    } else {
+      const std::vector<double> T = gdsmc::species_values(sys, name, "species_temperatures", species_temperatures_,
+                                                          temperature_, sys.initial_temperature);
+      gdsmc::sample_mixture_maxwellian(sys, p, T, streams);
+      if (exact_) gdsmc::impose_exact_mixture_moments(sys, p, T);
+    }
     if (laboratory_)
       for (std::size_t i = 0; i < p.count; ++i) p.vx[i] += a * p.y[i];
   }
@@ -73,6 +99,7 @@ class LocalEquilibrium final : public gdsmc::InitialState {
  private:
   double temperature_, shear_rate_;
   bool published_shear_rate_, laboratory_, exact_;
+  std::vector<gdsmc::SpeciesValue> species_temperatures_;
 };
 
 }  // namespace
