@@ -257,7 +257,7 @@ TEST(SpeciesMoments, MaxwellianAtEqualTemperaturesIsInEquipartition) {
               b.series("T_ratio[A]").at(0), b.series("a2[A]").at(0), b.series("a2[B]").at(0));
   EXPECT_NEAR(ratio, 1.0, 4 * sigma);
   EXPECT_NEAR(b.series("T[A]").at(0), T, 4 * T * std::sqrt(2.0 / (3.0 * NX)));
-  // T_A/T and T_B/T straddle 1 by construction (T = (T_A + T_B)/2): each within 2 sigma / 2.
+  // T = (T_A + T_B)/2 here, so T_A/T - 1 = (T_A/T_B - 1)/2 to first order: its error is sigma/2, and 4 of them 2 sigma.
   EXPECT_NEAR(b.series("T_ratio[A]").at(0), 1.0, 2 * sigma);
   for (const char* a2 : {"a2[A]", "a2[B]"}) EXPECT_NEAR(b.series(a2).at(0), 0.0, 4 * std::sqrt(0.533 / NX)) << a2;
 }
