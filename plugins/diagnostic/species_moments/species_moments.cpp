@@ -79,7 +79,8 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
       "the whole gas; their sums over X are wall_fluxes' values):\n"
       "  <w>_hit_rate[<name>] = d(hits) / (A dt_w) [1/(lambda0^2 tau0)],\n"
       "  <w>_momentum_flux_<a>[<name>] = d(momentum_a) / (A dt_w) [n0 T0],  <w>_energy_flux[<name>] = d(energy) / (A dt_w)\n"
-      "  [n0 T0 sqrt(2T0/m)]: momentum and energy given to the gas by the wall, per unit area and time.\n"
+      "  [n0 T0 sqrt(2T0/m)]: momentum and energy given to the gas by the wall, per unit area and time\n"
+      "  (NaN, and a summary line, if the host hands no per-species tallies).\n"
       "With run.average_after the host writes every series' and profile's steady mean and standard error\n"
       "(<series>.steady_mean, .steady_stderr: over realizations when there are several, else batch means\n"
       "with Wolff's integrated autocorrelation time; user guide, 'Steady averages and their errors').\n"
@@ -120,7 +121,7 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
     zeta_.assign(4 * S_, 0.0);  // per species: previous T, previous E, window loss, window weight
     prev_T_mix_ = prev_E_mix_ = loss_mix_ = weight_mix_ = prev_time_ = 0;
     have_prev_ = false;
-    tallies_missing_ = false;
+    tallies_missing_ = walls_missing_ = false;
     if (slab_) begin_profiles(sys, out);
     walls_ = slab_ && S_ > 1;
     if (walls_) begin_walls(sys, out);
@@ -160,6 +161,9 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
   }
 
   void finish(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
+    if (walls_missing_)
+      out.summary("species_moments: the run handed no per-species boundary tallies (StepContext::species_boundaries): "
+                  "its per-species wall series are NaN");
     if (!tallies_missing_) return;
     out.attribute("note", "the collision rule keeps no species_energy_change[<name>] tallies: zeta[<name>] and "
                           "zeta_ratio[<name>] are NaN");
@@ -175,6 +179,7 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
     out.write("cooling.mixture", mix, 5);
     out.write("cooling.have_prev", have_prev_);
     out.write("cooling.tallies_missing", tallies_missing_);
+    out.write("walls.missing", walls_missing_);
     for (std::size_t s = 0; s < bins_.size(); ++s) bins_[s].save(out, "bins." + std::to_string(s));
     if (walls_) {
       save_tallies(out, "walls.previous", previous_);
@@ -191,6 +196,7 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
     prev_T_mix_ = mix[0], prev_E_mix_ = mix[1], loss_mix_ = mix[2], weight_mix_ = mix[3], prev_time_ = mix[4];
     in.read("cooling.have_prev", have_prev_);
     in.read("cooling.tallies_missing", tallies_missing_);
+    in.read("walls.missing", walls_missing_);
     for (std::size_t s = 0; s < bins_.size(); ++s) bins_[s].load(in, "bins." + std::to_string(s));
     if (walls_) {
       load_tallies(in, "walls.previous", previous_);
@@ -414,16 +420,19 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
                            "energy given to species " + X + " by " + p + " per unit area and time");
       }
   }
+  // A context without per-species tallies (a harness that drives the diagnostic by hand) leaves the
+  // wall series NaN, and finish() says so.
   void wall_sample(const gdsmc::StepContext& ctx) {
-    if (!ctx.species_boundaries || ctx.boundary_count < 2)
-      throw std::runtime_error("species_moments: the slab mixture has no per-species boundary tallies "
-                               "(StepContext::species_boundaries, SDK 6.5): the host is older than the mixture support");
-    for (std::size_t k = 0; k < 2 * S_; ++k) current_[k] = ctx.species_boundaries[k];
+    if (!ctx.species_boundaries || ctx.boundary_count < 2) {
+      walls_missing_ = true;
+    } else {
+      for (std::size_t k = 0; k < 2 * S_; ++k) current_[k] = ctx.species_boundaries[k];
+    }
     wall_current_time_ = ctx.time;
   }
   void wall_record(gdsmc::OutputSink& out) {
     const double dt = wall_current_time_ - wall_previous_time_;
-    const double inv = dt > 0 ? 1.0 / (area_ * dt) : std::nan("");
+    const double inv = dt > 0 && !walls_missing_ ? 1.0 / (area_ * dt) : std::nan("");
     for (std::size_t k = 0; k < 2 * S_; ++k) {
       const gdsmc::BoundaryTally &c = current_[k], &p = previous_[k];
       const std::size_t* id = &wall_ids_[k * 5];
@@ -471,7 +480,7 @@ class SpeciesMoments final : public gdsmc::Diagnostic {
   std::size_t zeta_mix_id_ = 0;
   std::vector<double> zeta_;
   double prev_T_mix_ = 0, prev_E_mix_ = 0, loss_mix_ = 0, weight_mix_ = 0, prev_time_ = 0;
-  bool have_prev_ = false, tallies_missing_ = false;
+  bool have_prev_ = false, tallies_missing_ = false, walls_missing_ = false;
   // Profiles (slab).
   std::size_t nb_ = 0;
   double bin_volume_ = 1;

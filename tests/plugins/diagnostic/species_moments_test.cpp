@@ -322,6 +322,25 @@ TEST(SpeciesMoments, PerSpeciesWallFluxes) {
   EXPECT_TRUE(std::isnan(b.series("y_min_energy_flux[A]").at(0)));  // the first record: no interval
 }
 
+// A slab mixture whose context hands no per-species tallies (a harness driving the diagnostic by
+// hand): the wall series are NaN and the summary says so, rather than an error.
+TEST(SpeciesMoments, WithoutPerSpeciesWallTalliesTheWallSeriesAreNaN) {
+  t::TempDir dir;
+  Bench b(dir, 6, true);
+  hand_state(b);
+  b.diag->begin(b.sys, b.board, *b.out);
+  sample(b, 0.0);
+  record(b, 0.0);
+  sample(b, 1.0);
+  record(b, 1.0);
+  EXPECT_TRUE(std::isnan(b.series("y_max_hit_rate[A]").at(1)));
+  EXPECT_TRUE(std::isnan(b.series("y_min_momentum_flux_x[B]").at(1)));
+  b.diag->finish(StepContext{}, *b.out);
+  bool said = false;
+  for (const auto& line : b.summary) said = said || line.find("per-species boundary tallies") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
 // One species (no system.species): the diagnostic works and reproduces temperature's T and
 // cumulants' a2 from the same moments, with T_ratio = 1 and zeta_ratio = 1 (the one species' tally
 // is the host's collision_energy_change). A real run of the small HCS.
