@@ -382,7 +382,8 @@ bool documents_name(const std::string& doc, const std::string& name) {
   static const std::regex kSpecial(R"([.^$|()\[\]{}*+?\\])");
   const std::regex word("(^|[^A-Za-z0-9_])" + std::regex_replace(name, kSpecial, "\\$&") + "([^A-Za-z0-9_]|$)");
   if (std::regex_search(doc, word)) return true;
-  static const std::regex kFamily(R"([A-Za-z0-9_.]*<[a-z_]+>[A-Za-z0-9_.]*)");
+  // A family: a name with placeholders, e.g. <series>.steady_mean, <w>_momentum_flux_<a>, T[<name>].
+  static const std::regex kFamily(R"([A-Za-z0-9_.\[\]]*(<[a-z_]+>[A-Za-z0-9_.\[\]]*)+)");
   for (auto it = std::sregex_iterator(doc.begin(), doc.end(), kFamily); it != std::sregex_iterator(); ++it) {
     const std::string family = std::regex_replace(it->str(), kSpecial, "\\$&");
     const std::string pattern = std::regex_replace(family, std::regex("<[a-z_]+>"), "[A-Za-z0-9_.]+");
@@ -522,7 +523,8 @@ TEST(Docs, OtherDiagnosticsNameTheirDatasets) {
   TempDir dir;
   const std::vector<std::vector<std::string>> runs = {
       {"configs/poiseuille.yaml", "-o", "poiseuille.h5", "--set", "run.particles=4000", "--set", "run.stop.time=6", "--set",
-       "diagnostics=[{plugin: poiseuille_channel, steady_window: 1}, energy_balance, wall_fluxes, slab_averages, profiles]"},
+       "diagnostics=[{plugin: poiseuille_channel, steady_window: 1}, energy_balance, wall_fluxes, slab_averages, profiles, "
+       "species_moments]"},
       {"configs/heat_flux.yaml", "-o", "heat_flux.h5", "--set", "run.particles=2000", "--set", "run.stop.time=0.6", "--set",
        "run.average_after.time=0.2"},
       {"configs/enskog_viscosity.yaml", "-o", "enskog.h5", "--set", "run.particles=2000", "--set",
@@ -537,7 +539,7 @@ TEST(Docs, OtherDiagnosticsNameTheirDatasets) {
   std::map<std::string, std::string> docs;
   for (const auto& file : outputs(dir.path())) expect_datasets_documented(file, docs);
   for (const char* plugin : {"poiseuille_channel", "energy_balance", "wall_fluxes", "slab_averages", "profiles", "heat_flux",
-                             "enskog_shear_viscosity"})
+                             "enskog_shear_viscosity", "species_moments"})
     EXPECT_TRUE(docs.count(plugin)) << plugin << " was not in the runs";
   EXPECT_TRUE(contains(docs["poiseuille_channel"], "T_centre [T_w] (T(0))")) << docs["poiseuille_channel"];
   expect_cited_attributes_exist(dir / "poiseuille.h5");

@@ -6,7 +6,7 @@ namespace {
 class CollisionCount final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "collision_count";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* summary = "Collisions per particle s(t), acceptance ratio, majorant exceedances";
   static constexpr const char* documentation =
       "s(t) = (accepted collisions up to t) / N is the internal clock of paper 000 (text after\n"
@@ -15,7 +15,7 @@ class CollisionCount final : public gdsmc::Diagnostic {
       "instantaneous value here. Series [1]: collisions, acceptance_ratio (the fraction of candidate\n"
       "pairs accepted) and majorant_exceeded (the number of candidates whose rate exceeded the cell majorant w (each such pair is accepted with probability 1 and\n"
       "w is raised; a count that is not small is a warning about the run). All cumulative, at the\n"
-      "record time.";
+      "record time. Mixtures (gdsmc.species): the counts are those of all species pairs together.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit CollisionCount(const gdsmc::Params&) {}
 
@@ -26,7 +26,11 @@ class CollisionCount final : public gdsmc::Diagnostic {
   }
   void sample(const gdsmc::StepContext&, const gdsmc::ParticleSpan&) override {}
   // Reads none of the host's sampled moments (MomentsRead): the step context's counts only.
-  const void* extension(const char* id) const override { return gdsmc::offer_moments_read<0>(id); }
+  // Right in a mixture (gdsmc.species): counts know no mass.
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_species(id)) return e;
+    return gdsmc::offer_moments_read<0>(id);
+  }
   void record(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
     const auto collisions = static_cast<double>(ctx.collisions), candidates = static_cast<double>(ctx.candidates);
     out.append(n_, collisions);

@@ -7,7 +7,7 @@ namespace {
 class Cumulants final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cumulants";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.4.0";
   static constexpr const char* summary = "Cumulants a2 and a3 of the velocity distribution";
   static constexpr const char* documentation =
       "a2 = (m^2 / 15 T^2) <V^4> - 1 and a3 = -(m^3 / 105 T^3) <V^6> + 1 + 3 a2\n"
@@ -15,7 +15,10 @@ class Cumulants final : public gdsmc::Diagnostic {
       "for a Maxwellian. V is the velocity relative to the local flow (the mean of all particles in a\n"
       "homogeneous system, of the particle's layer in a slab) and T the matching temperature (T-bar of\n"
       "Eq. 4.8 in a slab), as the host computes them once per sample (ctx.moments). Series a2, a3\n"
-      "(dimensionless).";
+      "(dimensionless). Mixtures (gdsmc.species): the host's moments weigh by the species' masses, so a2 and\n"
+      "a3 are the cumulants of the mass-weighted energy m_i V_i^2 about the mixture T: they vanish for Maxwellian\n"
+      "species at one temperature but not when the species' temperatures differ (non-equipartition) even if each\n"
+      "species is Maxwellian; each species' own a2 is species_moments' a2[<name>].";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Cumulants(const gdsmc::Params&) {}
 
@@ -31,7 +34,11 @@ class Cumulants final : public gdsmc::Diagnostic {
   void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Runs in a mixture (gdsmc.species): it reads only the host's mass-weighted moments.
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_species(id)) return e;
+    return gdsmc::offer_bracketed_sampling(id);
+  }
  private:
   gdsmc::WindowAverage window_;
 };

@@ -14,7 +14,7 @@ namespace {
 class EnergyBalance final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "energy_balance";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary =
       "Kinetic energy E(t) per particle and its balance E - E0 = sum of the energy ledger [T0]";
   static constexpr const char* documentation =
@@ -32,7 +32,9 @@ class EnergyBalance final : public gdsmc::Diagnostic {
       "the previous record): E, E_change = E - E0, ledger_total, residual.\n"
       "At the end: array added_by_stage [T0 per particle] with attribute 'stages' naming its\n"
       "entries, scalars added_by_<stage>, final_E_change, final_residual and\n"
-      "final_relative_residual = residual / E (the host prints the same balance for every run).";
+      "final_relative_residual = residual / E (the host prints the same balance for every run).\n"
+      "Mixtures (gdsmc.species): E is the host's sum_i (m_i/2) v_i^2 and each stage declares the energy it adds\n"
+      "with the species' masses, so the identity holds as it stands and checks those stages.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit EnergyBalance(const gdsmc::Params&) {}
 
@@ -98,7 +100,11 @@ class EnergyBalance final : public gdsmc::Diagnostic {
     window_.load(in);
   }
   // Reads only the kinetic energy of the host's sampled moments (MomentsRead).
-  const void* extension(const char* id) const override { return gdsmc::offer_moments_read<gdsmc::moments_energy>(id); }
+  // Right in a mixture (gdsmc.species): the mass-weighted energy and the ledger.
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_species(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_energy>(id);
+  }
 
  private:
   static double ledger_total(const gdsmc::StepContext& ctx) {

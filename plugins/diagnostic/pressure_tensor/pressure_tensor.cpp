@@ -7,7 +7,7 @@ namespace {
 class PressureTensor final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "pressure_tensor";
-  static constexpr const char* version = "1.3.1";
+  static constexpr const char* version = "1.4.0";
   static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n0 T0) of the whole system";
   static constexpr const char* documentation =
       "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
@@ -17,7 +17,9 @@ class PressureTensor final : public gdsmc::Diagnostic {
       "(ctx.moments). Series P_xx, P_yy, P_zz, P_xy, P_xz, P_yz in\n"
       "units of n0 T0 [n0 T0] (n0 = N / Omega), plus the reduced forms P_xy_over_nT = P_xy/(nT), N1_over_nT = (P_xx -\n"
       "P_yy)/(nT) and N2_over_nT = (P_zz - P_yy)/(nT) [1] with the current temperature T, as the papers\n"
-      "plot them.";
+      "plot them. Mixtures (gdsmc.species): the host's moments weigh each particle by its species' mass,\n"
+      "so P = sum_i m_i V_i V_i / Omega (V about the barycentric flow) is the mixture's pressure tensor, the\n"
+      "sum of species_moments' partial P[<name>], and T the mixture temperature.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit PressureTensor(const gdsmc::Params&) {}
 
@@ -46,7 +48,11 @@ class PressureTensor final : public gdsmc::Diagnostic {
   void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Right in a mixture (gdsmc.species): it reads only the host's mass-weighted moments.
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_species(id)) return e;
+    return gdsmc::offer_bracketed_sampling(id);
+  }
  private:
   gdsmc::WindowAverage window_;
   double t0_ = 1;

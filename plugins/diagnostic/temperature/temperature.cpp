@@ -7,7 +7,7 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.4.1";
+  static constexpr const char* version = "1.5.0";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
@@ -21,7 +21,10 @@ class Temperature final : public gdsmc::Diagnostic {
       "modified shear flow of paper 002 (shear_rate published, anti_drag), and is steady in the uniform\n"
       "shear flow (the same shear_rate published) or under a thermostat. The diagnostics of steady states\n"
       "declare their own temperature series stationary (shear_rheology's temperature, poiseuille_channel's T);\n"
-      "temperature.steady_mean is written over run.average_after in any case.";
+      "temperature.steady_mean is written over run.average_after in any case.\n"
+      "Mixtures (gdsmc.species): the host's moments weigh each particle by its species' mass m_i, so T is\n"
+      "the mixture temperature sum_i m_i V_i^2 / 3N = sum_s x_s T_s and the mean velocity the barycentric one\n"
+      "(species_moments gives each species' T_s and T_s/T).";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit Temperature(const gdsmc::Params&) {}
 
@@ -45,7 +48,11 @@ class Temperature final : public gdsmc::Diagnostic {
   void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Right in a mixture (gdsmc.species): it reads only the host's mass-weighted moments.
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_species(id)) return e;
+    return gdsmc::offer_bracketed_sampling(id);
+  }
  private:
   gdsmc::WindowAverage window_;
   double t0_ = 1, v0_ = 1;

@@ -12,7 +12,7 @@ namespace {
 class WallFluxes final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "wall_fluxes";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary =
       "Hit rate, momentum flux and energy flux given to the gas by each boundary, per unit area and time";
   static constexpr const char* documentation =
@@ -30,7 +30,8 @@ class WallFluxes final : public gdsmc::Diagnostic {
       "      for Lees-Edwards planes the viscous heating of 000 Sec. III).\n"
       "The tallies are read at each sample; each record uses the last one (so dt_w is the time\n"
       "between records; the first record, at t = 0, has dt_w = 0 and gives NaN). Errors out at the\n"
-      "first sample if the run has no boundary tallies.";
+      "first sample if the run has no boundary tallies. Mixtures (gdsmc.species): the host's tallies weigh each\n"
+      "hit by its species' mass, so these are the whole gas's fluxes; species_moments splits them by species.";
   static std::vector<gdsmc::ParamSpec> parameters() { return {}; }
   explicit WallFluxes(const gdsmc::Params&) {}
 
@@ -102,7 +103,11 @@ class WallFluxes final : public gdsmc::Diagnostic {
     in.read("checked", checked_);
   }
   // Reads none of the host's sampled moments (MomentsRead): the boundary tallies only.
-  const void* extension(const char* id) const override { return gdsmc::offer_moments_read<0>(id); }
+  // Right in a mixture (gdsmc.species): the host's mass-weighted tallies.
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_species(id)) return e;
+    return gdsmc::offer_moments_read<0>(id);
+  }
 
  private:
   // The two walls' tallies as three arrays (hits, momentum x/y/z, energy), y_min first.
