@@ -72,7 +72,7 @@ HostSection make_run() {
 }
 
 HostSection make_system() {
-  HostSection s{"system", {}, {"density", "mean_free_path", "domain", "box", "layers"}};
+  HostSection s{"system", {}, {"density", "mean_free_path", "domain", "box", "layers", "species"}};
   s.values.push_back({ParamSpec::real("sigma", "the particle diameter (the unit of length)").above(0).default_value(1.0),
                       [](Pipeline& p, const ParamValue& v) { p.sigma = std::get<double>(v); }});
   s.values.push_back({ParamSpec::real("temperature", "the initial temperature T0 (the unit of temperature)")

@@ -63,6 +63,22 @@ struct BareValue {
   Dimensions dimension;
 };
 
+// One entry of system.species: a species of a granular mixture (mass in units of the reference
+// mass m, diameter in units of sigma; a number fraction or a count, whichever the file gave).
+struct SpeciesSpec {
+  std::string name;
+  double mass = 1, diameter = 1;
+  double fraction = 0;     // N_s / N as given, or count / run.particles
+  std::uint64_t count = 0;  // as given (0: from the fraction)
+  SourceLocation where;
+};
+// SystemInfo's view of the species (names owned here, so that SpeciesInfo::name stays valid for as
+// long as any copy of the pipeline holds the table).
+struct SpeciesTable {
+  std::vector<std::string> names;
+  std::vector<SpeciesInfo> info;
+};
+
 struct Pipeline {
   std::filesystem::path file;
   std::string source_text;    // the file as read
@@ -130,6 +146,10 @@ struct Pipeline {
   double layers_mean_free_paths = 0;
   double layers_max_width = 0;
   double layers_after_tau0 = 0;
+  // system.species: a mixture of two or more species (empty: one species of mass m and diameter
+  // sigma, the default); `species_table` is what SystemInfo::species points into.
+  std::vector<SpeciesSpec> species;
+  std::shared_ptr<const SpeciesTable> species_table;
 
   PluginUse initial_state;
   PluginUse collision;

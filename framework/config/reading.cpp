@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "config/system_info.hpp"
 #include "util/text.hpp"
 
 namespace gdsmc::host {
@@ -38,6 +39,19 @@ std::string system_numbers_line(const Pipeline& p) {
                "(target %.4g)",
                p.layers_after_tau0, p.box_y / static_cast<double>(p.layers) / p.mean_free_path0(),
                p.layers_mean_free_paths);
+  }
+  if (!p.species.empty()) {
+    // A mixture: each species with its mass, diameter, fraction and count; phi of every species.
+    const std::vector<std::size_t> counts = species_counts(p.species, p.particles);
+    double phi = 0;
+    s += "; mixture of";
+    for (std::size_t k = 0; k < p.species.size(); ++k) {
+      const SpeciesSpec& sp = p.species[k];
+      s += fmt("%s %s (m = %.4g m, sigma = %.4g sigma, x = %.4g, %zu particles)", k ? "," : "", sp.name.c_str(), sp.mass,
+               sp.diameter, sp.fraction, counts[k]);
+      phi += M_PI / 6 * n_sigma3 * sp.fraction * sp.diameter * sp.diameter * sp.diameter;
+    }
+    s += fmt(", phi = sum pi n_s sigma_s^3/6 = %.4g", phi);
   }
   if (p.time_step_tau0 > 0)
     s += fmt("; dt = %.4g tau0 = %.4g mean free times of hard spheres at T0%s", p.time_step_tau0,

@@ -13,6 +13,8 @@ namespace gdsmc::host {
 
 void parse_run(Checker& c, const YAML::Node& run, Pipeline& p);
 void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p);
+// system.species (config/species_section.cpp).
+void parse_species(Checker& c, const YAML::Node& species, Pipeline& p);
 // A time in tau0: a bare number or {value: T, unit: tau0}, at `key` (e.g. "run.stop.time").
 // A value without its unit is a bare number in tau0 (listed, or refused with units: explicit).
 std::optional<double> time_in_tau0(Checker& c, const YAML::Node& t, const std::string& key, Pipeline& p);

@@ -27,6 +27,10 @@ SystemInfo system_info(const Pipeline& p, std::size_t n, std::uint32_t realizati
     sys.cells = 1;
     sys.bins = 1;
   }
+  if (p.species_table) {
+    sys.species_count = p.species_table->info.size();
+    sys.species = p.species_table->info.data();
+  }
   sys.seed = p.seed;
   sys.realization = realization;
   return sys;

@@ -250,6 +250,7 @@ void parse_system(Checker& c, const YAML::Node& sys, Pipeline& p) {
       c.error("system", sys, "missing 'density' (n, per sigma^3) or 'mean_free_path' (lambda0, in sigma)");
     }
     parse_domain(c, sys, p);
+    if (sys["species"]) parse_species(c, sys["species"], p);
     if (have_density) check_derived_scales(c, sys, p);
   }
 }

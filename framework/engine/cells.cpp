@@ -365,6 +365,7 @@ void CellGrid::homogeneous_moments(const ParticleSpan& p, double mean_density, C
 void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
                             CellMoments& global, WorkPool* pool) const {
   cells.resize(layers_);
+  if (species_mass_) return mixture_cell_moments(p, mean_density, cells, global, pool);
   pieces_.resize(piece_count());
   auto run = [&](std::size_t count, auto&& f) { for_pieces(pool, count, f); };
   if (!slab_) {
@@ -448,6 +449,7 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
 void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkPool* pool, const double* conserved_mean,
                                std::uint32_t parts) const {
   if (parts == 0) return;
+  if (species_mass_) return mixture_sampled_moments(p, out, pool, parts);
   VelocityMoments& m = out.local;
   const std::size_t pieces = piece_count();
   pieces_.resize(pieces);

@@ -129,6 +129,22 @@ class CellGrid {
                     CellMoments& global, WorkPool* pool = nullptr) const;
   // Slab: the largest |v - u_I| in every layer at the last cell_moments (0 below 2 particles).
   const double* peculiar_speed_max() const { return speed_max_.data(); }
+
+  // A mixture (engine/mixture_moments.cpp): the mass of each of `count` species (the store's
+  // species column then weighs every moment: barycentric means, T = sum m_i V_i^2 / 3N, SDK
+  // context.hpp); nullptr: one species of unit mass, the arithmetic above unchanged.
+  void set_species(const double* mass, std::size_t count) {
+    species_mass_ = mass;
+    species_count_ = mass ? count : 1;
+  }
+  std::size_t species_count() const { return species_count_; }
+  // At the last cell_moments of a mixture, for cell c and species s (index c * species_count() + s):
+  // N_{c,s}, T_{c,s} = m_s sum (v - u_c)^2 / (3 N_{c,s}) (0 below 2 particles) and the largest
+  // |v - u_c| of species s in the cell (0 when empty), u_c the cell's barycentric velocity.
+  struct SpeciesCellMoments {
+    double count = 0, temperature = 0, speed_max = 0;
+  };
+  const SpeciesCellMoments* species_cell_moments() const { return species_cells_.data(); }
   // The shared moments of a sampled step: peculiar velocities relative to each particle's cell
   // mean (computed fresh here), cumulants, pressure tensor, kinetic energy. Two passes (the means,
   // then the peculiar sums), or, in a homogeneous system given `conserved_mean` (a mean velocity
@@ -171,6 +187,22 @@ class CellGrid {
     PeculiarSums peculiar;
   };
   mutable std::vector<PieceSums> pieces_;
+  // A mixture's (mixture_moments.cpp): the masses, and per piece and species the sums of its passes.
+  const double* species_mass_ = nullptr;
+  std::size_t species_count_ = 1;
+  struct SpeciesSums {
+    double n = 0, s[3] = {0, 0, 0}, v2 = 0, c2 = 0, c2_max = 0;
+    PeculiarSums peculiar;  // mass-weighted: m V_a V_b, (m V^2)^2, (m V^2)^3
+  };
+  mutable std::vector<SpeciesSums> species_sums_;  // [piece * species_count_ + s]
+  mutable std::vector<SpeciesCellMoments> species_cells_;  // [cell * species_count_ + s]
+  mutable std::vector<double> mixture_mass_, mixture_energy_;  // per cell (mixture_sums, mixture_cell_moments)
+  // Both passes of a mixture's moments over every piece: the barycentric mean of every cell
+  // (into scratch_mean_), then the peculiar sums around it.
+  void mixture_sums(const ParticleSpan& p, WorkPool* pool, bool peculiar) const;
+  void mixture_cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
+                            CellMoments& global, WorkPool* pool) const;
+  void mixture_sampled_moments(const ParticleSpan& p, SampledMoments& out, WorkPool* pool, std::uint32_t parts) const;
   std::size_t piece_count() const;
   template <class Run>
   void homogeneous_moments(const ParticleSpan& p, double mean_density, CellMoments& cell, CellMoments& global,

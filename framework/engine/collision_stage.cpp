@@ -34,12 +34,19 @@ void CollisionStage::reset(std::size_t cells) {
   counts_.assign(3 * cells, 0);
   groups_.assign(cells, Group{});
   cell_tallies_.assign(cells * tally_count_, 0.0);
+  class_ratio_.assign(species_ > 1 ? cells * class_count() : 0, kInitialMajorantRatio / std::sqrt(2.0));
+  class_remainder_.assign(class_ratio_.size(), 0.0);
 }
 
 void CollisionStage::reset_majorants() {
   for (std::size_t c = 0; c < ratio_.size(); ++c) {
-    if (missed_so_far_[c] <= kMissedCollisionsTolerance * collided_so_far_[c])
+    if (missed_so_far_[c] <= kMissedCollisionsTolerance * collided_so_far_[c]) {
       ratio_[c] = std::max(kInitialMajorantRatio, kMajorantDecay * ratio_[c]);
+      for (std::size_t k = 0, classes = class_count(); species_ > 1 && k < classes; ++k) {
+        double& r = class_ratio_[c * classes + k];
+        r = std::max(kInitialMajorantRatio / std::sqrt(2.0), kMajorantDecay * r);
+      }
+    }
   }
 }
 
@@ -248,6 +255,14 @@ void CollisionStage::collide_group(const CollisionRule& rule, const ParticleSpan
   batch.particles = &particles;
   batch.rng = &kernel;
   batch.tally = tally;  // summed over the slices
+  if (species_ > 1) {
+    collide_group_species(rule, particles, c, dt, select, batch);
+    counts[1] = batch.collided;
+    counts[2] = batch.exceeded;
+    energy_[c] = batch.energy_change;
+    missed_[c] = batch.missed;
+    return;
+  }
   // Weighted pairs in every slab layer; in a homogeneous system of one group (members in storage
   // order) when asked for, or by default once its uniform majorant would accept fewer than
   // kUniformAcceptanceFloor of a Maxwellian's candidates (a pass over the particles per step then
@@ -350,6 +365,8 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
   if (particles.vx.stride != 1 || particles.vy.stride != 1 || particles.vz.stride != 1)
     throw std::logic_error("CollisionStage: velocities are expected in arrays of stride 1");
   cells_ = cells;
+  slab_ = grid.is_slab();
+  temperature_ = temperature;
   solid_angle_ = rule.kernel_form() == KernelForm::general ? 4.0 * M_PI : M_PI;
   weighted_ = selection_ != PairSelection::uniform && rule.kernel_form() == KernelForm::hard_sphere;
   make_groups(grid, particles.count, streams);
@@ -362,6 +379,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     // pi times the rule's bound of its rate (the hard-sphere count; a general kernel draws up to 4x)
     estimate_[c] = pair_count(scheme_, groups_[c].count) * sigma * sigma * M_PI *
                    rule.rate_bound(ratio_[c] * speed_[c]) * dt / groups_[c].volume;
+    if (species_ > 1) estimate_[c] = species_estimate(rule, c, dt);
     total += estimate_[c];
   }
   const double per_particle = particles.count ? total / static_cast<double>(particles.count) : 0.0;

@@ -12,6 +12,7 @@
 
 #include <gdsmc/plugin.hpp>
 
+#include "config/system_info.hpp"
 #include "engine/cells.hpp"
 #include "engine/kept_speed_bounds.hpp"
 #include "engine/streams.hpp"
@@ -77,6 +78,16 @@ class CollisionStage {
     collisions_only_ = on;
     kept_.invalidate();
   }
+  // A mixture (engine/collision_species.cpp): the mass and diameter of each of `count` species in
+  // reduced units (nullptr: one species, the scheme above). Every group then draws its candidates
+  // per pair of species (a, b), each class with its own majorant ratio and remainder; the species'
+  // temperatures of the last moment update (CellGrid::species_cell_moments, set_species_cells) set
+  // each class's speed scale. Uniform pairs in every group: the weighted pairs and kept bounds serve
+  // one species.
+  void set_species(const double* mass, const double* diameter, std::size_t count);
+  void set_species_cells(const CellGrid::SpeciesCellMoments* moments) { species_cells_ = moments; }
+  // At a slab's moment update: every class's ratio from its species' largest peculiar speeds.
+  void set_species_majorants(const CellGrid::SpeciesCellMoments* moments, const CellMoments* cells, double temperature);
   // Velocities were written outside the stage (a benchmark's rescaling): the kept bounds are rebuilt.
   void velocities_changed() { kept_.invalidate(); }
   struct Totals {
@@ -107,6 +118,10 @@ class CollisionStage {
     out.write("collisions.remainder", remainder_);
     out.write("collisions.missed_so_far", missed_so_far_);
     out.write("collisions.collided_so_far", collided_so_far_);
+    if (species_ > 1) {  // a mixture's classes
+      out.write("collisions.class_majorant_ratio", class_ratio_);
+      out.write("collisions.class_remainder", class_remainder_);
+    }
   }
   void load(StateReader& in) {
     std::vector<double> ratio, remainder, missed, collided;
@@ -124,6 +139,16 @@ class CollisionStage {
     remainder_ = std::move(remainder);
     missed_so_far_ = std::move(missed);
     collided_so_far_ = std::move(collided);
+    if (species_ > 1) {
+      std::vector<double> class_ratio, class_remainder;
+      in.read("collisions.class_majorant_ratio", class_ratio);
+      in.read("collisions.class_remainder", class_remainder);
+      if (class_ratio.size() != class_ratio_.size() || class_remainder.size() != class_remainder_.size())
+        throw StateError("checkpoint entries 'collisions.class_*': " + std::to_string(class_ratio.size()) +
+                         " pair classes where this mixture has " + std::to_string(class_ratio_.size()));
+      class_ratio_ = std::move(class_ratio);
+      class_remainder_ = std::move(class_remainder);
+    }
   }
   // At a moment update of a slab: ratio_I = max(kInitialMajorantRatio, kMajorantHeadroom 2 c_I /
   // sqrt(T_ref/m)) with c_I the largest peculiar speed in layer I (no two of its particles are
@@ -220,6 +245,22 @@ class CollisionStage {
   std::size_t scattered_size_ = 0;
   std::uint64_t stamp_ = 0;
   const std::atomic<bool>* interrupt_ = nullptr;
+  // A mixture's (collision_species.cpp): species, their masses and diameters, and per group and
+  // class (a <= b, in order (0,0), (0,1), ..., (1,1), ...) the majorant ratio w_ab / scale_ab and
+  // the candidate remainder.
+  std::size_t species_ = 1;
+  double species_mass_[kMaxSpecies] = {}, species_diameter_[kMaxSpecies] = {};
+  std::vector<double> class_ratio_, class_remainder_;
+  const CellGrid::SpeciesCellMoments* species_cells_ = nullptr;
+  bool slab_ = false;          // this step's grid
+  double temperature_ = 0;     // this step's mean temperature (run()'s `temperature`)
+  std::size_t class_count() const { return species_ * (species_ + 1) / 2; }
+  double class_scale(std::size_t c, std::size_t a, std::size_t b) const;
+  // Group c's hard-sphere candidate estimate for the step, bounded above (every pair at the
+  // largest diameter and the largest class majorant): the overload check and the slices.
+  double species_estimate(const CollisionRule& rule, std::size_t c, double dt) const;
+  void collide_group_species(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double dt,
+                             Rng& select, PairBatch& batch);
 };
 
 }  // namespace gdsmc::host

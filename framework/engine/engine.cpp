@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "config/system_info.hpp"
 #include "engine/majorant.hpp"
 #include "engine/memory_estimate.hpp"
 #include "engine/stop.hpp"
@@ -32,7 +33,7 @@ void Engine::set_layers_from_profile() {
   // and majorants now (forcings and diagnostics read ctx.cells before the next moment update).
   reorder_by_layer();
   grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
-  collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
+  set_layer_majorants();
   sampled_step_ = static_cast<std::uint64_t>(-1);
   summary_.push_back(line);
   if (system_.realization == 0) std::fprintf(stderr, "%s\n", line.c_str());
@@ -45,6 +46,14 @@ void Engine::set_layers_from_profile() {
 // without the pass over every particle (1.3 ms at N = 1e6, a step's collisions 1.6 ms). A step
 // that samples measures both afresh, in the one pass it makes anyway; a rule that declares a
 // non-finite change (which conformance refuses) gets the pass.
+// Every layer's majorants from its moments (a mixture's per pair of species).
+void Engine::set_layer_majorants() {
+  if (species_mass())
+    collisions_.set_species_majorants(grid_.species_cell_moments(), cells_.data(), global_.temperature);
+  else
+    collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
+}
+
 void Engine::update_moments() {
   const double declared = ctx_.collision_energy_change - energy_at_update_;
   energy_at_update_ = ctx_.collision_energy_change;
@@ -59,7 +68,7 @@ void Engine::update_moments() {
   } else {
     grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
     if (grid_.is_slab())
-      collisions_.set_layer_majorants(cells_.data(), grid_.peculiar_speed_max(), global_.temperature, system_.mass);
+      set_layer_majorants();
   }
   if (!grid_.is_slab()) collisions_.reset_majorants();
 }
@@ -213,6 +222,7 @@ void Engine::stream(double dt) {
       walls_.add(s, tally.sides[s]);
       ledger_.add_wall(s, tally.sides[s].energy);
     }
+    if (species_mass()) walls_.add_species(tally.species_sides.data(), StreamingTally::kMaxSpecies);
     if (!accelerations_.empty()) ledger_.add_forcing(accelerations_[0], tally.acceleration_energy);
   } else if (g2 > 0) {
     // Blocks of the moment pieces' size, their energies added in block order.
@@ -220,8 +230,10 @@ void Engine::stream(double dt) {
     kick_energy_.resize(blocks);
     for_pieces(&pool_, blocks, [&](std::size_t k) {
       double energy = 0;
+      const double* mass = species_mass();
       for (std::size_t i = k * block, e = std::min(span.count, i + block); i < e; ++i) {
-        energy += (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
+        const double work = (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
+        energy += mass ? mass[span.species[i]] * (work + 0.5 * g2 * dt * dt) : work;  // m_i (g.v dt + g^2 dt^2 / 2)
         span.vx[i] += acceleration_.x * dt;
         span.vy[i] += acceleration_.y * dt;
         span.vz[i] += acceleration_.z * dt;
@@ -230,7 +242,8 @@ void Engine::stream(double dt) {
     });
     double energy = 0;
     for (const double e : kick_energy_) energy += e;
-    ledger_.add_forcing(accelerations_[0], energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count));
+    ledger_.add_forcing(accelerations_[0],
+                        species_mass() ? energy : energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count));
     lap(Stage::flight);
   }
 }
@@ -255,6 +268,7 @@ void Engine::collide(double dt) {
   CollisionStage::Totals t;
   try {
     const CollisionStage::PendingMembers pending{&grid_, store_.cells()};
+    if (species_mass()) collisions_.set_species_cells(grid_.species_cell_moments());
     // A homogeneous system of one collision group has the global moments as that group's.
     const bool one_group = !grid_.is_slab() && subpopulation_count(store_.size(), pipeline_.subpopulation) == 1;
     t = collisions_.run(checked_collision_, store_.span(), grid_,
@@ -440,6 +454,33 @@ std::string Engine::energy_balance_text() {
   return "energy per particle [T0]: " + ledger_.balance_text(sampled_.kinetic_energy - initial_energy_, per);
 }
 
+// A mixture's species in /system (species.<name>.{index, mass, diameter, fraction, count}, mass in m
+// and diameter in sigma) and its wall tallies per species in /run
+// (boundary.<side>.<name>.{hits, momentum_x, momentum_y, momentum_z, energy}).
+void Engine::write_species(CaseOutput& out) const {
+  const std::vector<std::size_t> counts = species_counts(pipeline_.species, system_.particles);
+  out.system["species_count"] = static_cast<double>(system_.species_count);
+  for (std::size_t s = 0; s < system_.species_count; ++s) {
+    const std::string key = std::string("species.") + system_.species[s].name + ".";
+    out.system[key + "index"] = static_cast<double>(s);
+    out.system[key + "mass"] = system_.species[s].mass;
+    out.system[key + "diameter"] = system_.species[s].diameter;
+    out.system[key + "fraction"] = system_.species[s].fraction;
+    out.system[key + "count"] = static_cast<double>(counts[s]);
+  }
+  const BoundaryTally* tallies = walls_.species_data();
+  for (std::size_t side = 0; tallies && side < 2; ++side)
+    for (std::size_t s = 0; s < system_.species_count; ++s) {
+      const BoundaryTally& t = tallies[side * system_.species_count + s];
+      const std::string key = std::string(side == 0 ? "boundary.y_min." : "boundary.y_max.") + system_.species[s].name + ".";
+      out.run[key + "hits"] = static_cast<double>(t.hits);
+      out.run[key + "momentum_x"] = t.momentum[0];
+      out.run[key + "momentum_y"] = t.momentum[1];
+      out.run[key + "momentum_z"] = t.momentum[2];
+      out.run[key + "energy"] = t.energy;
+    }
+}
+
 CaseOutput Engine::output(const ParticleStager* stage) {
   CaseOutput out;
   out.system = {{"particles", static_cast<double>(system_.particles)},
@@ -472,7 +513,13 @@ CaseOutput Engine::output(const ParticleStager* stage) {
   if (system_.geometry == Geometry::slab) walls_.write(out.run);
   out.plugins = plugin_provenance(pipeline_);
   out.diagnostics = diagnostics_.outputs();
-  if (pipeline_.output_particles) out.particles = particle_datasets(store_.span(), system_, stage);
+  if (species_mass()) write_species(out);
+  if (pipeline_.output_particles) {
+    const ParticleSpan span = store_.span();
+    std::vector<double> species;
+    if (span.species) species.assign(span.species, span.species + span.count);
+    out.particles = particle_datasets(span, system_, span.species ? species.data() : nullptr, stage);
+  }
   return out;
 }
 

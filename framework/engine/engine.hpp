@@ -135,6 +135,7 @@ class Engine {
   void load(StateReader& in);
   // The stages of construction, in order.
   void build_objects();
+  void refuse_one_species_plugins();
   void publish(const std::vector<AttributeSpec>& attributes, Setup setup);
   void generate_initial_state();
   void shuffle_subpopulations();
@@ -144,6 +145,8 @@ class Engine {
   void begin_collision_rule();
   void check_boundaries();
   void update_moments();
+  void set_layer_majorants();
+  void write_species(CaseOutput& out) const;
   void permute_by_layer();
   void measure_sampled_moments();
   double time_step() const;
@@ -169,6 +172,10 @@ class Engine {
   std::string velocity_culprits(bool temperature) const;
   WorkPool pool_;
   SystemInfo system_;
+  // A mixture's mass of each species (SystemInfo::species_mass); empty with one species, whose
+  // host arithmetic then stays that of unit mass.
+  std::vector<double> species_mass_;
+  const double* species_mass() const { return species_mass_.empty() ? nullptr : species_mass_.data(); }
   ParticleStore store_;
   QuantityBoard board_;
   StepContext ctx_;

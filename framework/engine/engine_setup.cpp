@@ -43,6 +43,7 @@ std::vector<DiagnosticOutput> Engine::check_setup(const Pipeline& p) {
 Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsigned threads, StateReader* state)
     : pipeline_(p), pool_(run_threads(p, threads)), sites_(p, &ctx_.step), streams_(p.seed, realization) {
   system_ = system_info(p, p.particles, realization);
+  for (std::size_t s = 0; s < system_.species_count && system_.species; ++s) species_mass_.push_back(system_.species_mass(s));
   layers_.open(p, system_);
   build_objects();
   std::vector<AttributeSpec> attributes;
@@ -62,6 +63,11 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
     ledger_.open(forcings, system_.geometry == Geometry::slab);
   }
   const std::size_t cells = system_.cells;
+  if (species_mass()) {
+    std::vector<double> diameter;
+    for (std::size_t s = 0; s < system_.species_count; ++s) diameter.push_back(system_.species_diameter(s));
+    collisions_.set_species(species_mass(), diameter.data(), system_.species_count);
+  }
   collisions_.reset(cells);
   collisions_.set_pair_count(p.candidate_pairs_squared ? PairCount::squared : PairCount::distinct);
   collisions_.set_pair_selection(p.pair_selection == 0   ? PairSelection::uniform
@@ -71,7 +77,8 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   collisions_.set_subpopulation(p.subpopulation);
   collisions_.set_pool(&pool_);
   cells_.assign(cells, CellMoments{});
-  moments_follow_collisions_ = system_.geometry != Geometry::slab && forcings_before_.empty() &&
+  // (not a mixture: its majorants follow each species' temperature, which the pass measures)
+  moments_follow_collisions_ = !species_mass() && system_.geometry != Geometry::slab && forcings_before_.empty() &&
                                forcings_after_.empty() && accelerations_.empty();
   collisions_.set_collisions_only(moments_follow_collisions_);
   if (setup != Setup::objects_only) {
@@ -81,6 +88,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
     } else {
       grid_.homogeneous(system_.particles, system_.volume);
     }
+    grid_.set_species(species_mass(), system_.species_count);
     checked_collision_.bind(store_.span());
     if (setup == Setup::full) generate_initial_state();
   }
@@ -89,6 +97,10 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
   ctx_.global = &global_;
   ctx_.boundaries = walls_.data();
   ctx_.boundary_count = system_.geometry == Geometry::slab ? 2 : 0;
+  if (species_mass() && system_.geometry == Geometry::slab) {
+    walls_.open_species(system_.species_count);
+    ctx_.species_boundaries = walls_.species_data();
+  }
   ctx_.energy_ledger = ledger_.data();
   ctx_.energy_ledger_size = ledger_.size();
   ctx_.collision_tallies = collision_tallies_.data();
@@ -132,6 +144,23 @@ void Engine::build_objects() {
   }
   for (const auto& u : p.diagnostics) diagnostics_.add(static_cast<Diagnostic*>(make(u)), &u, &site_of(u));
   checked_collision_.set(collision_, &site_of(p.collision));
+  refuse_one_species_plugins();
+}
+
+// A mixture runs only plugins that weigh particles by their species' masses (extension
+// "gdsmc.species"): one written for a single species of unit mass would give wrong physics
+// without an error.
+void Engine::refuse_one_species_plugins() {
+  if (system_.species_count < 2) return;
+  std::string refused;
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    PluginCall call(site_of(*object_uses_[k]), "extension");
+    if (!objects_[k]->extension(species_id)) refused += "\n  " + where_text(*object_uses_[k]);
+  }
+  if (!refused.empty())
+    throw std::runtime_error("system.species makes this run a mixture of " + std::to_string(system_.species_count) +
+                             " species, but these plugins handle one species only (they do not offer the extension "
+                             "'gdsmc.species'; the plugin author guide's section on species says what it asks of a plugin):" + refused);
 }
 
 // The collision rule reads what it needs from the system and the published quantities (after
@@ -177,12 +206,17 @@ void Engine::check_boundaries() {
                                 "boundaries.y_max (plugin '" + high.plugin->descriptor->name + "', " + high.where.str() + ")"};
   mover_.emplace(system_.box, acceleration_,
                  std::array<Mover::Side, 2>{Mover::Side{boundaries_[0], names[0]}, Mover::Side{boundaries_[1], names[1]}});
+  mover_->set_species(species_mass(), system_.species_count);
 }
 
 // Particles (full setup only) and the attributes, then every object publishes its quantities.
 void Engine::publish(const std::vector<AttributeSpec>& attributes, Setup setup) {
-  if (setup == Setup::full) store_.allocate(pipeline_.particles, attributes, system_.geometry == Geometry::slab);
-  else ParticleStore::check_attributes(attributes);
+  if (setup == Setup::full) {
+    store_.allocate(pipeline_.particles, attributes, system_.geometry == Geometry::slab);
+    if (system_.species_count > 1) store_.set_species(species_counts(pipeline_.species, pipeline_.particles));
+  } else {
+    ParticleStore::check_attributes(attributes);
+  }
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     PluginCall call(site_of(*object_uses_[k]), "publish");
     objects_[k]->publish(board_);

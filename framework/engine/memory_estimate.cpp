@@ -86,6 +86,9 @@ CaseMemory case_memory(const Pipeline& p, const RunLayout& layout) {
   m.bytes_per_particle = 3 * 8 + 4 + 8.0 * static_cast<double>(layout.attribute_values);
   if (p.geometry == Geometry::slab)
     m.bytes_per_particle += 3 * 8 + 4 + 4 + 4 + 4.0 * static_cast<double>(p.layers) / CellGrid::kSortBlock;
+  // A mixture: the species index (4), and each collision group's species-sorted list of its
+  // particles (4, one group per thread at a time: counted once per particle, an upper bound).
+  if (!p.species.empty()) m.bytes_per_particle += 4 + 4;
   // Records are kept for the whole run. s grows by about dt/sqrt(pi) per step of dt tau0 (each
   // hard sphere collides once per mean free time sqrt(pi)/2 tau0 at T0, and a collision counts for
   // two particles; an elastic gas to s = 20 at dt = 0.02 tau0 takes 1769 steps, this gives 1773).

@@ -37,6 +37,7 @@ class ParticleStore {
     for (std::size_t i = 0; i < n; ++i) id_[i] = static_cast<std::uint32_t>(i);  // identities 0..N-1 in the initial order
     cell_.clear();
     if (positions) cell_.assign(n, 0u);
+    species_.clear();
     specs_ = attributes;
     check_attributes(specs_);
     data_.assign(specs_.size(), {});
@@ -46,6 +47,15 @@ class ParticleStore {
       pointers_[a] = data_[a].data();
     }
   }
+  // A mixture: particles with identity [0, counts[0]) are species 0, the next counts[1] species 1,
+  // ... (counts sum to the particle count); called right after allocate(), in identity order.
+  void set_species(const std::vector<std::size_t>& counts) {
+    species_.assign(n_, 0u);
+    std::size_t i = 0;
+    for (std::size_t s = 0; s < counts.size(); ++s)
+      for (std::size_t k = 0; k < counts[s] && i < n_; ++k) species_[i++] = static_cast<std::uint32_t>(s);
+  }
+  bool has_species() const { return !species_.empty(); }
   // Throws unless every attribute has components and the names are unique.
   static void check_attributes(const std::vector<AttributeSpec>& specs) {
     for (std::size_t a = 0; a < specs.size(); ++a) {
@@ -64,6 +74,7 @@ class ParticleStore {
     s.y = y_.empty() ? nullptr : y_.data();
     s.z = z_.empty() ? nullptr : z_.data();
     s.vx = vx_.data(); s.vy = vy_.data(); s.vz = vz_.data();
+    s.species = species_.empty() ? nullptr : species_.data();
     s.attribute_count = specs_.size();
     s.attribute_specs = specs_.data();
     s.attribute_data = pointers_.data();
@@ -113,6 +124,7 @@ class ParticleStore {
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
       if (!v->empty()) apply64(v->data());
     apply32(id_.data());
+    if (!species_.empty()) apply32(species_.data());
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c) apply64(data_[a].data() + c * n_);
   }
@@ -121,6 +133,7 @@ class ParticleStore {
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
       if (!v->empty()) std::swap((*v)[i], (*v)[j]);
     std::swap(id_[i], id_[j]);
+    if (!species_.empty()) std::swap(species_[i], species_[j]);
     if (!cell_.empty()) std::swap(cell_[i], cell_[j]);
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c)
@@ -139,6 +152,7 @@ class ParticleStore {
     write("particles.vy", vy_);
     write("particles.vz", vz_);
     for (std::size_t a = 0; a < specs_.size(); ++a) write("particles.attribute." + specs_[a].name, data_[a]);
+    if (!species_.empty()) write("particles.species", species_);  // a mixture's only
   }
   void load(StateReader& in) {
     in.read("particles.id", id_.data(), id_.size());
@@ -148,6 +162,7 @@ class ParticleStore {
       in.read(name, v->data(), v->size());
     for (std::size_t a = 0; a < specs_.size(); ++a)
       in.read("particles.attribute." + specs_[a].name, data_[a].data(), data_[a].size());
+    if (!species_.empty()) in.read("particles.species", species_.data(), species_.size());
   }
   // The layer of every particle, written by the mover (the span shows it read-only to plugins).
   std::uint32_t* cells() { return cell_.data(); }
@@ -160,6 +175,7 @@ class ParticleStore {
   std::size_t n_ = 0;
   ParticleArray<std::uint32_t> id_;
   ParticleArray<std::uint32_t> cell_;
+  ParticleArray<std::uint32_t> species_;  // a mixture's species per particle; empty with one species
   ParticleArray<double> x_, y_, z_, vx_, vy_, vz_;
   std::vector<AttributeSpec> specs_;
   std::vector<ParticleArray<double>> data_;

@@ -49,6 +49,18 @@ void WallTallies::add(int side, const BoundaryTally& step) {
   t.energy += step.energy;
 }
 
+void WallTallies::add_species(const BoundaryTally* step, std::size_t stride) {
+  const std::size_t count = species_.size() / 2;
+  for (std::size_t side = 0; side < 2; ++side)
+    for (std::size_t s = 0; s < count; ++s) {
+      BoundaryTally& t = species_[side * count + s];
+      const BoundaryTally& d = step[side * stride + s];
+      t.hits += d.hits;
+      for (int a = 0; a < 3; ++a) t.momentum[a] += d.momentum[a];
+      t.energy += d.energy;
+    }
+}
+
 void WallTallies::write(std::map<std::string, double>& run) const {
   for (std::size_t s = 0; s < 2; ++s) {
     const std::string side = s == 0 ? "boundary.y_min." : "boundary.y_max.";
@@ -67,6 +79,11 @@ void WallTallies::save(StateWriter& out) const {
     const double v[4] = {t.momentum[0], t.momentum[1], t.momentum[2], t.energy};
     out.write("boundary.values", v, 4);
   }
+  for (const BoundaryTally& t : species_) {  // a mixture's only
+    out.write("boundary.species.hits", t.hits);
+    const double v[4] = {t.momentum[0], t.momentum[1], t.momentum[2], t.energy};
+    out.write("boundary.species.values", v, 4);
+  }
 }
 
 void WallTallies::load(StateReader& in) {
@@ -74,6 +91,13 @@ void WallTallies::load(StateReader& in) {
     in.read("boundary.hits", t.hits);
     double v[4];
     in.read("boundary.values", v, 4);
+    for (int a = 0; a < 3; ++a) t.momentum[a] = v[a];
+    t.energy = v[3];
+  }
+  for (BoundaryTally& t : species_) {
+    in.read("boundary.species.hits", t.hits);
+    double v[4];
+    in.read("boundary.species.values", v, 4);
     for (int a = 0; a < 3; ++a) t.momentum[a] = v[a];
     t.energy = v[3];
   }

@@ -40,12 +40,18 @@ class WallTallies {
  public:
   void add(int side, const BoundaryTally& step);
   const BoundaryTally* data() const { return sides_.data(); }
+  // A mixture of `count` species: its tallies per side and species, [side * count + s].
+  void open_species(std::size_t count) { species_.assign(2 * count, BoundaryTally{}); }
+  // One step's, from [side * stride + s] of `step`.
+  void add_species(const BoundaryTally* step, std::size_t stride);
+  const BoundaryTally* species_data() const { return species_.empty() ? nullptr : species_.data(); }
   void write(std::map<std::string, double>& run) const;  // boundary.<side>.{hits, momentum_x, ..., energy}
   void save(StateWriter& out) const;
   void load(StateReader& in);
 
  private:
   std::array<BoundaryTally, 2> sides_{};
+  std::vector<BoundaryTally> species_;  // a mixture's: [side * species + s]
 };
 
 // The running totals of the collision rule's tallies (CollisionRule::tallies), by name.

@@ -77,6 +77,12 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
     const StreamingTally& block = blocks_[k];
     for (int s = 0; s < 2; ++s) add(tally.sides[s], block.sides[s]);
     tally.acceleration_energy += block.acceleration_energy;
+    if (mass_)
+      for (int s = 0; s < 2; ++s)
+        for (std::size_t q = 0; q < species_count_; ++q) {
+          const std::size_t at = s * StreamingTally::kMaxSpecies + q;
+          add(tally.species_sides[at], block.species_sides[at]);
+        }
   }
 }
 
@@ -194,7 +200,7 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
     double sum = energy;  // this loop's own local: in a register through the loop (perf: addsd into xmm7)
     for (std::size_t k = 0; k < m; ++k) {
       const std::size_t i = chunk + k;
-      if constexpr (Accelerated) sum += e[k];
+      if constexpr (Accelerated) sum += mass_ ? mass_[p.species[i]] * e[k] : e[k];  // m_i g.v t
       if (out[k]) {
         hit[hits++] = static_cast<std::uint32_t>(i);
         continue;
@@ -228,8 +234,10 @@ void Mover::fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, doubl
   Rng rng;
   bool have_rng = false;
   const double g2 = dot(g_, g_);
+  const std::uint32_t species = p.species_of(i);
+  const double m = mass_ ? mass_[species] : 1.0;  // x 1.0: the one-species bits
   auto advance = [&](double t) {
-    tally.acceleration_energy += dot(g_, v) * t + 0.5 * g2 * t * t;
+    tally.acceleration_energy += m * (dot(g_, v) * t + 0.5 * g2 * t * t);
     r = r + t * v + (0.5 * t * t) * g_;
     v = v + t * g_;
   };
@@ -259,6 +267,7 @@ void Mover::fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, doubl
     hit.velocity = v;
     hit.time = t0 + (dt - left);
     hit.remaining = left;
+    hit.species = species;
     if (!have_rng) {
       rng = streams.rng(StreamPurpose::boundary, 0, p.id[i]);
       have_rng = true;
@@ -274,12 +283,14 @@ void Mover::fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, doubl
       throw std::runtime_error(sides_[s].name + (result == HitResult::transferred ? " transferred" : " reflected") +
                                " a particle with v_y = " + std::to_string(after.y) +
                                ", which does not point into the gas");
-    BoundaryTally& t = tally.sides[s];
-    ++t.hits;
-    t.momentum[0] += after.x - v.x;
-    t.momentum[1] += after.y - v.y;
-    t.momentum[2] += after.z - v.z;
-    t.energy += 0.5 * (dot(after, after) - dot(v, v));
+    const double dp[3] = {m * (after.x - v.x), m * (after.y - v.y), m * (after.z - v.z)};
+    const double de = 0.5 * m * (dot(after, after) - dot(v, v));
+    for (BoundaryTally* t : {&tally.sides[s], mass_ ? &tally.species_sides[s * StreamingTally::kMaxSpecies + species] : nullptr}) {
+      if (!t) continue;
+      ++t->hits;
+      for (int a = 0; a < 3; ++a) t->momentum[a] += dp[a];
+      t->energy += de;
+    }
     v = after;
     r = Vec3{hit.position.x, result == HitResult::transferred ? -plane : plane, hit.position.z};
   }

@@ -12,6 +12,7 @@
 
 #include <vector>
 
+#include "config/system_info.hpp"
 #include "engine/cells.hpp"
 #include "engine/streams.hpp"
 #include "engine/work_pool.hpp"
@@ -21,8 +22,11 @@ namespace gdsmc::host {
 // What one step of streaming added to the gas: per boundary (0: y_min, 1: y_max) and by the body
 // acceleration during flight.
 struct StreamingTally {
+  static constexpr std::size_t kMaxSpecies = host::kMaxSpecies;  // config/system_info.hpp
   std::array<BoundaryTally, 2> sides{};
-  double acceleration_energy = 0;  // sum of (m/2)(v'^2 - v^2) from g during flight, m = 1
+  double acceleration_energy = 0;  // sum of (m_i/2)(v'^2 - v^2) from g during flight
+  // A mixture's sides per species: [side * kMaxSpecies + s] (Mover::set_species).
+  std::array<BoundaryTally, 2 * kMaxSpecies> species_sides{};
 };
 
 class Mover {
@@ -44,6 +48,13 @@ class Mover {
   void stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* layer_counts, const CellGrid& grid,
               double t0, double dt, const StepContext& ctx, const StreamFactory& streams, StreamingTally& tally,
               WorkPool* pool = nullptr) const;
+  // A mixture: the mass of each of `count` species (nullptr: one species of unit mass). The
+  // tallies then weigh every particle by its mass and are kept per species too, and every hit
+  // names its species (WallHit::species).
+  void set_species(const double* mass, std::size_t count) {
+    mass_ = mass;
+    species_count_ = mass ? count : 1;
+  }
   static constexpr std::size_t kBlock = CellGrid::kSortBlock;  // a block's layer counts are a sort block's
 
   static constexpr int max_hits_per_step = 100000;
@@ -62,6 +73,8 @@ class Mover {
   double lx_, ly_, lz_, half_;
   Vec3 g_;
   std::array<Side, 2> sides_;
+  const double* mass_ = nullptr;
+  std::size_t species_count_ = 1;
   mutable std::vector<StreamingTally> blocks_;  // per block, this step
 };
 

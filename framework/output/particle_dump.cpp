@@ -7,7 +7,7 @@
 
 namespace gdsmc::host {
 
-std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const SystemInfo& system) {
+std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const SystemInfo& system, const double* species) {
   const double length = system.mean_free_path0, speed = std::sqrt(2.0 * system.initial_temperature / system.mass);
   std::vector<ParticleColumn> out;
   if (s.x)  // a homogeneous system keeps no positions
@@ -18,6 +18,9 @@ std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const System
       {"vx", units::speed, "final velocity x", 1, s.vx.data, s.count, speed},
       {"vy", units::speed, "final velocity y", 1, s.vy.data, s.count, speed},
       {"vz", units::speed, "final velocity z", 1, s.vz.data, s.count, speed}});
+  if (species)
+    out.push_back({"species", "1", "species index k of each particle (/system attributes species.<name>.index)", 1,
+                   species, s.count, 1.0});
   for (std::size_t a = 0; a < s.attribute_count; ++a) {
     const AttributeSpec& spec = s.attribute_specs[a];
     out.push_back({spec.name, spec.unit, spec.doc, spec.components, s.attribute_data[a], s.count, 1.0});
@@ -25,9 +28,9 @@ std::vector<ParticleColumn> particle_columns(const ParticleSpan& s, const System
   return out;
 }
 
-std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system,
+std::vector<ParticleDataset> particle_datasets(const ParticleSpan& s, const SystemInfo& system, const double* species,
                                                const ParticleStager* stage) {
-  const std::vector<ParticleColumn> columns = particle_columns(s, system);
+  const std::vector<ParticleColumn> columns = particle_columns(s, system, species);
   if (stage && *stage) return (*stage)(columns);
   std::vector<ParticleDataset> out;
   for (const auto& c : columns) {
