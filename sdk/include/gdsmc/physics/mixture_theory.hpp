@@ -16,7 +16,7 @@
 // first order in c_i, c_j; they were derived with sympy by scripts/mixture_sonine_moments.py (which
 // also checks their one-species limits against van Noije & Ernst, Granular Matter 1, 57 (1998):
 // a2 of the HCS and of the white-noise-driven gas) and are checked independently by a Monte Carlo
-// quadrature in tests/sdk/mixture_theory_test.cpp. Header-only, no allocation.
+// quadrature in tests/sdk/mixture_kinetic_theory_test.cpp. Header-only, no allocation.
 #pragma once
 #include <cmath>
 #include <limits>
