@@ -30,7 +30,8 @@ TEST(OutputUnits, TheVocabularySpellsEachUnitOnceAndTheOutputFormatGuideExplains
 
 // Every diagnostic plugin of the build writes in at least one of these runs (a channel with the
 // slab diagnostics and the particles, a sheared gas with the USF set, the HCS, Enskog, the heat
-// flux, an inhomogeneous shear flow, a sweep with its summary table); the host writes its own
+// flux, an inhomogeneous shear flow, a sweep with its summary table, a cooling mixture and a
+// two-species channel); the host writes its own
 // datasets (time, bins, particles, layers, the summary) in them too.
 TEST(OutputUnits, EveryUnitTheShippedPipelinesWriteIsSpelledAsTheVocabularySpellsIt) {
   TempDir dir;
@@ -50,7 +51,11 @@ TEST(OutputUnits, EveryUnitTheShippedPipelinesWriteIsSpelledAsTheVocabularySpell
       {"configs/usf_inhomogeneous_transient.yaml", "usfi.h5", "--set", "run.particles=2000", "--set",
        "run.stop={collisions_per_particle: 2}"},
       {"configs/hcs_cumulants_sweep.yaml", "sweep.h5", "--set", "run.particles=2000", "--set",
-       "run.stop={collisions_per_particle: 1}", "--set", "run.average_after={collisions_per_particle: 0.5}"}};
+       "run.stop={collisions_per_particle: 1}", "--set", "run.average_after={collisions_per_particle: 0.5}"},
+      {"configs/mixture_hcs_sweep.yaml", "mixture.h5", "--set", "run.particles=2000", "--set", "run.realizations=2",
+       "--set", "run.stop={collisions_per_particle: 1}", "--set", "run.average_after={collisions_per_particle: 0.5}"},
+      {"configs/mixture_poiseuille.yaml", "mixture_channel.h5", "--set", "run.particles=4000", "--set",
+       "run.stop.time=6", "--set", "run.average_after.time=2"}};
   std::set<std::string> plugins_seen;
   std::size_t units_read = 0;
   for (auto args : runs) {

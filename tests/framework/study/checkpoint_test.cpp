@@ -148,6 +148,26 @@ TEST(Checkpoint, ASlabBetweenWallsKilledThreeTimesAndResumedIsTheSameBits) {
       {"--threads", "2"}, 20);
 }
 
+// A mixture (two species, weighted pairs per pair of species in the layers, per-species wall
+// tallies and species column): its class remainders, majorant scales and species travel too.
+TEST(Checkpoint, ASlabMixtureKilledThreeTimesAndResumedIsTheSameBits) {
+  expect_kill_and_resume_gives_the_same_bits(
+      "run:\n  seed: 13\n  particles: 30000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 14}\n"
+      "  record_every: 20\n  average_after: {time: 4}\n  checkpoint: {every: {collisions_per_particle: 0.3}}\n"
+      "system:\n  mean_free_path: 186\n  temperature: 1.0\n  domain: slab\n"
+      "  box: {y: {value: 1860, unit: sigma}}\n  layers: 40\n  species:\n"
+      "    - {name: light, mass: 1, diameter: 1, fraction: 0.5}\n"
+      "    - {name: heavy, mass: 3, diameter: 1.4, fraction: 0.5}\n"
+      "initial_state: maxwellian\n"
+      "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 5.0e-4, unit: reduced}}\n"
+      "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
+      "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.5}\n"
+      "diagnostics: [energy_balance, species_moments, wall_fluxes]\n"
+      "output: {file: out.h5, particles: true}\n",
+      {"--threads", "2"}, 40);
+}
+
 TEST(Checkpoint, ALeesEdwardsSweepWithRealizationsKilledThreeTimesAndResumedIsTheSameBits) {
   expect_kill_and_resume_gives_the_same_bits(
       "run:\n  seed: 2001\n  particles: 10000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
