@@ -49,7 +49,7 @@ class DiffuseWall final : public gdsmc::Boundary {
   explicit DiffuseWall(const gdsmc::Params& p)
       : wall_(p),
         species_temperature_(gdsmc::parse_species_values(name, "species_temperature", p.string("species_temperature"),
-                                                         {0.0, HUGE_VAL, true})) {}
+                                                         {0.0, gdsmc::kMaxWallTemperature, true})) {}
 
   const void* extension(const char* id) const override { return gdsmc::offer_species(id); }
 

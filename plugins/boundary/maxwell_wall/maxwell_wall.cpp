@@ -57,7 +57,7 @@ class MaxwellWall final : public gdsmc::Boundary {
       : accommodation_(p.real("accommodation")),
         wall_(p),
         species_temperature_(gdsmc::parse_species_values(name, "species_temperature", p.string("species_temperature"),
-                                                         {0.0, HUGE_VAL, true})),
+                                                         {0.0, gdsmc::kMaxWallTemperature, true})),
         species_accommodation_(gdsmc::parse_species_values(name, "species_accommodation",
                                                            p.string("species_accommodation"), {0.0, 1.0, false})) {}
 

@@ -59,6 +59,10 @@ inline Vec3 diffuse_emission(int side, double wall_temperature, const Vec3& wall
 // tangential momentum, is kept exactly; the gas receives the normal momentum 2 m |v_y|.
 inline void specular_reflection(WallHit& hit) { hit.velocity.y = inward_normal_velocity(hit.side, hit.velocity.y); }
 
+// The largest wall temperature a thermal wall takes (reduced units): its re-emitted speeds
+// sqrt(-2 (T_w/m) ln U), ln U >= -745, and their squares then stay finite.
+inline constexpr double kMaxWallTemperature = 1e100;
+
 // A thermal wall: temperature T_w and in-plane velocity (u_x, 0, u_z). The parameter schema and
 // the re-emission shared by diffuse_wall, maxwell_wall and third-party thermal walls.
 struct ThermalWall {
@@ -69,6 +73,7 @@ struct ThermalWall {
   static std::vector<ParamSpec> parameters() {
     return {ParamSpec::real("temperature", "wall temperature T_w (bare numbers: T_w / T0)")
                 .above(0.0)
+                .below(kMaxWallTemperature)
                 .unit(Dimension::temperature)
                 .default_value(1.0),
             ParamSpec::real("velocity_x", "velocity of the wall along x (bare numbers: units of sqrt(2 T0/m))")
