@@ -259,10 +259,10 @@ TEST_F(SdkExample, DocumentedBuildIsOptimised) {
 // balances the collisional cooling; Maxwellian estimate (2/3)(1 - alpha^2) T_s^(3/2) / sqrt(pi) = h
 // gives T_s = 2.39 T0 for h = 0.5, alpha = 0.8.
 TEST_F(SdkExample, WhiteNoiseThermostat) {
-  const fs::path dir = build("white_noise_thermostat");
-  const fs::path plugin = dir / "plugins/gdsmc_white_noise_thermostat.so";
+  const fs::path dir = build("white_noise_heating");
+  const fs::path plugin = dir / "plugins/gdsmc_white_noise_heating.so";
   ASSERT_TRUE(fs::exists(plugin));
-  const fs::path h5 = run("white_noise_thermostat", "white_noise_thermostat.yaml", dir);
+  const fs::path h5 = run("white_noise_heating", "white_noise_heating.yaml", dir);
   const auto T = read(h5, "/diagnostics/temperature/temperature");
   ASSERT_TRUE(all_finite(T));
   ASSERT_GT(T.size(), 30u);

@@ -290,7 +290,7 @@ TEST(InstalledDocumentation, IsWholeAndLinked) {
   // One example project of each plugin kind, each a complete project (CMakeLists.txt with
   // find_package(gdsmc) and gdsmc_add_plugin, README.md, a pipeline).
   const std::map<std::string, std::string> examples = {{"viscoelastic_restitution", "collision rule"},
-                                                       {"white_noise_thermostat", "forcing"},
+                                                       {"white_noise_heating", "forcing"},
                                                        {"cercignani_lampis_wall", "boundary"},
                                                        {"bimodal_maxwellian", "initial state"},
                                                        {"speed_distribution", "diagnostic"}};

@@ -21,7 +21,7 @@ namespace {
 
 class WhiteNoiseThermostat final : public gdsmc::Forcing {
  public:
-  static constexpr const char* name = "white_noise_thermostat";
+  static constexpr const char* name = "white_noise_heating";
   static constexpr const char* version = "1.0.0";
   static constexpr const char* summary = "Stochastic thermostat: independent Gaussian kicks v += sqrt(2 D dt) xi";
   static constexpr const char* documentation =
