@@ -90,7 +90,7 @@ void CollisionStage::collide_group_species(const CollisionRule& rule, const Part
   const bool weighted = weighted_ && group.members && (slab_ || selection_ == PairSelection::weighted);
   for (std::size_t a = 0, k = 0; a < species_; ++a)
     for (std::size_t b = a; b < species_; ++b, ++k) {
-      if (weighted && collide_class_weighted(rule, particles, c, a, b, sorted.data(), start, dt, select, batch)) {
+      if (weighted && collide_class_weighted(rule, particles, c, a, b, k, sorted.data(), start, dt, select, batch)) {
         batch.speed_bounds = nullptr;
         s.open(batch);  // the uniform scratch again (weighted_step opened its own)
         continue;
@@ -173,10 +173,10 @@ std::uint64_t CollisionStage::collide_class_uniform(const CollisionRule& rule, c
 // is a candidate at the rate K' (c_i + c_j) and collides at sigma_ab^2 pi scale |g| / V_c, the
 // uniform class's rate. Both envelopes are about the cell's barycentric velocity.
 bool CollisionStage::collide_class_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
-                                            std::size_t a, std::size_t b, const std::uint32_t* sorted,
+                                            std::size_t a, std::size_t b, std::size_t k, const std::uint32_t* sorted,
                                             const std::uint32_t* start, double dt, Rng& select, PairBatch& batch) {
   const Group& group = groups_[c];
-  double& credit = class_remainder_[c * class_count() + (a * (2 * species_ - a + 1)) / 2 + (b - a)];
+  double& credit = class_remainder_[c * class_count() + k];
   const std::uint32_t na = start[a + 1] - start[a], nb = start[b + 1] - start[b];
   if (a == b ? na < 2 : (na == 0 || nb == 0)) {
     credit = 0;

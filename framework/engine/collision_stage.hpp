@@ -267,16 +267,17 @@ class CollisionStage {
   double species_estimate(const CollisionRule& rule, std::size_t c, double dt) const;
   void collide_group_species(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double dt,
                              Rng& select, PairBatch& batch);
-  // Class (a, b) of group c with weighted pairs, its species' members at sorted[start[s] ..]: the
-  // envelopes of both species built about one velocity, then weighted_step over them.
+  // Class (a, b), the k-th, of group c, its species' members at sorted[start[s] ..]: uniform
+  // candidates against the class majorant (returns how many), or weighted pairs (the envelopes of
+  // both species built about one velocity, then weighted_step over them).
   std::uint64_t collide_class_uniform(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
                                       std::size_t a, std::size_t b, std::size_t k, const std::uint32_t* sorted,
                                       const std::uint32_t* start, double dt, Rng& select,
                                       candidates::BatchScratch& s, PairBatch& batch);
   // False (nothing done) when a species has no envelope: the class then draws uniform candidates.
   bool collide_class_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, std::size_t a,
-                              std::size_t b, const std::uint32_t* sorted, const std::uint32_t* start, double dt,
-                              Rng& select, PairBatch& batch);
+                              std::size_t b, std::size_t k, const std::uint32_t* sorted, const std::uint32_t* start,
+                              double dt, Rng& select, PairBatch& batch);
 };
 
 }  // namespace gdsmc::host
