@@ -37,7 +37,8 @@ class MixtureTheoryDiagnostic final : public gdsmc::Diagnostic {
       "tests/sdk/mixture_kinetic_theory_test.cpp).\n"
       "Scalars (all dimensionless), Maxwellian: gamma_maxwellian (T0/T1), T0_over_T_maxwellian,\n"
       "T1_over_T_maxwellian, zeta0_star_maxwellian, zeta1_star_maxwellian; first Sonine: gamma_sonine,\n"
-      "T0_over_T_sonine, T1_over_T_sonine, zeta0_star_sonine, zeta1_star_sonine, c0_sonine, c1_sonine.\n"
+      "T0_over_T_sonine, T1_over_T_sonine, zeta0_star_sonine, zeta1_star_sonine, c0_sonine, c1_sonine;\n"
+      "and gamma_tracer_maxwellian, gamma_tracer_sonine: T0/T1 with species 0 a tracer (x_0 -> 0).\n"
       "zeta_i* = zeta_i / nu with GD99's nu = n sigma_01^2 v0, v0 = sqrt(2T (m_0 + m_1)/(m_0 m_1)).\n"
       "Measured, per sample from the particles: series temperature_ratio (T0/T1, peculiar velocities\n"
       "about the mass-weighted mean), T0_over_T, T1_over_T; the gamma_* scalars are theory for\n"
@@ -117,6 +118,14 @@ class MixtureTheoryDiagnostic final : public gdsmc::Diagnostic {
         out.theory("c0" + s, "", eq + how);
         out.theory("c1" + s, "", eq + how);
       }
+      // The tracer limit of species 0 (x_0 -> 0: zeta_0 from its collisions with species 1 alone,
+      // zeta_1 that of the pure gas 1), beside the run's own fraction.
+      gdsmc::BinaryMixture tracer = mix_;
+      tracer.fraction[0] = 0;
+      tracer.fraction[1] = 1;
+      const gdsmc::MixtureTheory limit = gdsmc::mixture_theory(tracer, state_, approx[k]);
+      out.scalar("gamma_tracer" + s, limit.gamma, "1", "T0/T1 in the tracer limit x_0 -> 0" + how);
+      out.theory("gamma_tracer" + s, "", eq + ", x_0 -> 0" + how);
     }
   }
 
