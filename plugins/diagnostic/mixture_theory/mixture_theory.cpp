@@ -196,3 +196,9 @@ class MixtureTheoryDiagnostic final : public gdsmc::Diagnostic {
 }  // namespace
 
 GDSMC_PLUGIN(MixtureTheoryDiagnostic)
+
+// What `gdsmc conformance` runs it in when no --context is given: a cooling binary mixture.
+GDSMC_CONFORMANCE_CONTEXT(
+    "system:\n  density: 1.0e-3\n  temperature: 1.0\n  species:\n"
+    "    - {name: light, mass: 1, diameter: 1, fraction: 0.5}\n"
+    "    - {name: heavy, mass: 4, diameter: 1.5, fraction: 0.5}")

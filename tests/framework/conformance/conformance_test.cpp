@@ -67,7 +67,7 @@ TEST(Conformance, EveryPluginOfTheBuildConformsBareInTheContextItShips) {
   for (const char* needed : {"inelastic_hard_spheres", "maxwellian", "temperature"})
     EXPECT_TRUE(fs::exists(dir / ("gdsmc_" + std::string(needed) + ".so"))) << needed;
   const std::set<std::string> shipping = {"delta_shell",       "enskog_hard_spheres", "enskog_shear_viscosity",
-                                          "heat_flux",         "poiseuille_channel",  "profiles",
+                                          "heat_flux",         "mixture_theory",      "poiseuille_channel",  "profiles",
                                           "shear_rheology",    "slab_averages",       "wall_fluxes"};
   std::size_t shipped = 0;
   for (const auto& f : files) {
