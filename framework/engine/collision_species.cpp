@@ -182,16 +182,8 @@ bool CollisionStage::collide_class_weighted(const CollisionRule& rule, const Par
     credit = 0;
     return true;
   }
-  double u[3] = {0, 0, 0};
-  if (cells_ && cells_[c].count >= 2) {
-    std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
-  } else {
-    for (std::uint32_t q = 0; q < group.count; ++q) {
-      const std::uint32_t i = sorted[q];
-      u[0] += particles.vx[i], u[1] += particles.vy[i], u[2] += particles.vz[i];
-    }
-    for (double& x : u) x /= group.count;
-  }
+  double u[3];
+  envelope_velocity(particles, c, sorted, group.count, u);
   thread_local WeightedLayer layers[2];
   WeightedSides sides;
   sides.n = a == b ? 1 : 2;

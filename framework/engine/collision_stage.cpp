@@ -367,6 +367,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
   cells_ = cells;
   slab_ = grid.is_slab();
   temperature_ = temperature;
+  if (species_ > 1) species_cells_ = grid.species_cell_moments();
   solid_angle_ = rule.kernel_form() == KernelForm::general ? 4.0 * M_PI : M_PI;
   weighted_ = selection_ != PairSelection::uniform && rule.kernel_form() == KernelForm::hard_sphere;
   make_groups(grid, particles.count, streams);

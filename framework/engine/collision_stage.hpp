@@ -85,13 +85,12 @@ class CollisionStage {
   // A mixture (engine/collision_species.cpp): the mass and diameter of each of `count` species in
   // reduced units (nullptr: one species, the scheme above). Every group then draws its candidates
   // per pair of species (a, b), each class with its own majorant ratio and remainder; the species'
-  // temperatures of the last moment update (CellGrid::species_cell_moments, set_species_cells) set
+  // temperatures of the last moment update (the grid's species_cell_moments, which run() reads) set
   // each class's speed scale, and its uniform candidates are tested against the class majorant; with
   // weighted pairs (run.pair_selection auto or weighted in a slab's layers, weighted in a
   // homogeneous group) each class draws its pairs from the envelopes of its species' peculiar
   // speeds instead (collide_class_weighted). The kept bounds serve one species.
   void set_species(const double* mass, const double* diameter, std::size_t count);
-  void set_species_cells(const CellGrid::SpeciesCellMoments* moments) { species_cells_ = moments; }
   // At a slab's moment update: every class's ratio from its species' largest peculiar speeds.
   void set_species_majorants(const CellGrid::SpeciesCellMoments* moments, const CellMoments* cells, double temperature);
   // Velocities were written outside the stage (a benchmark's rescaling): the kept bounds are rebuilt.
@@ -229,6 +228,11 @@ class CollisionStage {
                           std::uint64_t candidates, Rng& select, PairBatch& batch, bool kept);
   KeptSpeedBounds kept_;  // engine/kept_speed_bounds.hpp
   bool collisions_only_ = false, kept_this_step_ = false;
+  // The velocity u the envelopes of group c are built about: its cell's mean velocity at the last
+  // moment update (any u bounds |g| by c_a + c_b; one near the mean keeps the speeds small), or,
+  // below 2 particles there, the mean of the `count` members now.
+  void envelope_velocity(const ParticleSpan& particles, std::size_t c, const std::uint32_t* members,
+                         std::uint32_t count, double (&u)[3]) const;
   // Group c's step with weighted pairs: its envelope built, then collide_weighted.
   void collide_group_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c, double dt,
                               Rng& select, PairBatch& batch);

@@ -237,6 +237,20 @@ double CollisionStage::collide_weighted(const CollisionRule& rule, const Particl
   return left;
 }
 
+void CollisionStage::envelope_velocity(const ParticleSpan& particles, std::size_t c, const std::uint32_t* members,
+                                       std::uint32_t count, double (&u)[3]) const {
+  u[0] = u[1] = u[2] = 0;
+  if (cells_ && cells_[c].count >= 2) {
+    std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
+    return;
+  }
+  for (std::uint32_t a = 0; a < count; ++a) {
+    const std::uint32_t i = members[a];
+    u[0] += particles.vx.data[i], u[1] += particles.vy.data[i], u[2] += particles.vz.data[i];
+  }
+  for (double& x : u) x /= count;
+}
+
 // One group's step with weighted pairs: the envelope of its members' speeds built, then its events
 // and candidates (collide_weighted).
 void CollisionStage::collide_group_weighted(const CollisionRule& rule, const ParticleSpan& particles, std::size_t c,
@@ -245,18 +259,9 @@ void CollisionStage::collide_group_weighted(const CollisionRule& rule, const Par
   const bool in_storage_order = group.members == identity_.data();
   std::uint64_t* const counts = counts_.data() + 3 * c;
   thread_local WeightedLayer layer;
-  // About the layer's mean velocity at the last moment update (any u bounds |g|; one near the
-  // mean keeps the speeds small), with the bulk bound kBulkSpeedBound times the rms speed.
-  double u[3] = {0, 0, 0};
-  if (cells_ && cells_[c].count >= 2) {
-    std::copy(cells_[c].mean_velocity, cells_[c].mean_velocity + 3, u);
-  } else {
-    for (std::uint32_t a = 0; a < group.count; ++a) {
-      const std::uint32_t i = group.members[a];
-      u[0] += particles.vx.data[i], u[1] += particles.vy.data[i], u[2] += particles.vz.data[i];
-    }
-    for (double& x : u) x /= group.count;
-  }
+  // With the bulk bound kBulkSpeedBound times the rms speed.
+  double u[3];
+  envelope_velocity(particles, c, group.members, group.count, u);
   // A homogeneous system of one group: storage order, and B_0 from the reference temperature
   // (kBulkSpeedBound times the rms speed sqrt(3 T_ref/m)), so one pass builds the envelope.
   if (in_storage_order ? !layer.build_contiguous(particles, group.count, u, kBulkSpeedBound * std::sqrt(3.0) * speed_[c])

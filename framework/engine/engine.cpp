@@ -268,7 +268,6 @@ void Engine::collide(double dt) {
   CollisionStage::Totals t;
   try {
     const CollisionStage::PendingMembers pending{&grid_, store_.cells()};
-    if (species_mass()) collisions_.set_species_cells(grid_.species_cell_moments());
     // A homogeneous system of one collision group has the global moments as that group's.
     const bool one_group = !grid_.is_slab() && subpopulation_count(store_.size(), pipeline_.subpopulation) == 1;
     t = collisions_.run(checked_collision_, store_.span(), grid_,

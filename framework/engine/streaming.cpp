@@ -58,7 +58,9 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
   if (blocks_.size() < blocks) blocks_.resize(blocks);
   for_pieces(pool, blocks, [&](std::size_t k) {
     StreamingTally& block = blocks_[k];
-    block = StreamingTally{};
+    block.sides = {};
+    block.acceleration_energy = 0;
+    if (mass_) block.species_sides = {};  // a mixture's only: one species leaves them untouched
     const std::size_t b = k * kBlock, e = std::min(p.count, b + kBlock);
     std::uint32_t* counts = layer_counts ? layer_counts + k * grid.count() : nullptr;
     // The uniform layers' arithmetic, or the lookup table of layers with edges: a loop for each,

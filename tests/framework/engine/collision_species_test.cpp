@@ -114,7 +114,6 @@ Totals collide(Mixture& gas, std::size_t steps, double dt, unsigned threads, std
     streams.set_step(k);
     if (k % 4 == 0) {
       grid.cell_moments(gas.span(), gas.id.size() / gas.volume, cells, global, &pool);
-      stage.set_species_cells(grid.species_cell_moments());
       if (k > 0) stage.reset_majorants();
     }
     const auto t = stage.run(rule, gas.span(), grid, &global, global.temperature, 1.0, 1.0, dt, streams);
