@@ -11,7 +11,8 @@ const std::vector<OptionSpec>& command_options(const std::string& command) {
                                               {{"--output", "-o"}, "a value"},
                                               {{"--plugin-path"}, "a value"},
                                               {{"--threads"}, "a number"},
-                                              {{"--resume"}, ""}};
+                                              {{"--resume"}, ""},
+                                              {{"--decompose"}, ""}};
   static const std::vector<OptionSpec> plugins = {{{"--help", "-h"}, ""}, {{"--plugin-path"}, "a value"}};
   static const std::vector<OptionSpec> plot = {{{"--help", "-h"}, ""}, {{"--out"}, "a directory"}};
   static const std::vector<OptionSpec> inspect = {{{"--help", "-h"}, ""}, {{"--long", "-l"}, ""}};
@@ -31,6 +32,7 @@ bool parse(const std::string& command, int argc, char** argv, int first, Options
   o.help = args.has("--help");
   o.quiet = args.has("--quiet");
   o.resume = args.has("--resume");
+  o.decompose = args.has("--decompose");
   o.sets = args.all("--set");
   for (const auto& p : args.all("--plugin-path")) o.plugin_paths.emplace_back(p);
   if (args.has("--threads")) {

@@ -24,6 +24,7 @@ struct Options {
   std::string output;
   bool quiet = false, help = false;
   bool resume = false;  // --resume: continue from the output's checkpoint (run only)
+  bool decompose = false;  // --decompose: each slab run split over the MPI job's ranks by layers
   int threads = -1;  // --threads N (0: every core); -1: not given (run.threads decides)
 };
 // Parse the options of `command` (run, validate or plugins: command_options(command)).

@@ -19,6 +19,7 @@
 #include "output/hdf5_file.hpp"
 #include "study/checkpoint.hpp"
 #include "study/ranks.hpp"
+#include "study/slab_ranks.hpp"
 #include "study/study.hpp"
 #include "util/text.hpp"
 
@@ -144,6 +145,18 @@ int prepare(const Options& o, bool run_it, LoadedPipeline& loaded, std::vector<S
       print_errors({output_origin(o, p) + ": " + e.what()});
       return 1;
     }
+    if (o.decompose) {  // --decompose: every case a slab this job's ranks can split
+      std::vector<std::string> refused;
+      for (const auto& c : cases)
+        if (const std::string why = Engine::why_not_decomposed(c.pipeline, job::size()); !why.empty())
+          refused.push_back(p.file.string() + ": --decompose: " + (c.label.empty() ? "" : "case " + c.label + ": ") +
+                            why + "; run it without --decompose (one process, or an ensemble over the ranks: "
+                            "docs/cluster.md)");
+      if (!refused.empty()) {
+        print_errors(refused);
+        return 1;
+      }
+    }
     memory = check_cases(cases, progress);
     estimated = true;
     std::vector<std::vector<DiagnosticOutput>> begun;
@@ -162,14 +175,17 @@ int prepare(const Options& o, bool run_it, LoadedPipeline& loaded, std::vector<S
   return 0;
 }
 
-void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& result, double write_seconds) {
+void print_summary(const Pipeline& p, std::size_t cases, const StudyResult& result, double write_seconds, bool decomposed) {
   char buf[512];
   std::snprintf(buf, sizeof buf, "gdsmc: %s: %zu case(s) x %u realization(s), %llu steps, %.4g collisions in %.2f s (%.3g collisions/s)",
                 p.file.filename().c_str(), cases, p.realizations, static_cast<unsigned long long>(result.steps),
                 result.collisions, result.wall_seconds, result.wall_seconds > 0 ? result.collisions / result.wall_seconds : 0.0);
   std::cout << buf << "\n";
   for (const auto& line : result.summary) std::cout << line << "\n";
-  if (job::distributed()) {
+  if (job::distributed() && decomposed) {
+    std::cout << "over " << job::size() << " MPI ranks, each run decomposed by layers; the file written in "
+              << fmt("%.3g", write_seconds) << " s\n";
+  } else if (job::distributed()) {
     std::snprintf(buf, sizeof buf,
                   "over %d MPI ranks: %zu run(s) received from ranks 1-%d (%s) in %.3g s of receiving, reading and "
                   "gathering; the file written in %.3g s",
@@ -231,7 +247,7 @@ void draw_plots(const Pipeline& p, bool quiet) {
 int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>& cases, const MemoryEstimate& memory,
                const std::string& notice, OutputFile& out, const std::optional<CheckpointStore>& checkpoints,
                std::chrono::steady_clock::time_point start, bool tty,
-               const std::function<void(const StudyProgress&)>& report) {
+               const std::function<void(const StudyProgress&)>& report, Decomposition* ranks) {
   const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
   auto end_line = [&] {
     if (report && tty) std::cerr << "\n";
@@ -262,7 +278,7 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
   try {
     const ParticleStager particles = out.stager();  // the final particles straight into the file
     result = run_study(cases, report, tty ? 0.25 : 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr,
-                       &particles);
+                       &particles, ranks);
     end_line();
   } catch (const Engine::Interrupted&) {
     return interrupted("");
@@ -304,7 +320,7 @@ int finish_run(const Options& o, const Pipeline& p, const std::vector<StudyCase>
   }
   const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - write_start).count();
   if (checkpoints) checkpoints->remove();  // the output is complete: the checkpoint has served
-  if (!o.quiet) print_summary(p, cases.size(), result, write_seconds);
+  if (!o.quiet) print_summary(p, cases.size(), result, write_seconds, ranks != nullptr);
   if (p.output_plots) draw_plots(p, o.quiet);
   return 0;
 }
@@ -413,10 +429,10 @@ int print_valid(const Pipeline& p, const std::vector<StudyCase>& cases, const Me
 // A rank other than 0 of an MPI job: its share of the runs, sent to rank 0 as they finish; rank 0
 // reports any failure and ends the job with one exit status.
 int run_other_rank(const Options& o, const Pipeline& p, const std::vector<StudyCase>& cases, const OutputTarget& target,
-                   std::optional<CheckpointStore>& checkpoints) {
+                   std::optional<CheckpointStore>& checkpoints, Decomposition* ranks) {
   const fs::path checkpoint_dir = CheckpointStore::directory_for(p.output_file);
   try {
-    run_study(cases, {}, 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr);
+    run_study(cases, {}, 10.0, &g_interrupted, checkpoints ? &*checkpoints : nullptr, nullptr, ranks);
   } catch (const std::exception&) {
   }
   const int status = job::await_status();
@@ -486,8 +502,10 @@ int cmd_run(const Options& options, bool run_it) {
   }
   if (const int status = agree(created, hold)) return status;
   hold.end(false);  // from here on, a rank's warnings (a checkpoint not written) are its own
-  if (!job::root()) return run_other_rank(o, p, cases, target, checkpoints);
-  return job::conclude(finish_run(o, p, cases, memory, notice, *out, checkpoints, start, tty, report));
+  // --decompose: every run's slab split over the ranks by layers (engine/decomposition.hpp).
+  const std::unique_ptr<Decomposition> ranks = o.decompose ? job::slab_ranks() : nullptr;
+  if (!job::root()) return run_other_rank(o, p, cases, target, checkpoints, ranks.get());
+  return job::conclude(finish_run(o, p, cases, memory, notice, *out, checkpoints, start, tty, report, ranks.get()));
 }
 
 }  // namespace gdsmc::host

@@ -34,6 +34,8 @@ gdsmc run PIPELINE.yaml [options]
                          is the same bits for any N
   --resume               continue the run from its checkpoint (<output>.checkpoint/, written
                          when the pipeline sets run.checkpoint); the output is the same bits
+  --decompose            under mpirun: split each slab run over the ranks by layers instead
+                         of spreading the runs; the output is the same bits at any rank count
   -h, --help             the help of `run`
 
 gdsmc validate PIPELINE.yaml [options]
@@ -48,6 +50,7 @@ gdsmc validate PIPELINE.yaml [options]
   --resume               also check that the checkpoint beside the output belongs to this
                          pipeline, gdsmc and plugins, read every file of it as run --resume
                          would, and say how many runs it holds
+  --decompose            accepted as run takes it (the pipeline is checked alike)
   -h, --help             the help of `validate`
 
 gdsmc plugins [NAME | FILE.so]... [options]

@@ -24,6 +24,7 @@ Options:
   -q, --quiet            no progress and no summary (errors are still printed)
   --plugin-path P        a plugin directory or .so file searched first (repeatable)
   --resume               continue from the checkpoint beside the output (<output>.checkpoint/)
+  --decompose            under mpirun: each slab run is split over the ranks by layers (below)
   --threads N            threads; default run.threads, else every core; 1 is serial. Runs
                          (sweep cases x realizations) go at once, and threads left over work
                          inside each run (slab layers, sub-populations of a homogeneous system,
@@ -70,6 +71,17 @@ file: the same bits as --threads 1 without MPI. Progress and the summary are pri
 that fails on any rank ends the job with its message and exit 1, nothing written; a rank that
 dies (killed by a signal, crashed) is named with its runs, nothing written either; checkpoints
 are shared, and resume at any number of ranks. See docs/cluster.md.
+
+One slab over ranks: `mpirun -np K gdsmc run PIPELINE.yaml --decompose` splits each run's layers
+into K contiguous blocks, one per rank (threads inside each), in turn for every run of the study.
+Particles move between ranks after each flight; block boundaries follow the measured cost of the
+layers (particles and collision candidates) every 16 steps. The output is the same bits as the
+single-process run at any K, thread count and block boundaries; rank 0 gathers the particles for
+the forcings that act on them, the diagnostics' samples, the checkpoints and the output, so it
+holds every particle then (about N x 64 bytes). Checkpoints resume at any K, with or without
+--decompose. Not yet decomposed (refused, by name): homogeneous systems, mixtures, plugin
+attributes per particle, system.layers sized from the density profile. A failure on any rank
+ends the job (MPI_Abort) with that rank's message. See docs/scaling.md.
 )";
 
 const char* const kValidateHelp = R"(gdsmc validate PIPELINE.yaml [options]

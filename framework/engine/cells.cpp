@@ -110,13 +110,18 @@ void CellGrid::set_edges(std::vector<double> edges) {
 // particles, so every layer lists its members in increasing index whatever the thread count.
 void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
   if (!slab_) return;
+  count_blocks(cell, n, pool);
+  sort_counted(cell, n, pool);
+}
+
+void CellGrid::count_blocks(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
+  if (members_.size() < n) members_.resize(n);
   std::uint32_t* const counts = block_counts(n);
   for_pieces(pool, sort_blocks(n), [&](std::size_t b) {
     std::uint32_t* count = counts + b * layers_;
     std::fill(count, count + layers_, 0u);
     for (std::size_t i = b * kSortBlock, e = std::min(n, i + kSortBlock); i < e; ++i) ++count[cell[i]];
   });
-  sort_counted(cell, n, pool);
 }
 
 std::uint32_t* CellGrid::block_counts(std::size_t n) {
@@ -411,18 +416,44 @@ void CellGrid::cell_moments(const ParticleSpan& p, double mean_density, std::vec
       if (n >= 2) cells[c].temperature = peculiar[k].c2 / (3.0 * n);  // T_I, Eq. 4.6 (m = 1)
     }
   });
+  if (exchange_) share_layers(cells);
   // The whole system, in layer order.
   double gsum[3] = {0, 0, 0}, weighted_t = 0;
+  std::size_t count = 0;
   for (std::size_t c = 0; c < layers_; ++c) {
     for (int a = 0; a < 3; ++a) gsum[a] += pieces_[c].s[a];
     weighted_t += cells[c].count * cells[c].temperature;
+    count += cells[c].count;
   }
   global = CellMoments{};
-  global.count = p.count;
+  global.count = count;
   global.number_density = mean_density;
-  if (p.count == 0) return;
-  for (int a = 0; a < 3; ++a) global.mean_velocity[a] = gsum[a] / static_cast<double>(p.count);
-  global.temperature = weighted_t / static_cast<double>(p.count);  // T-bar, Eq. 4.8
+  if (count == 0) return;
+  for (int a = 0; a < 3; ++a) global.mean_velocity[a] = gsum[a] / static_cast<double>(count);
+  global.temperature = weighted_t / static_cast<double>(count);  // T-bar, Eq. 4.8
+}
+
+void CellGrid::share_layers(std::vector<CellMoments>& cells) const {
+  constexpr std::size_t kValues = 10;
+  shared_.resize(kValues * layers_);
+  for (std::size_t c = 0; c < layers_; ++c) {
+    const CellMoments& m = cells[c];
+    double* v = shared_.data() + kValues * c;
+    const double values[kValues] = {static_cast<double>(m.count), m.number_density, m.mean_velocity[0],
+                                    m.mean_velocity[1], m.mean_velocity[2], m.temperature, pieces_[c].s[0],
+                                    pieces_[c].s[1], pieces_[c].s[2], speed_max_[c]};
+    std::copy(values, values + kValues, v);
+  }
+  exchange_->share(shared_.data(), kValues);
+  for (std::size_t c = 0; c < layers_; ++c) {
+    CellMoments& m = cells[c];
+    const double* v = shared_.data() + kValues * c;
+    m.count = static_cast<std::size_t>(v[0]);  // below 2^53: exact
+    m.number_density = v[1];
+    for (int a = 0; a < 3; ++a) m.mean_velocity[a] = v[2 + a], pieces_[c].s[a] = v[6 + a];
+    m.temperature = v[5];
+    speed_max_[c] = v[9];
+  }
 }
 
 void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool,

@@ -11,6 +11,7 @@
 #include <gdsmc/physics/moments.hpp>
 #include <gdsmc/particles.hpp>
 
+#include "engine/decomposition.hpp"
 #include "engine/work_pool.hpp"
 
 namespace gdsmc::host {
@@ -118,6 +119,7 @@ class CellGrid {
   // lists each layer as 0..N_0-1, N_0.., and so on.
   const std::uint32_t* all_members() const { return members_.data(); }
   const std::uint32_t* members(std::size_t c) const { return slab_ ? members_.data() + offsets_[c] : nullptr; }
+  std::uint32_t* members(std::size_t c) { return slab_ ? members_.data() + offsets_[c] : nullptr; }
   std::uint32_t members_count(std::size_t c) const { return slab_ ? offsets_[c + 1] - offsets_[c] : total_; }
 
   // Moments of every cell (000 Eqs. 4.4-4.6) and of the whole system; in a slab the global
@@ -127,6 +129,13 @@ class CellGrid {
   // any thread count.
   void cell_moments(const ParticleSpan& p, double mean_density, std::vector<CellMoments>& cells,
                     CellMoments& global, WorkPool* pool = nullptr) const;
+  // A decomposed slab (engine/decomposition.hpp): the span holds this rank's layers only; each
+  // layer's moments are shared by its owner before the global fold, which then has the serial
+  // bits on every rank. Null: one process.
+  void set_exchange(const LayerExchange* exchange) { exchange_ = exchange; }
+  // Each block's layer counts (block_counts(n)) from cell[], for place_blocks: after the particles
+  // the mover counted have changed (a decomposed slab's migration).
+  void count_blocks(const std::uint32_t* cell, std::size_t n, WorkPool* pool = nullptr);
   // Slab: the largest |v - u_I| in every layer at the last cell_moments (0 below 2 particles).
   const double* peculiar_speed_max() const { return speed_max_.data(); }
 
@@ -199,6 +208,10 @@ class CellGrid {
     PeculiarSums peculiar;
   };
   mutable std::vector<PieceSums> pieces_;
+  const LayerExchange* exchange_ = nullptr;
+  mutable std::vector<double> shared_;  // a decomposed slab's layers' moments, 10 per layer
+  // Every layer's cell moments, sums and largest peculiar speed from its owner (exchange_).
+  void share_layers(std::vector<CellMoments>& cells) const;
   // A mixture's (mixture_moments.cpp): the masses, and per piece and species the sums of its passes.
   const double* species_mass_ = nullptr;
   std::size_t species_count_ = 1;

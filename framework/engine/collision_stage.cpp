@@ -32,6 +32,7 @@ void CollisionStage::reset(std::size_t cells) {
   missed_so_far_.assign(cells, 0.0);
   collided_so_far_.assign(cells, 0.0);
   counts_.assign(3 * cells, 0);
+  candidates_since_.assign(cells, 0.0);
   groups_.assign(cells, Group{});
   cell_tallies_.assign(cells * tally_count_, 0.0);
   class_ratio_.assign(species_ > 1 ? cells * class_count() : 0, kInitialMajorantRatio / std::sqrt(2.0));
@@ -404,6 +405,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     for_pieces(pool_, n,
                [&](std::size_t k) { collide_group(rule, particles, reversed ? n - 1 - k : k, sigma, dt, streams); });
   }
+  if (exchange_ && grid.is_slab()) share_layers(n);
   // The totals in group order.
   Totals sum;
   for (std::size_t c = 0; c < n; ++c) {
@@ -415,6 +417,7 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     sum.energy_change += energy_[c];
     sum.missed += missed_[c];
     missed_so_far_[c] += missed_[c];
+    candidates_since_[c] += static_cast<double>(counts_[3 * c]);
     collided_so_far_[c] += static_cast<double>(counts_[3 * c + 1]);
   }
   if (tally_count_) {
@@ -424,6 +427,26 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
     sum.tallies = step_tallies_.data();
   }
   return sum;
+}
+
+// Each layer's step from its owner: candidates, accepted, exceeded, largest rate, energy change,
+// missed collisions, remainder, majorant ratio, then the rule's tallies.
+void CollisionStage::share_layers(std::size_t layers) {
+  const std::size_t per = 8 + tally_count_;
+  shared_.resize(per * layers);
+  for (std::size_t c = 0; c < layers; ++c) {
+    double* v = shared_.data() + per * c;
+    for (int k = 0; k < 3; ++k) v[k] = static_cast<double>(counts_[3 * c + k]);  // below 2^53: exact
+    v[3] = max_rate_[c], v[4] = energy_[c], v[5] = missed_[c], v[6] = remainder_[c], v[7] = ratio_[c];
+    std::copy(cell_tallies_.data() + c * tally_count_, cell_tallies_.data() + (c + 1) * tally_count_, v + 8);
+  }
+  exchange_->share(shared_.data(), per);
+  for (std::size_t c = 0; c < layers; ++c) {
+    const double* v = shared_.data() + per * c;
+    for (int k = 0; k < 3; ++k) counts_[3 * c + k] = static_cast<std::uint64_t>(v[k]);
+    max_rate_[c] = v[3], energy_[c] = v[4], missed_[c] = v[5], remainder_[c] = v[6], ratio_[c] = v[7];
+    std::copy(v + 8, v + per, cell_tallies_.data() + c * tally_count_);
+  }
 }
 
 }  // namespace gdsmc::host

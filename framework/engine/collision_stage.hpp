@@ -161,6 +161,17 @@ class CollisionStage {
   // particle crossing a cold dense layer left its w_I high for the rest of the run (Kn = 0.02,
   // e_n = 0.7: 0.8 % of the candidates accepted after 1500 tau0).
   void set_layer_majorants(const CellMoments* cells, const double* peculiar_speed_max, double temperature, double mass);
+  // A decomposed slab (engine/decomposition.hpp): run() sees this rank's layers' members only, and
+  // after its collisions every layer's results and state (counts, energy, tallies, remainder,
+  // majorant ratio) come from the layer's owner, so that every rank holds the serial totals and
+  // the same per-layer state. Null: one process.
+  void set_exchange(const LayerExchange* exchange) { exchange_ = exchange; }
+  // The candidates each group tested since the last call, summed over the run() calls (a
+  // decomposed slab's measure of a layer's collision cost); the sums start again from zero.
+  void take_candidates(std::vector<double>& per_group) {
+    per_group.assign(candidates_since_.begin(), candidates_since_.end());
+    std::fill(candidates_since_.begin(), candidates_since_.end(), 0.0);
+  }
   // The number of tallies the rule keeps (CollisionRule::tallies().size()); allocates their buffers.
   void set_tally_count(std::size_t count);
   // The flag run() polls (every 64 cells and between the slices of a large cell); Interrupted
@@ -255,6 +266,10 @@ class CollisionStage {
   std::size_t scattered_size_ = 0;
   std::uint64_t stamp_ = 0;
   const std::atomic<bool>* interrupt_ = nullptr;
+  const LayerExchange* exchange_ = nullptr;
+  std::vector<double> shared_;  // per layer: the values share_layers() sends
+  std::vector<double> candidates_since_;  // per group: candidates since take_candidates()
+  void share_layers(std::size_t layers);
   // A mixture's (collision_species.cpp): species, their masses and diameters, and per group and
   // class (a <= b, in order (0,0), (0,1), ..., (1,1), ...) the majorant ratio w_ab / scale_ab and
   // the candidate remainder.

@@ -52,6 +52,14 @@ bool DiagnosticSlots::bracketed_at(std::uint64_t step) const {
   return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) { return slot.bracketed && slot.samples_at(step); });
 }
 
+bool DiagnosticSlots::due_at(std::uint64_t step) const {
+  return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) { return slot.due_at(step); });
+}
+
+bool DiagnosticSlots::bracketed_due_at(std::uint64_t step) const {
+  return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) { return slot.bracketed && slot.due_at(step); });
+}
+
 void DiagnosticSlots::sample_bracketed(StepContext& ctx, const ParticleSpan& span, const StreamFactory& streams,
                                        const SampledMoments& moments, SamplePhase phase) {
   for (std::size_t k = 0; k < slots_.size(); ++k) {

@@ -30,6 +30,10 @@ class DiagnosticSlots {
   // Whether some diagnostic samples or records after step `step`; some bracketed one does.
   bool samples_at(std::uint64_t step) const;
   bool bracketed_at(std::uint64_t step) const;
+  // The same from the pipeline alone (every `sample_every` or `record_every` step), without what the
+  // slots have done: true whenever samples_at (bracketed_at) is, on every rank of a decomposed run.
+  bool due_at(std::uint64_t step) const;
+  bool bracketed_due_at(std::uint64_t step) const;
   // The bracketed diagnostics' samples of the state now, just before or just after the collision
   // stage of the step that ctx.step is (already advanced to the step after).
   void sample_bracketed(StepContext& ctx, const ParticleSpan& span, const StreamFactory& streams,
@@ -57,9 +61,8 @@ class DiagnosticSlots {
     bool bracketed = false;  // sampled on both sides of the collision stage (BracketedSampling, run.sampling)
     std::uint64_t bracketed_step = static_cast<std::uint64_t>(-1);  // the step of its last bracketed pair
     // Whether it samples (or records) after step `step`, unless forced to record.
-    bool samples_at(std::uint64_t step) const {
-      return last_record_step != step && (step % use->record_every == 0 || step % use->sample_every == 0);
-    }
+    bool samples_at(std::uint64_t step) const { return last_record_step != step && due_at(step); }
+    bool due_at(std::uint64_t step) const { return step % use->record_every == 0 || step % use->sample_every == 0; }
   };
   void sample(std::size_t k, StepContext& ctx, const ParticleSpan& span, const StreamFactory& streams,
               const SampledMoments& moments, std::uint32_t instance, SamplePhase phase);

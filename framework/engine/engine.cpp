@@ -141,10 +141,17 @@ void Engine::step() {
   if (layers_.enabled()) {  // due and profiling until the edges are set
     const double t = ctx_.time_in_tau0();
     if (layers_.due(t)) {
-      set_layers_from_profile();  // with this step's positions, and new moments for the new layers
+      // with this step's positions, and new moments for the new layers
+      if (ranks_) set_layers_decomposed();
+      else set_layers_from_profile();
       lap(Stage::reorder);
     } else if (layers_.profiling(t) && ctx_.step % pipeline_.moments_every == 0) {
-      layers_.sample_profile(store_.span());
+      if (!ranks_) {
+        layers_.sample_profile(store_.span());
+      } else {  // rank 0 samples the profile of the gathered particles
+        gather_whole();
+        if (ranks_->root()) on_whole_serial([&] { layers_.sample_profile(store_.span()); });
+      }
       lap(Stage::moments);
     }
   }
@@ -158,6 +165,12 @@ void Engine::step() {
 }
 
 void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings) {
+  if (ranks_) {  // on rank 0, with every particle in the single-process order; the velocities back
+    gather_whole();
+    if (ranks_->root()) on_whole_serial([&] { apply_forcings(forcings); });
+    return_whole();
+    return;
+  }
   const ParticleSpan span = store_.span();
   for (const auto& [f, index] : forcings) {
     const Streams streams = streams_.streams(StreamPurpose::forcing, index);
@@ -200,52 +213,73 @@ void Engine::apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>
 // Free flight with walls and the counting sort into layers (slab), or the velocity kick of a body
 // acceleration (homogeneous: no positions to move).
 void Engine::stream(double dt) {
+  if (!mover_) {
+    if (dot(acceleration_, acceleration_) > 0) kick(dt);
+    return;
+  }
+  StreamingTally tally;
+  const ParticleSpan span = store_.span();
+  mover_->stream(span, store_.cells(), grid_.block_counts(span.count), grid_, ctx_.time, dt, ctx_, streams_, tally,
+                 &pool_);
+  lap(Stage::flight);
+  if (ranks_) {  // the particles that left this rank's layers to their ranks, and every rank's tallies
+    migrate();
+    merge_tally(tally);
+    lap(Stage::sort);
+  }
+  sort_into_layers();
+  for (int s = 0; s < 2; ++s) {
+    walls_.add(s, tally.sides[s]);
+    ledger_.add_wall(s, tally.sides[s].energy);
+  }
+  if (species_mass()) walls_.add_species(tally.species_sides.data(), StreamingTally::kMaxSpecies);
+  if (!accelerations_.empty()) ledger_.add_forcing(accelerations_[0], tally.acceleration_energy);
+}
+
+// After the flight: the layers' ranges; their member lists are written by the collision stage,
+// interleaved with the layers' collisions (CollisionStage::PendingMembers), except when they are
+// needed first (members_written_by_collisions): then sorted now, and at a reordering storage is
+// put in their order.
+void Engine::sort_into_layers() {
+  const std::size_t n = store_.size();
+  grid_.place_blocks(n);
+  if (members_written_by_collisions()) {
+    lap(Stage::sort);
+    return;
+  }
+  grid_.scatter_blocks(store_.cells(), n, &pool_);
+  if (ranks_) sort_members_by_key();
+  lap(Stage::sort);
+  if (!reorders_now()) return;
+  permute_by_layer();  // the layers just sorted from the fresh cell[]
+  if (ranks_) rebalance();
+  lap(Stage::reorder);
+}
+
+// A homogeneous system's body acceleration: every velocity kicked by g dt.
+void Engine::kick(double dt) {
   const ParticleSpan span = store_.span();
   const double g2 = dot(acceleration_, acceleration_);
-  if (mover_) {
-    StreamingTally tally;
-    mover_->stream(span, store_.cells(), grid_.block_counts(span.count), grid_, ctx_.time, dt, ctx_, streams_, tally,
-                   &pool_);
-    lap(Stage::flight);
-    // The layers' ranges now; their member lists are written by the collision stage, interleaved
-    // with the layers' collisions (CollisionStage::PendingMembers), except before a reordering.
-    grid_.place_blocks(span.count);
-    if (members_written_by_collisions()) {
-      lap(Stage::sort);
-    } else {
-      grid_.scatter_blocks(store_.cells(), span.count, &pool_);
-      lap(Stage::sort);
-      permute_by_layer();  // the layers just sorted from the fresh cell[]
-      lap(Stage::reorder);
-    }
-    for (int s = 0; s < 2; ++s) {
-      walls_.add(s, tally.sides[s]);
-      ledger_.add_wall(s, tally.sides[s].energy);
-    }
-    if (species_mass()) walls_.add_species(tally.species_sides.data(), StreamingTally::kMaxSpecies);
-    if (!accelerations_.empty()) ledger_.add_forcing(accelerations_[0], tally.acceleration_energy);
-  } else if (g2 > 0) {
-    // Blocks of the moment pieces' size, their energies added in block order.
-    const std::size_t block = CellGrid::kMomentBlock, blocks = (span.count + block - 1) / block;
-    kick_energy_.resize(blocks);
-    for_pieces(&pool_, blocks, [&](std::size_t k) {
-      double energy = 0;
-      const double* mass = species_mass();
-      for (std::size_t i = k * block, e = std::min(span.count, i + block); i < e; ++i) {
-        const double work = (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
-        energy += mass ? mass[span.species[i]] * (work + 0.5 * g2 * dt * dt) : work;  // m_i (g.v dt + g^2 dt^2 / 2)
-        span.vx[i] += acceleration_.x * dt;
-        span.vy[i] += acceleration_.y * dt;
-        span.vz[i] += acceleration_.z * dt;
-      }
-      kick_energy_[k] = energy;
-    });
+  // Blocks of the moment pieces' size, their energies added in block order.
+  const std::size_t block = CellGrid::kMomentBlock, blocks = (span.count + block - 1) / block;
+  kick_energy_.resize(blocks);
+  for_pieces(&pool_, blocks, [&](std::size_t k) {
     double energy = 0;
-    for (const double e : kick_energy_) energy += e;
-    ledger_.add_forcing(accelerations_[0],
-                        species_mass() ? energy : energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count));
-    lap(Stage::flight);
-  }
+    const double* mass = species_mass();
+    for (std::size_t i = k * block, e = std::min(span.count, i + block); i < e; ++i) {
+      const double work = (acceleration_.x * span.vx[i] + acceleration_.y * span.vy[i] + acceleration_.z * span.vz[i]) * dt;
+      energy += mass ? mass[span.species[i]] * (work + 0.5 * g2 * dt * dt) : work;  // m_i (g.v dt + g^2 dt^2 / 2)
+      span.vx[i] += acceleration_.x * dt;
+      span.vy[i] += acceleration_.y * dt;
+      span.vz[i] += acceleration_.z * dt;
+    }
+    kick_energy_[k] = energy;
+  });
+  double energy = 0;
+  for (const double e : kick_energy_) energy += e;
+  ledger_.add_forcing(accelerations_[0],
+                      species_mass() ? energy : energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count));
+  lap(Stage::flight);
 }
 
 void Engine::reorder_by_layer() {
@@ -255,10 +289,12 @@ void Engine::reorder_by_layer() {
   permute_by_layer();
 }
 
-// Storage in the order of the current member lists; each layer is then a range of positions.
+// Storage in the order of the current member lists; each layer is then a range of positions (and,
+// decomposed, each particle's key its place in the single-process run's storage).
 void Engine::permute_by_layer() {
   store_.permute(grid_.all_members(), &pool_);
   grid_.set_layer_order(store_.cells(), &pool_);
+  if (ranks_) renumber_keys();
 }
 
 // Per-cell collisions (000 Eq. 4.13): in a slab each layer's majorant follows its own temperature
@@ -343,6 +379,12 @@ std::string Engine::velocity_culprits(bool temperature) const {
 // those of the state now (measured afresh for the next use after the collisions).
 void Engine::sample_bracketed(SamplePhase phase) {
   const std::uint64_t next = ctx_.step + 1;
+  if (ranks_) {  // on rank 0, with every particle in the single-process order
+    if (!gather_due(next, true)) return;
+    gather_whole();
+    if (ranks_->root()) on_whole_serial([&] { sample_bracketed(phase); });
+    return;
+  }
   if (!diagnostics_.bracketed_at(next)) return;
   const std::uint64_t step = ctx_.step;
   const double time = ctx_.time;
@@ -356,6 +398,13 @@ void Engine::sample_bracketed(SamplePhase phase) {
 }
 
 void Engine::sample_and_record(bool force_record) {
+  if (ranks_) {  // on rank 0, with every particle in the single-process order; its steady flag to all
+    if (!force_record && !gather_due(ctx_.step, false)) return;
+    gather_whole();
+    if (ranks_->root()) on_whole_serial([&] { sample_and_record(force_record); });
+    broadcast_steady();
+    return;
+  }
   const auto moments = [&]() -> const SampledMoments& {
     if (sampled_step_ != ctx_.step) measure_sampled_moments();
     return sampled_;
@@ -383,6 +432,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   const double earlier_seconds = wall_seconds_;  // of the segments before a resume
   auto last_report = start;
   if (finished_) {  // restored after it finished: nothing left to do
+    if (ranks_) gather_whole();  // the output's particles, on rank 0
     if (report) {
       Progress last = progress(wall_seconds_);
       last.final = true;
@@ -395,26 +445,39 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   double next_checkpoint_s = checkpointing && checkpoints->every_collisions_per_particle > 0
                                  ? ctx_.collisions_per_particle() + checkpoints->every_collisions_per_particle
                                  : -1;
+  // Decomposed, rank 0 writes the state with every particle gathered (the other ranks send theirs).
+  auto write_state = [&] {
+    if (!ranks_) return checkpoints->write(*this);
+    gather_whole();
+    if (ranks_->root()) on_whole_serial([&] { checkpoints->write(*this); });
+  };
   auto write_checkpoint = [&] {
     wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();
-    checkpoints->write(*this);
+    write_state();
     last_checkpoint = clock::now();
   };
-  // With checkpoints a step is never left half done: the interrupt is seen between steps.
-  collisions_.set_interrupt(checkpointing ? nullptr : interrupt);
+  // Whether to stop (interrupted) before the next step: decomposed, when any rank was interrupted.
+  auto interrupted = [&] {
+    const bool mine = interrupt && interrupt->load();
+    return ranks_ ? any_rank(mine) : mine;
+  };
+  // With checkpoints a step is never left half done: the interrupt is seen between steps; so too
+  // over ranks, which all stop at the same step.
+  collisions_.set_interrupt(checkpointing || ranks_ ? nullptr : interrupt);
   while (!finished(pipeline_, ctx_, steady_)) {
-    if (checkpointing && interrupt && interrupt->load()) {
+    const bool stop = interrupted();
+    if (checkpointing && stop) {
       write_checkpoint();
       throw Interrupted();
     }
-    poll_interrupt(interrupt);
+    if (stop) throw Interrupted();
     step();
     if (!std::isfinite(global_.temperature) || global_.temperature <= 0)
       throw std::runtime_error("the temperature became " + fmt("%.6g", global_.temperature) + " at step " +
                                std::to_string(ctx_.step) + " (t = " + fmt("%.6g", ctx_.time_in_tau0()) +
                                " tau0; checked every run.moments_every = " + std::to_string(pipeline_.moments_every) +
                                " steps): " + velocity_culprits(true));
-    if (report) {
+    if (report && (!ranks_ || ranks_->root())) {
       const auto now = clock::now();
       if (std::chrono::duration<double>(now - last_report).count() >= interval) {
         last_report = now;
@@ -422,27 +485,38 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
       }
     }
     if (checkpointing) {
-      const bool by_time = checkpoints->every_seconds > 0 &&
-                           std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= checkpoints->every_seconds;
+      bool by_time = checkpoints->every_seconds > 0 &&
+                     std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= checkpoints->every_seconds;
+      if (ranks_ && checkpoints->every_seconds > 0) by_time = any_rank(by_time);
       const bool by_s = next_checkpoint_s >= 0 && ctx_.collisions_per_particle() >= next_checkpoint_s;
       if (by_s)
         while (next_checkpoint_s <= ctx_.collisions_per_particle()) next_checkpoint_s += checkpoints->every_collisions_per_particle;
       if (by_time || by_s) write_checkpoint();
     }
   }
-  sample_and_record(true);
-  if (layers_.enabled()) summary_.push_back(layers_.widths_text(ctx_.time_in_tau0()));
-  diagnostics_.finish(ctx_);
-  summary_.push_back(energy_balance_text());
+  finish_diagnostics();
   collisions_.set_interrupt(nullptr);
   finished_ = true;
   wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();
-  if (checkpointing) checkpoints->write(*this);
-  if (report) {
+  if (checkpointing) write_state();
+  if (report && (!ranks_ || ranks_->root())) {
     Progress last = progress(wall_seconds_);
     last.final = true;
     report(last);
   }
+}
+
+// After the last step: the last record, the diagnostics' finish and the summary's layer widths and
+// energy balance (decomposed: rank 0, with the particles of the last record gathered).
+void Engine::finish_diagnostics() {
+  sample_and_record(true);
+  if (layers_.enabled()) summary_.push_back(layers_.widths_text(ctx_.time_in_tau0()));
+  const auto finish = [&] {
+    diagnostics_.finish(ctx_);
+    summary_.push_back(energy_balance_text());
+  };
+  if (!ranks_) finish();
+  else if (ranks_->root()) on_whole_serial(finish);
 }
 
 // The run's energy balance per particle in units of T0: E - E0 against the sum of what every
@@ -451,75 +525,6 @@ std::string Engine::energy_balance_text() {
   grid_.sampled_moments(store_.span(), system_.number_density, sampled_, &pool_);
   const double per = 1.0 / (static_cast<double>(system_.particles) * system_.initial_temperature);
   return "energy per particle [T0]: " + ledger_.balance_text(sampled_.kinetic_energy - initial_energy_, per);
-}
-
-// A mixture's species in /system (species.<name>.{index, mass, diameter, fraction, count}, mass in m
-// and diameter in sigma) and its wall tallies per species in /run
-// (boundary.<side>.<name>.{hits, momentum_x, momentum_y, momentum_z, energy}).
-void Engine::write_species(CaseOutput& out) const {
-  const std::vector<std::size_t> counts = species_counts(pipeline_.species, system_.particles);
-  out.system["species_count"] = static_cast<double>(system_.species_count);
-  for (std::size_t s = 0; s < system_.species_count; ++s) {
-    const std::string key = std::string("species.") + system_.species[s].name + ".";
-    out.system[key + "index"] = static_cast<double>(s);
-    out.system[key + "mass"] = system_.species[s].mass;
-    out.system[key + "diameter"] = system_.species[s].diameter;
-    out.system[key + "fraction"] = system_.species[s].fraction;
-    out.system[key + "count"] = static_cast<double>(counts[s]);
-  }
-  const BoundaryTally* tallies = walls_.species_data();
-  for (std::size_t side = 0; tallies && side < 2; ++side)
-    for (std::size_t s = 0; s < system_.species_count; ++s) {
-      const BoundaryTally& t = tallies[side * system_.species_count + s];
-      const std::string key = std::string(side == 0 ? "boundary.y_min." : "boundary.y_max.") + system_.species[s].name + ".";
-      out.run[key + "hits"] = static_cast<double>(t.hits);
-      out.run[key + "momentum_x"] = t.momentum[0];
-      out.run[key + "momentum_y"] = t.momentum[1];
-      out.run[key + "momentum_z"] = t.momentum[2];
-      out.run[key + "energy"] = t.energy;
-    }
-}
-
-CaseOutput Engine::output(const ParticleStager* stage) {
-  CaseOutput out;
-  out.system = {{"particles", static_cast<double>(system_.particles)},
-                {"number_density", system_.number_density},
-                {"sigma", system_.sigma},
-                {"mass", system_.mass},
-                {"initial_temperature", system_.initial_temperature},
-                {"mean_free_path0", system_.mean_free_path0},
-                {"time_unit0", system_.time_unit0},
-                {"volume", system_.volume},
-                {"box_x", system_.box[0]},
-                {"box_y", system_.box[1]},
-                {"box_z", system_.box[2]},
-                {"layers", static_cast<double>(system_.cells)},
-                {"bins", static_cast<double>(system_.bins)}};
-  out.run = {{"steps", static_cast<double>(ctx_.step)},
-             {"final_time_tau0", ctx_.time_in_tau0()},
-             {"collisions", static_cast<double>(ctx_.collisions)},
-             {"collisions_per_particle", ctx_.collisions_per_particle()},
-             {"candidates", static_cast<double>(ctx_.candidates)},
-             {"majorant_exceeded", static_cast<double>(ctx_.majorant_exceeded)},
-             {"collisions_missed_by_majorant", missed_collisions_},
-             {"collision_energy_change", ctx_.collision_energy_change},
-             {"kinetic_energy_initial", initial_energy_},
-             {"kinetic_energy_final", sampled_.kinetic_energy},
-             {"wall_seconds", wall_seconds_},
-             {"reached_steady_state", steady_ ? 1.0 : 0.0}};
-  layers_.write(out);
-  ledger_.write(out.run);
-  if (system_.geometry == Geometry::slab) walls_.write(out.run);
-  out.plugins = plugin_provenance(pipeline_);
-  out.diagnostics = diagnostics_.outputs();
-  if (species_mass()) write_species(out);
-  if (pipeline_.output_particles) {
-    const ParticleSpan span = store_.span();
-    std::vector<double> species;
-    if (span.species) species.assign(span.species, span.species + span.count);
-    out.particles = particle_datasets(span, system_, span.species ? species.data() : nullptr, stage);
-  }
-  return out;
 }
 
 }  // namespace gdsmc::host

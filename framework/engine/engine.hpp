@@ -18,6 +18,7 @@
 #include "engine/cells.hpp"
 #include "engine/checked_plugins.hpp"
 #include "engine/collision_stage.hpp"
+#include "engine/decomposition.hpp"
 #include "engine/diagnostic_slots.hpp"
 #include "engine/interrupt.hpp"
 #include "engine/particle_store.hpp"
@@ -128,6 +129,25 @@ class Engine {
 
   using Interrupted = host::Interrupted;
 
+  // This slab run, set up (constructed or restored) on every rank of `ranks` alike, continues as
+  // one run decomposed over them (engine/decomposition.hpp, engine/engine_ranks.cpp): each rank
+  // keeps the particles of its block of layers. Every rank then calls run() (and output() on rank
+  // 0); the output and the checkpoints rank 0 writes have the bits of the single-process run.
+  // Throws std::runtime_error naming what a decomposed run does not serve yet (a homogeneous system,
+  // a mixture, plugin attributes, layers sized from the density profile, more ranks than layers).
+  void decompose(Decomposition& ranks);
+  // Why `pipeline` cannot be decomposed over `ranks` ranks, or "" when it can (what decompose()
+  // refuses but for plugin attributes, which need the plugin objects): before anything runs.
+  static std::string why_not_decomposed(const Pipeline& pipeline, int ranks);
+  bool decomposed() const { return ranks_ != nullptr; }
+  // Of a decomposed run: particles that changed rank after streaming, summed over the steps and
+  // the ranks, and the steps counted; the rebalancings of the blocks; the blocks now.
+  struct DecompositionStats {
+    std::uint64_t migrated = 0, steps = 0, rebalanced = 0;
+    std::vector<std::uint32_t> bounds;
+  };
+  DecompositionStats decomposition_stats() const;
+
  private:
   enum class Setup { full, objects_only, restore };
   Engine(const Pipeline& pipeline, std::uint32_t realization, Setup setup, unsigned threads,
@@ -153,8 +173,11 @@ class Engine {
   double time_step() const;
   void apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings);
   void stream(double dt);
+  void sort_into_layers();
+  void kick(double dt);
   void collide(double dt);
   void sample_and_record(bool force_record);
+  void finish_diagnostics();
   // The bracketed diagnostics' samples just before or just after the collision stage (SamplePhase).
   void sample_bracketed(SamplePhase phase);
   std::string energy_balance_text();
@@ -222,9 +245,71 @@ class Engine {
   bool finished_ = false;  // run() completed: finish() called, nothing left to step
   bool cells_reversed_ = false;
   // This step, the slab's member lists are placed by stream() and written by the collision stage
-  // (every step but those that reorder storage, which need the lists first).
-  bool members_written_by_collisions() const { return mover_ && ctx_.step % kReorderEvery != 0; }
+  // (every step but those that reorder storage, which need the lists first, and those whose
+  // bracketed diagnostics sample before the collisions: the sampled moments read the lists).
+  bool reorders_now() const { return ctx_.step % kReorderEvery == 0; }
+  bool members_written_by_collisions() const {
+    return mover_ && !ranks_ && !reorders_now() &&
+           !(diagnostics_.any_bracketed() && diagnostics_.bracketed_due_at(ctx_.step + 1));
+  }
   AdaptiveLayers layers_;  // system.layers: {mean_free_paths, after}
+
+  // A decomposed slab (engine_ranks.cpp): the ranks, this rank's migrants, and on rank 0 the
+  // particles gathered into key order (whole_, the single-process run's storage) with their grid.
+  Decomposition* ranks_ = nullptr;
+  ParticleStore whole_;
+  CellGrid whole_grid_;
+  std::vector<std::vector<Migrant>> outgoing_;
+  std::vector<Migrant> incoming_, packed_, gathered_;
+  std::vector<std::size_t> gathered_counts_;
+  std::vector<double> layer_values_;
+  std::uint64_t migrated_ = 0, migration_steps_ = 0, rebalanced_ = 0;
+  // Storage from this place on came by migration since the last reordering (appended, each step's
+  // arrivals in key order); before it, storage is in key order.
+  std::size_t appended_from_ = 0;
+  void sort_members_by_key();
+  // The end of the transient of system.layers: rank 0 sets the edges from its profile on the
+  // gathered particles and reorders them (as the single-process run does); every rank then takes
+  // the edges, new blocks and its new layers' particles.
+  void set_layers_decomposed();
+  void set_bounds(const std::vector<double>& cost);
+  void keep_own_layers();
+  void migrate(bool count = true);  // count: into the migration statistics (not a rebalancing's)
+  void merge_tally(StreamingTally& tally) const;
+  void renumber_keys();
+  void rebalance();
+  std::vector<double> layer_costs();
+  // Rank 0: every rank's particles in whole_, in key order, its grid sorted (every rank calls it).
+  void gather_whole();
+  // After gather_whole, rank 0 runs f as the single-process run would: whole_ and its grid as the
+  // store and the grid, and no ranks.
+  template <class F>
+  void on_whole_serial(F&& f) {
+    Decomposition* ranks = ranks_;
+    const auto swap_in = [&] {
+      std::swap(store_, whole_);
+      std::swap(grid_, whole_grid_);
+    };
+    swap_in();
+    ranks_ = nullptr;
+    try {
+      f();
+    } catch (...) {
+      ranks_ = ranks;
+      swap_in();
+      throw;
+    }
+    ranks_ = ranks;
+    swap_in();
+  }
+  // After a stage rank 0 ran on whole_ that changed velocities (forcings): every rank's back.
+  void return_whole();
+  // Whether the diagnostics sample or record after step `step` (or the bracketed ones, `bracketed`),
+  // from the pipeline alone: the same answer on every rank.
+  bool gather_due(std::uint64_t step, bool bracketed) const;
+  // Every rank's flags (interrupt, checkpoint due) or'ed, on every rank.
+  bool any_rank(bool flag) const;
+  void broadcast_steady();
 };
 
 }  // namespace gdsmc::host

@@ -12,6 +12,7 @@
 #include <gdsmc/particles.hpp>
 #include <gdsmc/state.hpp>
 
+#include "engine/decomposition.hpp"
 #include "engine/huge_page_allocator.hpp"
 #include "engine/work_pool.hpp"
 
@@ -125,6 +126,7 @@ class ParticleStore {
       if (!v->empty()) apply64(v->data());
     apply32(id_.data());
     if (!species_.empty()) apply32(species_.data());
+    if (!key_.empty()) apply32(key_.data());
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c) apply64(data_[a].data() + c * n_);
   }
@@ -134,6 +136,7 @@ class ParticleStore {
       if (!v->empty()) std::swap((*v)[i], (*v)[j]);
     std::swap(id_[i], id_[j]);
     if (!species_.empty()) std::swap(species_[i], species_[j]);
+    if (!key_.empty()) std::swap(key_[i], key_[j]);
     if (!cell_.empty()) std::swap(cell_[i], cell_[j]);
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c)
@@ -171,7 +174,78 @@ class ParticleStore {
   std::uint32_t* ids() { return id_.data(); }
   const std::vector<AttributeSpec>& attribute_specs() const { return specs_; }
 
+  // A decomposed slab (engine/decomposition.hpp): every particle's order key, its index in the
+  // single-process run's storage; keys() is nullptr until enable_keys() numbers them 0, 1, ...
+  // The key travels with its particle (permute, swap, the migrants below); no plugin sees it.
+  void enable_keys() {
+    key_.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) key_[i] = static_cast<std::uint32_t>(i);
+  }
+  std::uint32_t* keys() { return key_.empty() ? nullptr : key_.data(); }
+  // Particle i as a migrant (a store with keys and without attributes), and back into place i.
+  Migrant migrant(std::size_t i) const {
+    return {x_[i], y_[i], z_[i], vx_[i], vy_[i], vz_[i], id_[i], species_.empty() ? 0u : species_[i], cell_[i], key_[i]};
+  }
+  void set(std::size_t i, const Migrant& m) {
+    x_[i] = m.x, y_[i] = m.y, z_[i] = m.z, vx_[i] = m.vx, vy_[i] = m.vy, vz_[i] = m.vz;
+    id_[i] = m.id, cell_[i] = m.cell, key_[i] = m.key;
+    if (!species_.empty()) species_[i] = m.species;
+  }
+  // Removes every particle for which leaves(i) is true, handing it to send(i, migrant) first, and
+  // closes the gaps in order (the kept particles keep their relative order). Returns how many left.
+  template <class Leaves, class Send>
+  std::size_t remove_if(Leaves&& leaves, Send&& send) {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (leaves(i)) {
+        send(i, migrant(i));
+        continue;
+      }
+      if (k != i) move(i, k);
+      ++k;
+    }
+    const std::size_t left = n_ - k;
+    resize(k);
+    return left;
+  }
+  // Appends `in` after the last particle. Returns whether the arrays moved in memory (their
+  // pointers changed).
+  bool append(const std::vector<Migrant>& in) {
+    if (in.empty()) return false;
+    const double* before = vx_.data();
+    const std::size_t n = n_;
+    resize(n_ + in.size());
+    for (std::size_t k = 0; k < in.size(); ++k) set(n + k, in[k]);
+    return vx_.data() != before;
+  }
+  // n particles: the first min(n, size()) kept, the others zero (a store without attributes).
+  void resize(std::size_t n) {
+    if (!specs_.empty()) throw std::logic_error("ParticleStore::resize: a store with plugin attributes cannot be resized");
+    for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
+      if (!v->empty() || n_ == 0) v->resize(n);
+    id_.resize(n);
+    cell_.resize(n);
+    if (!species_.empty()) species_.resize(n);
+    if (!key_.empty() || n_ == 0) key_.resize(n);
+    n_ = n;
+  }
+  // Every column of a store with keys, resized to n (a rank's store before its particles arrive).
+  void reserve_like(std::size_t n, bool species) {
+    n_ = 0;
+    for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->clear();
+    id_.clear(), cell_.clear(), key_.clear(), species_.clear();
+    resize(n);
+    if (species) species_.assign(n, 0u);
+  }
+
  private:
+  // Particle `from` into place `to` (every column but the attributes).
+  void move(std::size_t from, std::size_t to) {
+    x_[to] = x_[from], y_[to] = y_[from], z_[to] = z_[from];
+    vx_[to] = vx_[from], vy_[to] = vy_[from], vz_[to] = vz_[from];
+    id_[to] = id_[from], cell_[to] = cell_[from], key_[to] = key_[from];
+    if (!species_.empty()) species_[to] = species_[from];
+  }
   std::size_t n_ = 0;
   ParticleArray<std::uint32_t> id_;
   ParticleArray<std::uint32_t> cell_;
@@ -180,6 +254,7 @@ class ParticleStore {
   std::vector<AttributeSpec> specs_;
   std::vector<ParticleArray<double>> data_;
   std::vector<double*> pointers_;
+  ParticleArray<std::uint32_t> key_;      // a decomposed slab's order keys; empty otherwise
   ParticleArray<std::uint32_t> scratch_;  // permute(): 4 bytes per particle, allocated at the first reordering (a slab only)
 };
 

@@ -13,6 +13,7 @@
 
 #include "study/ranks.hpp"
 #include "study/run_results.hpp"
+#include "study/slab_ranks.hpp"
 #include "study/summary.hpp"
 #include "util/text.hpp"
 
@@ -94,15 +95,29 @@ class StudyClock {
   Clock::time_point last_report_ = start_;
 };
 
+// A decomposed run's blocks and migration, on stderr (rank 0): not in the output, whose bits are
+// the single-process run's.
+void describe_decomposition(const Engine& engine, int ranks) {
+  const Engine::DecompositionStats s = engine.decomposition_stats();
+  std::string blocks;
+  for (std::size_t r = 0; r + 1 < s.bounds.size(); ++r)
+    blocks += (r ? ", " : "") + std::to_string(s.bounds[r]) + "-" + std::to_string(s.bounds[r + 1] - 1);
+  const double per_step = s.steps ? static_cast<double>(s.migrated) / static_cast<double>(s.steps) : 0.0;
+  std::cerr << "gdsmc: decomposed over " << ranks << " ranks (layers " << blocks << " at the end; "
+            << s.rebalanced << " rebalancings): " << fmt("%.4g", per_step) << " particles changed rank per step ("
+            << bytes_text(per_step * sizeof(Migrant)) << " per step)\n";
+}
+
 // Runs `run` (study index `index`), telling `report` its progress about every `interval` seconds.
 void execute(const StudyCase& sc, Run& run, const std::function<void(const Progress&)>& report, double interval,
              std::size_t index, const std::atomic<bool>* stop, unsigned threads, const CheckpointStore* checkpoints,
-             const ParticleStager* particles) {
+             const ParticleStager* particles, Decomposition* ranks) {
   const Pipeline& p = sc.pipeline;
   const std::unique_ptr<Engine> started =
       checkpoints && checkpoints->has_run(index) ? checkpoints->restore(index, sc, run.realization, threads)
                                                  : std::make_unique<Engine>(p, run.realization, threads);
   Engine& engine = *started;
+  if (ranks) engine.decompose(*ranks);
   CheckpointSchedule schedule;
   if (checkpoints) {
     schedule.every_seconds = p.checkpoint_every_seconds;
@@ -124,6 +139,10 @@ void execute(const StudyCase& sc, Run& run, const std::function<void(const Progr
   r.wall_seconds = engine.wall_seconds();
   r.stage_seconds = engine.stage_seconds();
   r.steady = engine.reached_steady_state();
+  if (ranks) {
+    if (ranks->root()) describe_decomposition(engine, ranks->size());
+    else return;  // rank 0 holds the results
+  }
   if (run.realization == 0) {
     r.output = engine.output(particles);
     r.summary = engine.summary();
@@ -229,7 +248,7 @@ class StudyRunner {
  public:
   StudyRunner(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
               double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints,
-              const ParticleStager* particles);
+              const ParticleStager* particles, Decomposition* ranks);
   // Whether this process's runs go one after the other on this thread (one worker, no MPI).
   bool serial() const { return workers_ == 1 && !exchange_; }
   // Whether this process is a rank other than 0, whose runs' results went to rank 0.
@@ -252,6 +271,7 @@ class StudyRunner {
   const std::atomic<bool>* interrupt_;
   const CheckpointStore* checkpoints_;
   const ParticleStager* particles_;  // where realization 0 writes its final particles (output.particles)
+  Decomposition* ranks_;              // --decompose: every run over every rank
   std::vector<Run> runs_;
   std::vector<std::size_t> first_run_;  // of each case
   // A case is gathered by the worker that finishes its last run (so that only the averaged
@@ -273,11 +293,12 @@ class StudyRunner {
 // Every run of the study, its slots and clock, and which runs this process executes on how many workers.
 StudyRunner::StudyRunner(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                          double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints,
-                         const ParticleStager* particles)
+                         const ParticleStager* particles, Decomposition* ranks)
     : cases_(cases),
       interrupt_(interrupt),
       checkpoints_(checkpoints),
       particles_(particles),
+      ranks_(ranks),
       first_run_(cases.size()),
       gathered_(cases.size()),
       case_summaries_(cases.size()),
@@ -302,12 +323,13 @@ StudyRunner::StudyRunner(const std::vector<StudyCase>& cases, const std::functio
   clock_.emplace(runs_.size(), report, report_interval);
   // Over the ranks of an MPI job (study/ranks.hpp) each rank runs its share of the runs, and rank 0
   // also gathers those of the others, as they finish, into the same slots as its own.
-  if (job::distributed()) exchange_ = std::make_unique<job::RunExchange>(run_costs(cases, runs_));
-  sends_ = exchange_ && !job::root();
+  // Decomposed (--decompose), every rank takes part in every run, one after the other.
+  if (job::distributed() && !ranks) exchange_ = std::make_unique<job::RunExchange>(run_costs(cases, runs_));
+  sends_ = (exchange_ && !job::root()) || (ranks && !ranks->root());
   for (std::size_t index = 0; index < runs_.size(); ++index)
     if (!exchange_ || exchange_->mine(index)) mine_.push_back(index);
-  workers_ = study_threads(cases, mine_.size());
-  per_run_ = threads_per_run(cases, mine_.size());
+  workers_ = ranks ? 1 : study_threads(cases, mine_.size());
+  per_run_ = ranks ? threads_per_run(cases, 1) : threads_per_run(cases, mine_.size());
 }
 
 // Counts run `index` as finished: its case's memory checked after the case's first run, the case
@@ -361,9 +383,27 @@ void StudyRunner::run_serial() {
   // Serial: the engine polls the interrupt flag itself; an error ends the study at once.
   for (std::size_t index = 0; index < runs_.size(); ++index) {
     name_run(index);
-    execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, interrupt_,
-            per_run_, checkpoints_, particles_);
-    finish(index);
+    if (!ranks_) {
+      execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, interrupt_,
+              per_run_, checkpoints_, particles_, nullptr);
+      finish(index);
+      continue;
+    }
+    // Decomposed: an interrupt is agreed by every rank at a step; any other failure ends the job.
+    try {
+      execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, interrupt_,
+              per_run_, checkpoints_, particles_, ranks_);
+    } catch (const Engine::Interrupted&) {
+      throw;
+    } catch (const std::exception& e) {
+      if (ranks_->size() == 1) throw;  // alone: reported and cleaned up as any failed run
+      std::cerr << "gdsmc: rank " << ranks_->rank() << " of " << ranks_->size() << ": error: "
+                << (runs_[index].label.empty() ? "" : runs_[index].label + ": ") << failure_text(e, nullptr)
+                << "\ngdsmc: the decomposed run failed on this rank; the job is ended, nothing was written\n"
+                << std::flush;
+      job::abort_job(1);
+    }
+    if (ranks_->root()) finish(index);
   }
 }
 
@@ -376,7 +416,7 @@ void StudyRunner::execute_run(std::size_t index) {
     if (sends_) exchange_->post_started(index);  // rank 0 names it if this rank dies
     name_run(index);
     execute(cases_[runs_[index].case_index], runs_[index], progress_of(index), clock_->interval(), index, &stop_,
-            per_run_, checkpoints_, particles_);
+            per_run_, checkpoints_, particles_, nullptr);
     done(index);
   } catch (...) {
     runs_[index].error = std::current_exception();
@@ -502,11 +542,11 @@ void StudyRunner::assemble(StudyResult& result, bool sweep) {
 
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt, const CheckpointStore* checkpoints,
-                      const ParticleStager* particles) {
+                      const ParticleStager* particles, Decomposition* ranks) {
   StudyResult result;
   describe_provenance(cases.front().pipeline, result.output);
   const bool sweep = cases.size() > 1 || !cases.front().label.empty();
-  StudyRunner study(cases, report, report_interval, interrupt, checkpoints, particles);
+  StudyRunner study(cases, report, report_interval, interrupt, checkpoints, particles, ranks);
   if (study.serial())
     study.run_serial();
   else

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/decomposition.hpp"
 #include "engine/engine.hpp"
 #include "output/provenance.hpp"
 #include "output/records.hpp"
@@ -58,8 +59,13 @@ struct RankLost : RankFailure {
 // throws it (RankFailure for another rank's, RankLost for a rank that died, Engine::Interrupted
 // when a rank was interrupted). `particles`, when given, takes realization 0's final particles
 // (output.particles) as each case's run ends (OutputFile::stager); without it they are copied.
+// With `ranks` (`gdsmc run --decompose`, engine/decomposition.hpp) every rank takes part in every
+// run, one run after the other, each slab decomposed over the ranks by layers; rank 0 returns the
+// result (the serial bits), the others an empty one. A failure on any rank ends the job
+// (job::abort_job): the other ranks would wait for it in their next collective.
 StudyResult run_study(const std::vector<StudyCase>& cases, const std::function<void(const StudyProgress&)>& report,
                       double report_interval, const std::atomic<bool>* interrupt,
-                      const CheckpointStore* checkpoints = nullptr, const ParticleStager* particles = nullptr);
+                      const CheckpointStore* checkpoints = nullptr, const ParticleStager* particles = nullptr,
+                      Decomposition* ranks = nullptr);
 
 }  // namespace gdsmc::host

@@ -1,0 +1,86 @@
+// `gdsmc run --decompose` in one process (a decomposition over one rank, without mpirun): the file
+// has the single-process run's bytes (wall times aside), which checks the decomposed run's own
+// paths (order keys, gathered particles for the forcings and diagnostics, shared layer sums) on
+// any machine; and what a decomposed run does not serve yet is refused before anything runs,
+// naming it. The runs over several ranks are tests/framework/study/mpi_slab_test.cpp.
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+
+namespace {
+
+using namespace gdsmc::test;
+
+void expect_the_serial_bits(const std::string& yaml, std::size_t min_entries) {
+  TempDir dir;
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const ProcessResult serial =
+      run_gdsmc({"run", pipeline.string(), "-o", "serial.h5", "--threads", "1", "--quiet"}, dir.path(), 300);
+  ASSERT_EQ(serial.exit_code, 0) << serial.describe();
+  const ProcessResult one =
+      run_gdsmc({"run", pipeline.string(), "-o", "one.h5", "--threads", "2", "--decompose"}, dir.path(), 300);
+  ASSERT_EQ(one.exit_code, 0) << one.describe();
+  EXPECT_TRUE(contains(one.err, "decomposed over 1 ranks")) << one.err;
+  const auto expected = h5::contents(dir / "serial.h5"), got = h5::contents(dir / "one.h5");
+  EXPECT_GE(expected.size(), min_entries);
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [key, bytes] : expected) {
+    const auto it = got.find(key);
+    ASSERT_NE(it, got.end()) << key;
+    EXPECT_TRUE(it->second == bytes) << key << " differs between the run and its decomposition over one rank";
+  }
+}
+
+// The bracketed diagnostics (the default run.sampling) sample before the collision stage on steps
+// where the layers' member lists would otherwise be written by that stage: the decomposed run
+// sorts the gathered particles afresh, so a stale list in the single-process run shows here.
+TEST(DecomposedRun, ALeesEdwardsSlabWithBracketedSamplingHasTheSerialBitsOnOneRank) {
+  expect_the_serial_bits(
+      "run:\n  seed: 5\n  particles: 20000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 3}\n  moments_every: 4\n  sample_every: 2\n  record_every: 40\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 30\n"
+      "initial_state: {plugin: maxwellian}\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"
+      "diagnostics: [collision_count, slab_averages, shear_rheology, pressure_tensor, energy_balance]\n"
+      "output: {file: out.h5, particles: true}\n",
+      40);
+}
+
+// A forcing that acts on the particles (the drag of the equivalent elastic model) runs on the
+// gathered particles, whose velocities go back to their ranks.
+TEST(DecomposedRun, AForcingThatActsOnTheParticlesHasTheSerialBitsOnOneRank) {
+  expect_the_serial_bits(
+      "run:\n  seed: 9\n  particles: 8000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 2}\n  record_every: 40\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
+      "initial_state: {plugin: maxwellian}\n"
+      "collision: {plugin: equivalent_elastic_hard_spheres, alpha: 0.8}\nforcings: [{plugin: drag}]\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 2}\n"
+      "diagnostics: [slab_averages, energy_balance]\n"
+      "output: {file: out.h5, particles: true}\n",
+      20);
+}
+
+const char* const kSlab =
+    "run: {seed: 1, particles: 2000, time_step: {value: 0.01, unit: tau0}, stop: {time: 0.1}}\n"
+    "system: {density: 1.0e-3, domain: slab, box: {y: 2.0}, layers: 8}\n"
+    "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+    "boundaries: {y: {plugin: specular_wall}}\ndiagnostics: [temperature]\n";
+
+TEST(DecomposedRun, WhatIsNotDecomposedYetIsRefusedBeforeAnythingRunsNamingIt) {
+  const Refusal homogeneous =
+      refuse("run: {seed: 1, particles: 2000, time_step: {value: 0.01, unit: tau0}, stop: {time: 0.1}}\n"
+             "system: {density: 1.0e-3}\ninitial_state: maxwellian\n"
+             "collision: {plugin: inelastic_hard_spheres, alpha: 0.9}\ndiagnostics: [temperature]\n",
+             {"--decompose"});
+  EXPECT_TRUE(contains(homogeneous.result.err, "--decompose: a homogeneous system has one collision cell"))
+      << homogeneous.result.err;
+  EXPECT_TRUE(contains(homogeneous.result.err, "run it without --decompose")) << homogeneous.result.err;
+  const Refusal mixture = refuse(std::string(kSlab) + "", {"--decompose", "--set",
+                                 "system.species=[{name: a, mass: 1, diameter: 1, fraction: 0.5}, "
+                                 "{name: b, mass: 2, diameter: 1, fraction: 0.5}]"});
+  EXPECT_TRUE(contains(mixture.result.err, "--decompose: a mixture (system.species) is not decomposed yet"))
+      << mixture.result.err;
+}
+
+}  // namespace

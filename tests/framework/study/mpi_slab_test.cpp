@@ -1,0 +1,195 @@
+// One slab run decomposed over the ranks of an MPI job (`mpirun -np K gdsmc run --decompose`,
+// engine/decomposition.hpp): the file rank 0 writes holds the same bytes, dataset by dataset and
+// attribute by attribute (wall times aside), as the single-process run's, at 2 and 3 ranks
+// (oversubscribed on this 2-core machine), with 1 or 2 threads per rank: a channel between a
+// diffuse and a Maxwell wall driven by a body force, a Lees-Edwards slab, and a hot slab of thin
+// blocks whose particles cross between ranks every step, a gas settling under gravity whose blocks
+// are rebalanced, and layers sized from the density profile. A decomposed job interrupted at 2 ranks
+// resumes at 3 to the same bits. Skipped when the host was built without MPI or no mpirun was found.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <regex>
+#include <thread>
+
+#include "test_support.hpp"
+
+namespace {
+
+using namespace gdsmc::test;
+
+std::vector<std::string> mpirun_args(int ranks, const std::vector<std::string>& gdsmc_args) {
+  std::vector<std::string> a{"-np", std::to_string(ranks), "--oversubscribe", "--allow-run-as-root",
+                             executable().string()};
+  a.insert(a.end(), gdsmc_args.begin(), gdsmc_args.end());
+  return a;
+}
+
+std::string why_not() {
+  if (std::string(GDSMC_MPIEXEC).empty()) return "no mpirun was found when the build was configured";
+  const ShellResult version = shell(executable().string() + " --version");
+  if (!contains(version.out, "with MPI")) return "the host was built without MPI: " + version.out;
+  return "";
+}
+
+ProcessResult mpirun(int ranks, const std::vector<std::string>& gdsmc_args, const fs::path& cwd) {
+  Process p(mpirun_args(ranks, gdsmc_args), cwd, {}, GDSMC_MPIEXEC);
+  return p.wait(300);
+}
+
+void expect_same_contents(const fs::path& expected_file, const fs::path& got_file, std::size_t min_entries) {
+  const auto expected = h5::contents(expected_file), got = h5::contents(got_file);
+  EXPECT_GE(expected.size(), min_entries);
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [key, bytes] : expected) {
+    const auto it = got.find(key);
+    ASSERT_NE(it, got.end()) << key << " missing from the decomposed run's file";
+    EXPECT_TRUE(it->second == bytes) << key << " differs between the single-process and the decomposed run";
+  }
+}
+
+// The rebalancings of the blocks, as rank 0 reports them (-1: no report).
+int rebalancings(const std::string& err) {
+  std::smatch m;
+  const std::regex line(R"(; ([0-9]+) rebalancings\))");
+  return std::regex_search(err, m, line) ? std::stoi(m[1]) : -1;
+}
+
+// The particles that changed rank per step, as rank 0 reports them.
+double migrated_per_step(const std::string& err) {
+  std::smatch m;
+  const std::regex line(R"(: ([0-9.eE+-]+) particles changed rank per step)");
+  return std::regex_search(err, m, line) ? std::stod(m[1]) : -1.0;
+}
+
+// The pipeline run serially (--threads 1) and over each of `ranks` ranks with `threads` threads
+// each, decomposed: the same file contents. Returns rank 0's stderr of the last job.
+std::string expect_decomposed_runs_give_the_serial_bits(const std::string& yaml, std::size_t min_entries,
+                                                        const std::vector<std::pair<int, int>>& ranks_threads) {
+  TempDir dir;
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const ProcessResult serial =
+      run_gdsmc({"run", pipeline.string(), "-o", "serial.h5", "--threads", "1", "--quiet"}, dir.path(), 300);
+  EXPECT_EQ(serial.exit_code, 0) << serial.describe();
+  std::string err;
+  for (const auto& [ranks, threads] : ranks_threads) {
+    const std::string out = "mpi" + std::to_string(ranks) + "x" + std::to_string(threads) + ".h5";
+    const ProcessResult mpi = mpirun(ranks, {"run", pipeline.string(), "-o", out, "--threads", std::to_string(threads),
+                                             "--decompose"},
+                                     dir.path());
+    EXPECT_EQ(mpi.exit_code, 0) << mpi.describe();
+    EXPECT_TRUE(contains(mpi.err, "decomposed over " + std::to_string(ranks) + " ranks")) << mpi.err;
+    EXPECT_EQ(lines_starting(mpi.out, "output: ").size(), 1u) << "the summary is printed once\n" << mpi.out;
+    SCOPED_TRACE(out);
+    expect_same_contents(dir / "serial.h5", dir / out, min_entries);
+    err = mpi.err;
+  }
+  return err;
+}
+
+const char* const kChannel =
+    "run:\n  seed: 11\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 4}\n"
+    "  sample_every: 2\n  record_every: 20\n"
+    "system:\n  mean_free_path: 10\n  temperature: 1.0\n  domain: slab\n  box: {y: {value: 200, unit: sigma}}\n"
+    "  layers: 40\n"
+    "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+    "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 0.005, unit: reduced}}\n"
+    "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
+    "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.7}\n"
+    "diagnostics:\n  - {plugin: poiseuille_channel, steady_window: 100, min_time: 200}\n  - energy_balance\n"
+    "  - wall_fluxes\n  - profiles\n"
+    "output: {file: out.h5, particles: true}\n";
+
+TEST(MpiSlab, AChannelWithADiffuseAndAMaxwellWallAndABodyForceHasTheSerialBitsAtTwoAndThreeRanks) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_decomposed_runs_give_the_serial_bits(kChannel, 60, {{2, 1}, {3, 1}, {2, 2}});
+}
+
+TEST(MpiSlab, ALeesEdwardsSlabHasTheSerialBitsAtTwoAndThreeRanks) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  expect_decomposed_runs_give_the_serial_bits(
+      "run:\n  seed: 5\n  particles: 12000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 4}\n  moments_every: 4\n  sample_every: 4\n  record_every: 40\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 30\n"
+      "initial_state: {plugin: maxwellian}\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"
+      "diagnostics:\n  - collision_count\n  - {plugin: local_equilibrium_clock, sample_every: 1}\n"
+      "  - slab_averages\n  - shear_rheology\n  - energy_balance\n"
+      "output: {file: out.h5, particles: true}\n",
+      40, {{2, 1}, {3, 1}});
+}
+
+// Three layers a rank and a gas so hot for its step that a particle flies about half a block per
+// step: particles cross between ranks at every step (and across the Lees-Edwards seam).
+TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  const std::string err = expect_decomposed_runs_give_the_serial_bits(
+      "run:\n  seed: 8\n  particles: 6000\n  time_step: {value: 0.1, unit: tau0}\n  stop: {time: 4}\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 1.0}\n  layers: 9\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 1}\n"
+      "diagnostics: [slab_averages, energy_balance]\n"
+      "output: {file: out.h5, particles: true}\n",
+      20, {{3, 1}});
+  // mean |v_y| dt / block = sqrt(2 T / pi m) 0.1 tau0 / (Ly / 3): of 6000 particles, about 1/4 cross
+  // a block boundary in a step; 40 steps.
+  EXPECT_GT(migrated_per_step(err), 500.0) << err;
+}
+
+// Layers sized from the density profile at the end of the transient (system.layers): rank 0 sets
+// them on the gathered particles, and every rank takes its new layers.
+TEST(MpiSlab, LayersSizedFromTheDensityProfileHaveTheSerialBits) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  std::string yaml = kChannel;
+  yaml.replace(yaml.find("  layers: 40\n"), 13, "  layers: {mean_free_paths: 0.5, after: 2}\n");
+  const std::string err = expect_decomposed_runs_give_the_serial_bits(yaml, 60, {{2, 1}, {3, 1}});
+  EXPECT_TRUE(contains(err, "layers")) << err;
+}
+
+// A gas settling under an acceleration along y piles up at the top wall: the blocks, equal in
+// particles at the start, are moved to follow the cost, and the bits stay the serial ones.
+TEST(MpiSlab, BlocksRebalancedAsAGasSettlesKeepTheSerialBits) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  const std::string err = expect_decomposed_runs_give_the_serial_bits(
+      "run:\n  seed: 21\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 6}\n"
+      "  record_every: 50\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 4.0}\n  layers: 24\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.95}\n"
+      "forcings:\n  - {plugin: body_acceleration, acceleration: 0.5, axis: y}\n"
+      "boundaries:\n  y: {plugin: specular_wall}\n"
+      "diagnostics: [slab_averages, energy_balance, profiles]\n"
+      "output: {file: out.h5, particles: true}\n",
+      30, {{3, 1}});
+  EXPECT_GE(rebalancings(err), 1) << err;
+}
+
+TEST(MpiSlab, ADecomposedJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir;
+  std::string yaml = kChannel;
+  yaml.replace(yaml.find("stop: {time: 4}"), 15, "stop: {time: 40}\n  checkpoint: {every: {collisions_per_particle: 0.2}}");
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const ProcessResult serial =
+      run_gdsmc({"run", pipeline.string(), "-o", "serial.h5", "--threads", "1", "--quiet"}, dir.path(), 300);
+  ASSERT_EQ(serial.exit_code, 0) << serial.describe();
+  Process job(mpirun_args(2, {"run", pipeline.string(), "-o", "out.h5", "--threads", "1", "--quiet", "--decompose"}),
+              dir.path(), {}, GDSMC_MPIEXEC);
+  const fs::path run = dir / "out.h5.checkpoint" / "run-0";
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!job.ended() && !fs::exists(run) && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 60)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_FALSE(job.ended()) << "the job ended before it could be interrupted\n" << job.wait().describe();
+  job.send(SIGTERM);
+  const ProcessResult stopped = job.wait(60);
+  EXPECT_NE(stopped.exit_code, 0) << stopped.describe();
+  EXPECT_FALSE(fs::exists(dir / "out.h5")) << "an interrupted job writes nothing under the output name";
+  ASSERT_TRUE(fs::exists(run)) << stopped.describe();
+  const ProcessResult resumed =
+      mpirun(3, {"run", pipeline.string(), "-o", "out.h5", "--threads", "1", "--resume", "--decompose"}, dir.path());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.describe();
+  EXPECT_TRUE(contains(resumed.err, "gdsmc: resuming from ")) << resumed.err;
+  expect_same_contents(dir / "serial.h5", dir / "out.h5", 60);
+}
+
+}  // namespace
