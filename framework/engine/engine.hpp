@@ -159,6 +159,7 @@ class Engine {
   void sample_bracketed(SamplePhase phase);
   std::string energy_balance_text();
   Progress progress(double elapsed_seconds) const;
+  void check_streaming_tally(const StreamingTally& tally) const;  // stops the run on a NaN tally
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
 
   const Pipeline& pipeline_;

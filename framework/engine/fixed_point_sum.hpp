@@ -1,0 +1,88 @@
+// A sum of doubles kept exactly as an integer number of units, so that its bits do not depend on
+// the order or the grouping of its terms: threads, blocks of particles or MPI ranks may each add
+// their share and the shares be added in any order.
+//
+// Each term x is converted once to the integer trunc(x / u) (truncation toward zero, exact: u is a
+// power of two) and added into a 128-bit two's-complement integer; parts merge by integer addition
+// (associative and commutative); value() converts the integer to the nearest double once and
+// multiplies by u (exact). The unit u = 2^(ilogb(scale) - 64) lies in (2^-65, 2^-64] * scale:
+//  - resolution: a term loses less than u = 5.4e-20 scale; a sum of n terms less than n u, against
+//    the ~2^-53 = 1.1e-16 of its own size that a double fold loses per addition;
+//  - term range: |x| < 2^86 u, at least 2^21 scale = 2.1e6 scale; a term outside it, or not finite,
+//    marks the sum invalid and value() is NaN (the integer part is then not added: no UB);
+//  - sum range: 2^127 u, at least 2^62 scale = 4.6e18 scale; with every term in range no sum of
+//    fewer than 2^41 = 2.2e12 terms can leave it (1e9 terms of 1e6 scale each are 2^115 u).
+//    Beyond that the integer wraps (unsigned arithmetic: defined, but the value is then wrong).
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace gdsmc::host {
+
+// The unit of a FixedPointSum: u and 1/u, both powers of two.
+struct FixedPointUnit {
+  static constexpr int kBits = 64;  // u = 2^(ilogb(scale) - kBits)
+  double unit = 0x1p-64;
+  double per_unit = 0x1p64;
+  // The unit for terms of order `scale` (> 0 and finite; otherwise that of scale = 1).
+  static FixedPointUnit of(double scale) {
+    FixedPointUnit u;
+    if (scale > 0 && std::isfinite(scale)) {
+      const int e = std::ilogb(scale) - kBits;
+      u.unit = std::ldexp(1.0, e);
+      u.per_unit = std::ldexp(1.0, -e);
+    }
+    return u;
+  }
+  bool operator==(const FixedPointUnit&) const = default;
+};
+
+class FixedPointSum {
+ public:
+  static constexpr double kTermLimit = 0x1p86;  // |x / u| below this; 2^127 / 2^86 = 2^41 terms fit
+  using Words = std::array<std::uint64_t, 3>;    // low and high 64 bits, then 1 if invalid
+
+  // Adds trunc(x / u): x / u is exact (u a power of two), its two truncating conversions too
+  // (high = trunc(q 2^-32) is an integer below 2^54, q - high 2^32 is q's bits below 2^32).
+  void add(double x, const FixedPointUnit& u) {
+    double q = x * u.per_unit;
+    const bool in_range = std::fabs(q) < kTermLimit;  // false for NaN and infinities
+    invalid_ |= !in_range;
+    q = in_range ? q : 0.0;
+    const auto high = static_cast<std::int64_t>(q * 0x1p-32);
+    const auto low = static_cast<std::int64_t>(q - static_cast<double>(high) * 0x1p32);
+    units_ += (static_cast<Integer>(static_cast<__int128>(high)) << 32) + static_cast<Integer>(static_cast<__int128>(low));
+  }
+  FixedPointSum& operator+=(const FixedPointSum& other) {
+    units_ += other.units_;
+    invalid_ |= other.invalid_;
+    return *this;
+  }
+  // The sum in the units' scale: the integer rounded to the nearest double, times u; NaN if a
+  // term was out of range or not finite.
+  double value(const FixedPointUnit& u) const {
+    if (invalid_) return std::numeric_limits<double>::quiet_NaN();
+    return static_cast<double>(static_cast<__int128>(units_)) * u.unit;
+  }
+  bool invalid() const { return invalid_; }
+  // The exact state, for sending elsewhere (another rank) and adding there with from_words().
+  Words words() const {
+    return {static_cast<std::uint64_t>(units_), static_cast<std::uint64_t>(units_ >> 64), invalid_ ? 1u : 0u};
+  }
+  static FixedPointSum from_words(const Words& w) {
+    FixedPointSum s;
+    s.units_ = (static_cast<Integer>(w[1]) << 64) | w[0];
+    s.invalid_ = w[2] != 0;
+    return s;
+  }
+  bool operator==(const FixedPointSum&) const = default;
+
+ private:
+  using Integer = unsigned __int128;  // two's complement, wrapping: no signed overflow
+  Integer units_ = 0;
+  bool invalid_ = false;
+};
+
+}  // namespace gdsmc::host
