@@ -2,11 +2,11 @@
 // the order or the grouping of its terms: threads, blocks of particles or MPI ranks may each add
 // their share and the shares be added in any order.
 //
-// Each term x is converted once to the integer trunc(x / u) (truncation toward zero, exact: u is a
+// Each term x is converted once to the integer nearest to x / u (ties to even; x / u is exact, u a
 // power of two) and added into a 128-bit two's-complement integer; parts merge by integer addition
 // (associative and commutative); value() converts the integer to the nearest double once and
 // multiplies by u (exact). The unit u = 2^(ilogb(scale) - 64) lies in (2^-65, 2^-64] * scale:
-//  - resolution: a term loses less than u = 5.4e-20 scale; a sum of n terms less than n u, against
+//  - resolution: a term loses at most u/2 = 2.7e-20 scale; a sum of n terms at most n u/2, against
 //    the ~2^-53 = 1.1e-16 of its own size that a double fold loses per addition;
 //  - term range: |x| < 2^86 u, at least 2^21 scale = 2.1e6 scale; a term outside it, or not finite,
 //    marks the sum invalid and value() is NaN (the integer part is then not added: no UB);
@@ -15,6 +15,7 @@
 //    Beyond that the integer wraps (unsigned arithmetic: defined, but the value is then wrong).
 #pragma once
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -42,18 +43,37 @@ struct FixedPointUnit {
 class FixedPointSum {
  public:
   static constexpr double kTermLimit = 0x1p86;  // |x / u| below this; 2^127 / 2^86 = 2^41 terms fit
-  using Words = std::array<std::uint64_t, 3>;    // low and high 64 bits, then 1 if invalid
+  static constexpr int kSplit = 40;             // x / u = high 2^40 + low
+  using Words = std::array<std::uint64_t, 3>;   // low and high 64 bits, then 1 if invalid
 
-  // Adds trunc(x / u): x / u is exact (u a power of two), its two truncating conversions too
-  // (high = trunc(q 2^-32) is an integer below 2^54, q - high 2^32 is q's bits below 2^32).
-  void add(double x, const FixedPointUnit& u) {
+  // A term as the integer nearest to q = x / u (ties to even), in two parts: high = nearest(q 2^-40),
+  // then low = nearest(q - high 2^40), so that high 2^40 + low = nearest(q). Double operations only
+  // (a loop of them vectorizes): x / u is exact (u a power of two), adding 1.5 2^52 rounds a value
+  // below 2^51 to an integer held in the low bits of the result, and q - high 2^40 is exact (it is
+  // q's bits below 2^40, on q's own grid). |high| < 2^46, |low| <= 2^39. A term out of range (or
+  // NaN) gives out_of_range = 1 and parts 0.
+  struct Parts {
+    std::int64_t high, low, out_of_range;
+  };
+  static Parts split(double x, const FixedPointUnit& u) {
+    constexpr double round = 0x1.8p52;
     double q = x * u.per_unit;
     const bool in_range = std::fabs(q) < kTermLimit;  // false for NaN and infinities
-    invalid_ |= !in_range;
     q = in_range ? q : 0.0;
-    const auto high = static_cast<std::int64_t>(q * 0x1p-32);
-    const auto low = static_cast<std::int64_t>(q - static_cast<double>(high) * 0x1p32);
-    units_ += (static_cast<Integer>(static_cast<__int128>(high)) << 32) + static_cast<Integer>(static_cast<__int128>(low));
+    const double high = q * 0x1p-40 + round;
+    const double low = (q - (high - round) * 0x1p40) + round;
+    return {std::bit_cast<std::int64_t>(high) - std::bit_cast<std::int64_t>(round),
+            std::bit_cast<std::int64_t>(low) - std::bit_cast<std::int64_t>(round), in_range ? 0 : 1};
+  }
+  void add(double x, const FixedPointUnit& u) {
+    const Parts p = split(x, u);
+    add(p.high, p.low, p.out_of_range);
+  }
+  // Sums of Parts: sum of high, sum of low, sum (or or) of out_of_range. Integer sums, so a loop
+  // may add its terms' parts in any order; below 2^17 terms they do not overflow.
+  void add(std::int64_t high, std::int64_t low, std::int64_t out_of_range) {
+    units_ += (static_cast<Integer>(static_cast<__int128>(high)) << kSplit) + static_cast<Integer>(static_cast<__int128>(low));
+    invalid_ |= out_of_range != 0;
   }
   FixedPointSum& operator+=(const FixedPointSum& other) {
     units_ += other.units_;

@@ -192,6 +192,24 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fly_pass(
     if constexpr (Equal) layer[k] = index(y1);
   }
 }
+
+// The body force's work on a chunk's particles (e[k] of fly_pass, 0 for those left to
+// fly_with_hits), each weighed by its species' mass in a mixture, as the sums of its terms' fixed-point
+// parts (FixedPointSum::split): integer sums, so the compiler adds them in vector lanes and still
+// gets the integers of one term after another. The same versions as fly_pass, the same bits.
+template <bool Weighted>
+__attribute__((target_clones("avx512f", "avx2", "default"))) FixedPointSum::Parts work_parts(
+    const double* __restrict e, const std::uint32_t* __restrict species, const double* __restrict mass, std::size_t m,
+    const FixedPointUnit unit) {
+  std::int64_t high = 0, low = 0, out = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const FixedPointSum::Parts p = FixedPointSum::split(Weighted ? mass[species[k]] * e[k] : e[k], unit);
+    high += p.high;
+    low += p.low;
+    out |= p.out_of_range;
+  }
+  return {high, low, out};
+}
 }  // namespace
 
 template <bool Accelerated, class LayerOf>
@@ -220,18 +238,19 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       fly_pass<Accelerated, Accelerated, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_.y, g_.z, e, out, far, layer);
     else
       fly_pass<Accelerated, false, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_.y, g_.z, e, out, far, layer);
-    // Pass 2, in index order: the hits listed, the wraps of far positions, the work summed (in
-    // fixed point: the same bits in any order), the layer and its count. The work's conversion and
-    // sum run beside the counting, where a loop of their own left the core waiting on the sum.
+    if constexpr (Accelerated) {
+      const FixedPointSum::Parts w = mass_ ? work_parts<true>(e, p.species + chunk, mass_, m, unit)
+                                           : work_parts<false>(e, nullptr, nullptr, m, unit);
+      energy.add(w.high, w.low, w.out_of_range);
+    }
+    // Pass 2, in index order: the hits listed, the wraps of far positions, the layer and its count.
     // The counts in four rows, particle k in row k mod 4, summed at the block's end: one counter
     // incremented particle after particle waits for its previous store, and counting runs of one
     // layer instead mispredicts wherever the layers are narrow (perf: 40 % of the pass in a
     // clustered channel of 180 layers).
     std::size_t hits = 0;
-    FixedPointSum sum = energy;  // this loop's own local: in registers through the loop
     for (std::size_t k = 0; k < m; ++k) {
       const std::size_t i = chunk + k;
-      if constexpr (Accelerated) sum.add(mass_ ? mass_[p.species[i]] * e[k] : e[k], unit);  // m_i g.v t
       if (out[k]) {
         hit[hits++] = static_cast<std::uint32_t>(i);
         continue;
@@ -244,7 +263,6 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       cell[i] = l;
       ++rows[(k & 3) * layers + l];
     }
-    energy = sum;
     for (std::size_t h = 0; h < hits; ++h) {
       const std::uint32_t i = hit[h];
       fly_with_hits(p, i, t0, dt, ctx, streams, tally);

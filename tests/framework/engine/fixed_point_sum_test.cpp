@@ -84,11 +84,11 @@ TEST(FixedPointSum, TheSameBitsInAnyOrderAndAnySplitIntoParts) {
     EXPECT_EQ(merged, in_order) << trial;
     EXPECT_EQ(bits(merged.value(u)), bits(in_order.value(u))) << trial;
   }
-  // Each term loses less than u (truncation), the conversion back half an ulp of the result, the
-  // reference an ulp or two: 10^5 u = 5.4e-15 beside a sum of order 10^7.
+  // Each term loses at most u/2 (rounding), the conversion back half an ulp of the result, the
+  // reference an ulp or two: 10^5 u/2 = 2.7e-15 beside a sum of order 10^7.
   const double value = in_order.value(u), reference = reference_sum(x);
   const double ulp = std::nextafter(std::fabs(reference), INFINITY) - std::fabs(reference);
-  EXPECT_LE(std::fabs(value - reference), static_cast<double>(x.size()) * u.unit + 2.5 * ulp)
+  EXPECT_LE(std::fabs(value - reference), 0.5 * static_cast<double>(x.size()) * u.unit + 2.5 * ulp)
       << value << " against " << reference;
   // The double fold in two of those orders does not agree to the bit: what the fixed point is for.
   double forward = 0, backward = 0;
@@ -97,15 +97,22 @@ TEST(FixedPointSum, TheSameBitsInAnyOrderAndAnySplitIntoParts) {
   EXPECT_NE(bits(forward), bits(backward));
 }
 
-TEST(FixedPointSum, TermsAreTruncatedToTheUnitAndTheIntegerRoundedOnceToNearest) {
+TEST(FixedPointSum, TermsAreRoundedToTheUnitAndTheIntegerRoundedOnceToNearest) {
   const FixedPointUnit u = FixedPointUnit::of(1.0);
   FixedPointSum s;
-  s.add(0x1p-66, u);      // a quarter of the unit: truncated to 0
-  s.add(-0x1.8p-64, u);   // -1.5 units: truncated toward zero to -1
-  s.add(0x1.cp-63, u);    // 3.5 units: 3
-  s.add(-0x1.fp-65, u);   // -0.97 units: 0
-  EXPECT_EQ(s.value(u), 0x1p-63);
-  EXPECT_EQ(FixedPointSum::from_words(s.words()).words(), (FixedPointSum::Words{2, 0, 0}));
+  s.add(0x1p-66, u);      // a quarter of the unit: 0
+  s.add(-0x1.8p-64, u);   // -1.5 units: to the even -2
+  s.add(0x1.4p-63, u);    // 2.5 units: to the even 2
+  s.add(-0x1.fp-65, u);   // -0.97 units: -1
+  s.add(0x1.cp-63, u);    // 3.5 units: 4
+  EXPECT_EQ(s.value(u), 0x1.8p-63);
+  EXPECT_EQ(FixedPointSum::from_words(s.words()).words(), (FixedPointSum::Words{3, 0, 0}));
+  // A term with bits on both sides of the split (2^40 units), its high part rounded up and its low
+  // part negative: 2^20 - 2^-32 is 2^84 - 2^32 units, every bit kept.
+  FixedPointSum wide;
+  wide.add(0x1p20 - 0x1p-32, u);
+  EXPECT_EQ(wide.value(u), 0x1p20 - 0x1p-32);
+  EXPECT_EQ(wide.words(), (FixedPointSum::Words{0xFFFFFFFF00000000ull, (1ull << 20) - 1, 0}));
   // 2^64 + 2^11 + 1 units: above the half-way point to the next double (2^64 + 2^12), so up.
   FixedPointSum big = FixedPointSum::from_words({(1ull << 11) + 1, 1, 0});
   EXPECT_EQ(big.value(u), 1.0 + 0x1p-52);
