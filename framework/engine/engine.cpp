@@ -249,13 +249,13 @@ void Engine::stream(double dt) {
   }
 }
 
-// The mover's tallies are NaN when a term was not finite or beyond the fixed-point range (2^21
+// The mover's tallies are NaN when a term was not finite or beyond the fixed-point range (2^33
 // T0 per hit or particle, engine/fixed_point_sum.hpp): the run stops, naming the source.
 void Engine::check_streaming_tally(const StreamingTally& tally) const {
   const auto finite = [](const BoundaryTally& t) {
     return std::isfinite(t.energy) && std::isfinite(t.momentum[0]) && std::isfinite(t.momentum[1]) && std::isfinite(t.momentum[2]);
   };
-  const char* beyond = ": more than 2^21 T0 (or a non-finite value) in one step of one particle is beyond the range of "
+  const char* beyond = ": more than 2^33 T0 (or a non-finite value) in one step of one particle is beyond the range of "
                        "the exact tallies; the run is stopped (use a smaller run.time_step or a gentler forcing)";
   for (int s = 0; s < 2; ++s)
     if (!finite(tally.sides[s]))

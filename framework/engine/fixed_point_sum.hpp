@@ -8,11 +8,12 @@
 // multiplies by u (exact). The unit u = 2^(ilogb(scale) - 64) lies in (2^-65, 2^-64] * scale:
 //  - resolution: a term loses at most u/2 = 2.7e-20 scale; a sum of n terms at most n u/2, against
 //    the ~2^-53 = 1.1e-16 of its own size that a double fold loses per addition;
-//  - term range: |x| < 2^86 u, at least 2^21 scale = 2.1e6 scale; a term outside it, or not finite,
+//  - term range: |x| < 2^98 u, at least 2^33 scale = 8.6e9 scale; a term outside it, or not finite,
 //    marks the sum invalid and value() is NaN (the integer part is then not added: no UB);
-//  - sum range: 2^127 u, at least 2^62 scale = 4.6e18 scale; with every term in range no sum of
-//    fewer than 2^41 = 2.2e12 terms can leave it (1e9 terms of 1e6 scale each are 2^115 u).
-//    Beyond that the integer wraps (unsigned arithmetic: defined, but the value is then wrong).
+//  - sum range: |sum| < 2^127 u, at least 2^62 scale = 4.6e18 scale (1e9 terms of 1e6 scale each
+//    are 2^114 u). A sum beyond wraps around (unsigned arithmetic: defined, but the value is then
+//    wrong); it takes more than 2^29 = 5.4e8 terms at the term limit, 4.6e12 terms of 1e6 scale.
+// The conversion's products are by powers of two (exact), so a fused multiply-add changes nothing.
 #pragma once
 #include <array>
 #include <bit>
@@ -42,15 +43,15 @@ struct FixedPointUnit {
 
 class FixedPointSum {
  public:
-  static constexpr double kTermLimit = 0x1p86;  // |x / u| below this; 2^127 / 2^86 = 2^41 terms fit
-  static constexpr int kSplit = 40;             // x / u = high 2^40 + low
+  static constexpr double kTermLimit = 0x1p98;  // |x / u| below this
+  static constexpr int kSplit = 48;             // x / u = high 2^48 + low
   using Words = std::array<std::uint64_t, 3>;   // low and high 64 bits, then 1 if invalid
 
-  // A term as the integer nearest to q = x / u (ties to even), in two parts: high = nearest(q 2^-40),
-  // then low = nearest(q - high 2^40), so that high 2^40 + low = nearest(q). Double operations only
+  // A term as the integer nearest to q = x / u (ties to even), in two parts: high = nearest(q 2^-48),
+  // then low = nearest(q - high 2^48), so that high 2^48 + low = nearest(q). Double operations only
   // (a loop of them vectorizes): x / u is exact (u a power of two), adding 1.5 2^52 rounds a value
-  // below 2^51 to an integer held in the low bits of the result, and q - high 2^40 is exact (it is
-  // q's bits below 2^40, on q's own grid). |high| < 2^46, |low| <= 2^39. A term out of range (or
+  // below 2^51 to an integer held in the low bits of the result, and q - high 2^48 is exact (it is
+  // q's bits below 2^48, on q's own grid). |high| <= 2^50, |low| <= 2^47. A term out of range (or
   // NaN) gives out_of_range = 1 and parts 0.
   struct Parts {
     std::int64_t high, low, out_of_range;
@@ -60,8 +61,8 @@ class FixedPointSum {
     double q = x * u.per_unit;
     const bool in_range = std::fabs(q) < kTermLimit;  // false for NaN and infinities
     q = in_range ? q : 0.0;
-    const double high = q * 0x1p-40 + round;
-    const double low = (q - (high - round) * 0x1p40) + round;
+    const double high = q * 0x1p-48 + round;
+    const double low = (q - (high - round) * 0x1p48) + round;
     return {std::bit_cast<std::int64_t>(high) - std::bit_cast<std::int64_t>(round),
             std::bit_cast<std::int64_t>(low) - std::bit_cast<std::int64_t>(round), in_range ? 0 : 1};
   }
@@ -70,7 +71,7 @@ class FixedPointSum {
     add(p.high, p.low, p.out_of_range);
   }
   // Sums of Parts: sum of high, sum of low, sum (or or) of out_of_range. Integer sums, so a loop
-  // may add its terms' parts in any order; below 2^17 terms they do not overflow.
+  // may add its terms' parts in any order; below 2^12 terms they do not overflow.
   void add(std::int64_t high, std::int64_t low, std::int64_t out_of_range) {
     units_ += (static_cast<Integer>(static_cast<__int128>(high)) << kSplit) + static_cast<Integer>(static_cast<__int128>(low));
     invalid_ |= out_of_range != 0;

@@ -197,6 +197,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fly_pass(
 // fly_with_hits), each weighed by its species' mass in a mixture, as the sums of its terms' fixed-point
 // parts (FixedPointSum::split): integer sums, so the compiler adds them in vector lanes and still
 // gets the integers of one term after another. The same versions as fly_pass, the same bits.
+static_assert(kChunk < 4096, "a chunk's fixed-point parts are summed in 64 bits (FixedPointSum::add)");
 template <bool Weighted>
 __attribute__((target_clones("avx512f", "avx2", "default"))) FixedPointSum::Parts work_parts(
     const double* __restrict e, const std::uint32_t* __restrict species, const double* __restrict mass, std::size_t m,

@@ -56,7 +56,7 @@ struct ExactStreamingTally {
 // written by Mover::stream after it has added a step to `exact` (so a tally streamed into over
 // several steps is their exact sum). The wall tallies and the body force's work are summed exactly
 // in fixed point, in units of at most 2^-64 T0 (energy) and 2^-64 sqrt(m T0) (momentum), terms up
-// to 2^21 and sums up to 2^62 of those scales (a term beyond, or not finite, makes its sum NaN):
+// to 2^33 and sums up to 2^62 of those scales (a term beyond, or not finite, makes its sum NaN):
 // they do not depend on threads, blocks or ranks. Ranks add their `exact` (ExactStreamingTally +=,
 // each FixedPointSum sent as its words()) before one to_values() with the mover's tally_units().
 struct StreamingTally {

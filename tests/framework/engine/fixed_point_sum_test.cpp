@@ -107,7 +107,7 @@ TEST(FixedPointSum, TermsAreRoundedToTheUnitAndTheIntegerRoundedOnceToNearest) {
   s.add(0x1.cp-63, u);    // 3.5 units: 4
   EXPECT_EQ(s.value(u), 0x1.8p-63);
   EXPECT_EQ(FixedPointSum::from_words(s.words()).words(), (FixedPointSum::Words{3, 0, 0}));
-  // A term with bits on both sides of the split (2^40 units), its high part rounded up and its low
+  // A term with bits on both sides of the split (2^48 units), its high part rounded up and its low
   // part negative: 2^20 - 2^-32 is 2^84 - 2^32 units, every bit kept.
   FixedPointSum wide;
   wide.add(0x1p20 - 0x1p-32, u);
@@ -126,10 +126,10 @@ TEST(FixedPointSum, TermsAreRoundedToTheUnitAndTheIntegerRoundedOnceToNearest) {
 }
 
 TEST(FixedPointSum, ANonFiniteOrOutOfRangeTermMakesTheSumNaNInAnyOrder) {
-  const FixedPointUnit u = FixedPointUnit::of(1.0);  // terms below 2^22 in magnitude
-  const double inside = std::nextafter(0x1p22, 0.0);
+  const FixedPointUnit u = FixedPointUnit::of(1.0);  // terms below 2^34 in magnitude
+  const double inside = std::nextafter(0x1p34, 0.0);
   for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                           -std::numeric_limits<double>::infinity(), 0x1p22, -0x1p22, 1e300}) {
+                           -std::numeric_limits<double>::infinity(), 0x1p34, -0x1p34, 1e300}) {
     FixedPointSum ok, broken;
     ok.add(inside, u);
     ok.add(-inside, u);
