@@ -228,6 +228,7 @@ void Engine::stream(double dt) {
     lap(Stage::sort);
   }
   sort_into_layers();
+  check_streaming_tally(tally);
   for (int s = 0; s < 2; ++s) {
     walls_.add(s, tally.sides[s]);
     ledger_.add_wall(s, tally.sides[s].energy);
@@ -280,6 +281,23 @@ void Engine::kick(double dt) {
   ledger_.add_forcing(accelerations_[0],
                       species_mass() ? energy : energy + 0.5 * g2 * dt * dt * static_cast<double>(span.count));
   lap(Stage::flight);
+}
+
+// The mover's tallies are NaN when a term was not finite or beyond the fixed-point range (2^33
+// T0 per hit or particle, engine/fixed_point_sum.hpp): the run stops, naming the source.
+void Engine::check_streaming_tally(const StreamingTally& tally) const {
+  const auto finite = [](const BoundaryTally& t) {
+    return std::isfinite(t.energy) && std::isfinite(t.momentum[0]) && std::isfinite(t.momentum[1]) && std::isfinite(t.momentum[2]);
+  };
+  const char* beyond = ": more than 2^33 T0 (or a non-finite value) in one step of one particle is beyond the range of "
+                       "the exact tallies; the run is stopped (use a smaller run.time_step or a gentler forcing)";
+  for (int s = 0; s < 2; ++s)
+    if (!finite(tally.sides[s]))
+      throw std::runtime_error(where_text(pipeline_.boundaries[s]) + " exchanged a non-finite energy or momentum with a particle " +
+                               now_text() + beyond);
+  if (!std::isfinite(tally.acceleration_energy))
+    throw std::runtime_error(where_text(pipeline_.forcings[accelerations_.empty() ? 0 : accelerations_[0]]) +
+                             " did a non-finite work on a particle " + now_text() + beyond);
 }
 
 void Engine::reorder_by_layer() {

@@ -182,6 +182,7 @@ class Engine {
   void sample_bracketed(SamplePhase phase);
   std::string energy_balance_text();
   Progress progress(double elapsed_seconds) const;
+  void check_streaming_tally(const StreamingTally& tally) const;  // stops the run on a NaN tally
   std::string now_text() const;  // "at step k (t = ... tau0, T/T0 = ...)", for errors during the run
 
   const Pipeline& pipeline_;
@@ -263,6 +264,7 @@ class Engine {
   std::vector<Migrant> incoming_, packed_, gathered_;
   std::vector<std::size_t> gathered_counts_;
   std::vector<double> layer_values_;
+  mutable std::vector<std::uint64_t> merged_words_;  // every rank's exact tallies (merge_tally)
   std::uint64_t migrated_ = 0, migration_steps_ = 0, rebalanced_ = 0;
   // Storage from this place on came by migration since the last reordering (appended, each step's
   // arrivals in key order); before it, storage is in key order.

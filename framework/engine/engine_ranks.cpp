@@ -185,31 +185,42 @@ void Engine::rebalance() {
   sort_members_by_key();
 }
 
-// The mover's tallies of every rank, added exactly (fixed point), on every rank.
+// The mover's tallies of every rank, added exactly (fixed point: integers), on every rank; then
+// their values, which are those of the single-process run (its blocks add the same integers).
 void Engine::merge_tally(StreamingTally& tally) const {
-  // TODO(fixed point): exact parts
-  constexpr std::size_t kValues = 11;
-  double mine[kValues], all_values[kValues * 64];
-  for (int s = 0; s < 2; ++s) {
-    mine[5 * s] = static_cast<double>(tally.sides[s].hits);
-    for (int a = 0; a < 3; ++a) mine[5 * s + 1 + a] = tally.sides[s].momentum[a];
-    mine[5 * s + 4] = tally.sides[s].energy;
+  constexpr std::size_t kWords = 3, kPerSide = 1 + 4 * kWords, kAll = 2 * kPerSide + kWords;
+  std::uint64_t mine[kAll];
+  const auto put = [](std::uint64_t* at, const FixedPointSum& sum) {
+    const FixedPointSum::Words w = sum.words();
+    std::copy(w.begin(), w.end(), at);
+  };
+  for (std::size_t s = 0; s < 2; ++s) {
+    const ExactBoundaryTally& t = tally.exact.sides[s];
+    std::uint64_t* at = mine + s * kPerSide;
+    at[0] = t.hits;
+    for (std::size_t a = 0; a < 3; ++a) put(at + 1 + a * kWords, t.momentum[a]);
+    put(at + 1 + 3 * kWords, t.energy);
   }
-  mine[10] = tally.acceleration_energy;
-  std::vector<double> all(kValues * static_cast<std::size_t>(ranks_->size()));
+  put(mine + 2 * kPerSide, tally.exact.acceleration_energy);
+  std::vector<std::uint64_t>& all = merged_words_;
+  all.resize(kAll * static_cast<std::size_t>(ranks_->size()));
   ranks_->all_blocks(mine, sizeof mine, all.data());
-  (void)all_values;
-  StreamingTally sum;
+  const auto get = [](const std::uint64_t* at) { return FixedPointSum::from_words({at[0], at[1], at[2]}); };
+  ExactStreamingTally sum;
   for (int r = 0; r < ranks_->size(); ++r) {
-    const double* v = all.data() + kValues * static_cast<std::size_t>(r);
-    for (int s = 0; s < 2; ++s) {
-      sum.sides[s].hits += static_cast<std::uint64_t>(v[5 * s]);
-      for (int a = 0; a < 3; ++a) sum.sides[s].momentum[a] += v[5 * s + 1 + a];
-      sum.sides[s].energy += v[5 * s + 4];
+    const std::uint64_t* v = all.data() + kAll * static_cast<std::size_t>(r);
+    ExactStreamingTally part;
+    for (std::size_t s = 0; s < 2; ++s) {
+      const std::uint64_t* at = v + s * kPerSide;
+      part.sides[s].hits = at[0];
+      for (std::size_t a = 0; a < 3; ++a) part.sides[s].momentum[a] = get(at + 1 + a * kWords);
+      part.sides[s].energy = get(at + 1 + 3 * kWords);
     }
-    sum.acceleration_energy += v[10];
+    part.acceleration_energy = get(v + 2 * kPerSide);
+    sum += part;
   }
-  tally = sum;
+  tally.exact = sum;
+  tally.to_values(mover_->tally_units(), 0);
 }
 
 void Engine::gather_whole() {

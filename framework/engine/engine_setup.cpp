@@ -207,6 +207,7 @@ void Engine::check_boundaries() {
   mover_.emplace(system_.box, acceleration_,
                  std::array<Mover::Side, 2>{Mover::Side{boundaries_[0], names[0]}, Mover::Side{boundaries_[1], names[1]}});
   mover_->set_species(species_mass(), system_.species_count);
+  mover_->set_tally_units(system_.initial_temperature, system_.mass);  // fixed-point units of T0, sqrt(m T0)
 }
 
 // Particles (full setup only) and the attributes, then every object publishes its quantities.

@@ -21,12 +21,38 @@ inline double wrap(double x, double length) {
   return x;
 }
 
-inline void add(BoundaryTally& to, const BoundaryTally& from) {
-  to.hits += from.hits;
-  for (int a = 0; a < 3; ++a) to.momentum[a] += from.momentum[a];
-  to.energy += from.energy;
-}
 }  // namespace
+
+ExactBoundaryTally& ExactBoundaryTally::operator+=(const ExactBoundaryTally& other) {
+  hits += other.hits;
+  for (int a = 0; a < 3; ++a) momentum[a] += other.momentum[a];
+  energy += other.energy;
+  return *this;
+}
+
+BoundaryTally ExactBoundaryTally::value(const TallyUnits& units) const {
+  BoundaryTally t;
+  t.hits = hits;
+  for (int a = 0; a < 3; ++a) t.momentum[a] = momentum[a].value(units.momentum);
+  t.energy = energy.value(units.energy);
+  return t;
+}
+
+ExactStreamingTally& ExactStreamingTally::operator+=(const ExactStreamingTally& other) {
+  for (int s = 0; s < 2; ++s) sides[s] += other.sides[s];
+  acceleration_energy += other.acceleration_energy;
+  for (std::size_t k = 0; k < species_sides.size(); ++k) species_sides[k] += other.species_sides[k];
+  return *this;
+}
+
+void StreamingTally::to_values(const TallyUnits& units, std::size_t species) {
+  for (int s = 0; s < 2; ++s) {
+    sides[s] = exact.sides[s].value(units);
+    for (std::size_t q = 0; q < species; ++q)
+      species_sides[s * kMaxSpecies + q] = exact.species_sides[s * kMaxSpecies + q].value(units);
+  }
+  acceleration_energy = exact.acceleration_energy.value(units.energy);
+}
 
 double first_crossing(double y0, double v, double g, double plane, double t_max) {
   const double c = y0 - plane;
@@ -57,9 +83,9 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
   const std::size_t blocks = CellGrid::sort_blocks(p.count);  // kBlock = kSortBlock: a block's counts are a sort row
   if (blocks_.size() < blocks) blocks_.resize(blocks);
   for_pieces(pool, blocks, [&](std::size_t k) {
-    StreamingTally& block = blocks_[k];
+    ExactStreamingTally& block = blocks_[k];
     block.sides = {};
-    block.acceleration_energy = 0;
+    block.acceleration_energy = {};
     if (mass_) block.species_sides = {};  // a mixture's only: one species leaves them untouched
     const std::size_t b = k * kBlock, e = std::min(p.count, b + kBlock);
     std::uint32_t* counts = layer_counts ? layer_counts + k * grid.count() : nullptr;
@@ -75,17 +101,20 @@ void Mover::stream(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* la
       else stream_block<false>(p, cell, counts, index, grid.count(), b, e, t0, dt, ctx, streams, block);
     }
   });
-  for (std::size_t k = 0; k < blocks; ++k) {  // tallies are summed per block, then blocks in order
-    const StreamingTally& block = blocks_[k];
-    for (int s = 0; s < 2; ++s) add(tally.sides[s], block.sides[s]);
-    tally.acceleration_energy += block.acceleration_energy;
+  // Integer sums: the blocks in any order give the same bits (as would any other split of the particles).
+  ExactStreamingTally& exact = tally.exact;
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const ExactStreamingTally& block = blocks_[k];
+    for (int s = 0; s < 2; ++s) exact.sides[s] += block.sides[s];
+    exact.acceleration_energy += block.acceleration_energy;
     if (mass_)
       for (int s = 0; s < 2; ++s)
         for (std::size_t q = 0; q < species_count_; ++q) {
           const std::size_t at = s * StreamingTally::kMaxSpecies + q;
-          add(tally.species_sides[at], block.species_sides[at]);
+          exact.species_sides[at] += block.species_sides[at];
         }
   }
+  tally.to_values(units_, mass_ ? species_count_ : 0);
 }
 
 namespace {
@@ -163,12 +192,31 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fly_pass(
     if constexpr (Equal) layer[k] = index(y1);
   }
 }
+
+// The body force's work on a chunk's particles (e[k] of fly_pass, 0 for those left to
+// fly_with_hits), each weighed by its species' mass in a mixture, as the sums of its terms' fixed-point
+// parts (FixedPointSum::split): integer sums, so the compiler adds them in vector lanes and still
+// gets the integers of one term after another. The same versions as fly_pass, the same bits.
+static_assert(kChunk < 4096, "a chunk's fixed-point parts are summed in 64 bits (FixedPointSum::add)");
+template <bool Weighted>
+__attribute__((target_clones("avx512f", "avx2", "default"))) FixedPointSum::Parts work_parts(
+    const double* __restrict e, const std::uint32_t* __restrict species, const double* __restrict mass, std::size_t m,
+    const FixedPointUnit unit) {
+  std::int64_t high = 0, low = 0, out = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const FixedPointSum::Parts p = FixedPointSum::split(Weighted ? mass[species[k]] * e[k] : e[k], unit);
+    high += p.high;
+    low += p.low;
+    out |= p.out_of_range;
+  }
+  return {high, low, out};
+}
 }  // namespace
 
 template <bool Accelerated, class LayerOf>
 void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32_t* counts, const LayerOf layer_of,
                          std::size_t layers, std::size_t begin, std::size_t end, double t0, double dt, const StepContext& ctx,
-                         const StreamFactory& streams, StreamingTally& tally) const {
+                         const StreamFactory& streams, ExactStreamingTally& tally) const {
   constexpr bool equal = std::is_same_v<LayerOf, CellGrid::LayerIndex>;
   const FlightArrays a{p.x.data, p.y.data, p.z.data, p.vx.data, p.vy.data, p.vz.data};
   CellGrid::LayerIndex index{};
@@ -179,7 +227,8 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
   thread_local std::vector<std::uint32_t> rows;
   rows.assign(4 * layers, 0u);
   const bool vertical = Accelerated && g_.y != 0;  // the apex test of a parabola along y
-  double energy = 0;
+  FixedPointSum energy;
+  const FixedPointUnit unit = units_.energy;
   alignas(64) double e[kChunk];
   alignas(64) std::uint64_t out[kChunk], far[kChunk];  // 0 or 1, as wide as a double lane
   alignas(64) std::uint32_t layer[kChunk];
@@ -190,19 +239,19 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       fly_pass<Accelerated, Accelerated, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_.y, g_.z, e, out, far, layer);
     else
       fly_pass<Accelerated, false, equal>(a, index, chunk, m, dt, half_, lx_, lz_, g_.x, g_.y, g_.z, e, out, far, layer);
-    // Pass 2, in index order: the hits listed, the wraps of far positions, the work summed in order
-    // (the same bits as one particle after another), the layer and its count. The work's sum is a
-    // chain of dependent additions (4 cycles each): in this loop the counting runs beside it, where
-    // a loop of its own left the core waiting on it (6 % of a clustered channel's run).
+    if constexpr (Accelerated) {
+      const FixedPointSum::Parts w = mass_ ? work_parts<true>(e, p.species + chunk, mass_, m, unit)
+                                           : work_parts<false>(e, nullptr, nullptr, m, unit);
+      energy.add(w.high, w.low, w.out_of_range);
+    }
+    // Pass 2, in index order: the hits listed, the wraps of far positions, the layer and its count.
     // The counts in four rows, particle k in row k mod 4, summed at the block's end: one counter
     // incremented particle after particle waits for its previous store, and counting runs of one
     // layer instead mispredicts wherever the layers are narrow (perf: 40 % of the pass in a
     // clustered channel of 180 layers).
     std::size_t hits = 0;
-    double sum = energy;  // this loop's own local: in a register through the loop (perf: addsd into xmm7)
     for (std::size_t k = 0; k < m; ++k) {
       const std::size_t i = chunk + k;
-      if constexpr (Accelerated) sum += mass_ ? mass_[p.species[i]] * e[k] : e[k];  // m_i g.v t
       if (out[k]) {
         hit[hits++] = static_cast<std::uint32_t>(i);
         continue;
@@ -215,7 +264,6 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
       cell[i] = l;
       ++rows[(k & 3) * layers + l];
     }
-    energy = sum;
     for (std::size_t h = 0; h < hits; ++h) {
       const std::uint32_t i = hit[h];
       fly_with_hits(p, i, t0, dt, ctx, streams, tally);
@@ -230,7 +278,7 @@ void Mover::stream_block(const ParticleSpan& p, std::uint32_t* cell, std::uint32
 }
 
 void Mover::fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, double dt, const StepContext& ctx,
-                          const StreamFactory& streams, StreamingTally& tally) const {
+                          const StreamFactory& streams, ExactStreamingTally& tally) const {
   Vec3 r{p.x[i], p.y[i], p.z[i]}, v{p.vx[i], p.vy[i], p.vz[i]};
   double left = dt;
   Rng rng;
@@ -239,7 +287,7 @@ void Mover::fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, doubl
   const std::uint32_t species = p.species_of(i);
   const double m = mass_ ? mass_[species] : 1.0;  // x 1.0: the one-species bits
   auto advance = [&](double t) {
-    tally.acceleration_energy += m * (dot(g_, v) * t + 0.5 * g2 * t * t);
+    tally.acceleration_energy.add(m * (dot(g_, v) * t + 0.5 * g2 * t * t), units_.energy);
     r = r + t * v + (0.5 * t * t) * g_;
     v = v + t * g_;
   };
@@ -287,11 +335,11 @@ void Mover::fly_with_hits(const ParticleSpan& p, std::size_t i, double t0, doubl
                                ", which does not point into the gas");
     const double dp[3] = {m * (after.x - v.x), m * (after.y - v.y), m * (after.z - v.z)};
     const double de = 0.5 * m * (dot(after, after) - dot(v, v));
-    for (BoundaryTally* t : {&tally.sides[s], mass_ ? &tally.species_sides[s * StreamingTally::kMaxSpecies + species] : nullptr}) {
+    for (ExactBoundaryTally* t : {&tally.sides[s], mass_ ? &tally.species_sides[s * StreamingTally::kMaxSpecies + species] : nullptr}) {
       if (!t) continue;
       ++t->hits;
-      for (int a = 0; a < 3; ++a) t->momentum[a] += dp[a];
-      t->energy += de;
+      for (int a = 0; a < 3; ++a) t->momentum[a].add(dp[a], units_.momentum);
+      t->energy.add(de, units_.energy);
     }
     v = after;
     r = Vec3{hit.position.x, result == HitResult::transferred ? -plane : plane, hit.position.z};
