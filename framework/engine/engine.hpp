@@ -145,6 +145,9 @@ class Engine {
   struct DecompositionStats {
     std::uint64_t migrated = 0, steps = 0, rebalanced = 0;
     std::vector<std::uint32_t> bounds;
+    // This rank's wall seconds in the migrations (collectives included: the wait for the slowest
+    // rank's flight shows here) and in gathering the particles for rank 0.
+    double migration_seconds = 0, gather_seconds = 0;
   };
   DecompositionStats decomposition_stats() const;
 
@@ -266,9 +269,7 @@ class Engine {
   std::vector<double> layer_values_;
   mutable std::vector<std::uint64_t> merged_words_;  // every rank's exact tallies (merge_tally)
   std::uint64_t migrated_ = 0, migration_steps_ = 0, rebalanced_ = 0;
-  // Storage from this place on came by migration since the last reordering (appended, each step's
-  // arrivals in key order); before it, storage is in key order.
-  std::size_t appended_from_ = 0;
+  double migration_seconds_ = 0, gather_seconds_ = 0;
   void sort_members_by_key();
   // The end of the transient of system.layers: rank 0 sets the edges from its profile on the
   // gathered particles and reorders them (as the single-process run does); every rank then takes

@@ -4,6 +4,7 @@
 // boundaries by measured cost; rank 0 gathers the particles into key order for the stages that see
 // every particle (forcings, diagnostics, checkpoints, the output).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -72,29 +73,23 @@ void Engine::set_bounds(const std::vector<double>& cost) {
 // behind: each rank set up the whole state alike).
 void Engine::keep_own_layers() {
   const std::uint32_t* cell = store_.cells();
-  store_.remove_if([&](std::size_t i) { return !ranks_->owns(cell[i]); }, [](std::size_t, const Migrant&) {});
+  store_.remove_if([&](std::size_t i) { return !ranks_->owns(cell[i]); }, [](const Migrant&) {});
   checked_collision_.bind(store_.span());
-  appended_from_ = store_.size();
   grid_.sort(store_.cells(), store_.size(), &pool_);
 }
 
-// After streaming: the particles whose new layer another rank owns go to it, and those that came
-// here are appended (in key order), to be put in key order within their layers by
-// sort_members_by_key; each block's layer counts are then counted afresh for the sort. Storage is
-// compacted in order, never shifted for an arrival: a merge into key order moved every particle
-// of the rank at every step (6 ms a step at 5e5 particles a rank).
+// After streaming: the particles whose new layer another rank owns go to it (their places filled
+// by the last particles), and those that came here are appended; sort_members_by_key then puts each
+// layer's member list in key order. Storage is never shifted: a compaction in order moved every
+// particle of a rank whose lower neighbour takes its first layer's leavers, at every step (1 ms a
+// step at 5e5 particles). Each block's layer counts are then counted afresh for the sort.
 void Engine::migrate(bool count) {
+  const auto start = std::chrono::steady_clock::now();
   for (auto& list : outgoing_) list.clear();
   const std::uint32_t* cell = store_.cells();
-  std::size_t left_below = 0;  // of the particles before appended_from_
   store_.remove_if([&](std::size_t i) { return !ranks_->owns(cell[i]); },
-                   [&](std::size_t i, const Migrant& m) {
-                     left_below += i < appended_from_;
-                     outgoing_[static_cast<std::size_t>(ranks_->owner(m.cell))].push_back(m);
-                   });
-  appended_from_ -= left_below;
+                   [&](const Migrant& m) { outgoing_[static_cast<std::size_t>(ranks_->owner(m.cell))].push_back(m); });
   ranks_->exchange(outgoing_, incoming_);
-  std::sort(incoming_.begin(), incoming_.end(), [](const Migrant& a, const Migrant& b) { return a.key < b.key; });
   if (store_.append(incoming_)) checked_collision_.bind(store_.span());
   if (count) {
     std::uint64_t moved = incoming_.size();
@@ -103,19 +98,21 @@ void Engine::migrate(bool count) {
     ++migration_steps_;
   }
   grid_.count_blocks(store_.cells(), store_.size(), &pool_);
+  migration_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // Each layer's member list in increasing key (the single-process run's order): the sort lists
-// members in storage order, which is key order up to appended_from_; a layer holding an appended
-// particle (its last member, the highest place, is at or beyond it) is sorted by key.
+// members in storage order, which is key order after a reordering; the layers where a migration
+// has put a particle out of that order are sorted by key.
 void Engine::sort_members_by_key() {
   const std::uint32_t* key = store_.keys();
-  for (std::size_t c = ranks_->first_layer(); c < ranks_->end_layer(); ++c) {
-    const std::uint32_t n = grid_.members_count(c);
+  const auto by_key = [key](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; };
+  for_pieces(&pool_, ranks_->end_layer() - ranks_->first_layer(), [&](std::size_t k) {
+    const std::size_t c = ranks_->first_layer() + k;
     std::uint32_t* m = grid_.members(c);
-    if (n < 2 || m[n - 1] < appended_from_) continue;
-    std::sort(m, m + n, [key](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
-  }
+    const std::uint32_t n = grid_.members_count(c);
+    if (!std::is_sorted(m, m + n, by_key)) std::sort(m, m + n, by_key);
+  });
 }
 
 // After the layers' permutation: layer c's particles, at local places offset_c .. offset_c + N_c - 1,
@@ -127,7 +124,6 @@ void Engine::renumber_keys() {
   for (std::size_t c = ranks_->first_layer(); c < ranks_->end_layer(); ++c) layer_values_[c] = grid_.members_count(c);
   ranks_->share(layer_values_.data(), 1);
   std::uint32_t* key = store_.keys();
-  appended_from_ = store_.size();  // storage is in layer order, and so in key order
   std::uint64_t global = 0;
   std::size_t local = 0;
   for (std::size_t c = 0; c < layers; ++c) {
@@ -224,17 +220,23 @@ void Engine::merge_tally(StreamingTally& tally) const {
 }
 
 void Engine::gather_whole() {
+  const auto start = std::chrono::steady_clock::now();
   const std::size_t n = store_.size();
+  if (packed_.capacity() < n) packed_.reserve(n + n / 8);  // headroom: the count moves with migration
   packed_.resize(n);
   for (std::size_t i = 0; i < n; ++i) packed_[i] = store_.migrant(i);
   ranks_->gather(packed_, gathered_, gathered_counts_);
-  if (!ranks_->root()) return;
+  const auto done = [&] {
+    gather_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  if (!ranks_->root()) return done();
   if (whole_.size() != system_.particles) whole_.reserve_like(system_.particles, store_.has_species());
   for (const Migrant& m : gathered_) {
     if (m.key >= whole_.size()) throw std::logic_error("gather: a key beyond the particle count");
     whole_.set(m.key, m);
   }
   whole_grid_.sort(whole_.cells(), whole_.size(), &pool_);
+  done();
 }
 
 void Engine::return_whole() {
@@ -272,7 +274,6 @@ void Engine::set_layers_decomposed() {
   store_.resize(0);
   store_.append(packed_);
   checked_collision_.bind(store_.span());
-  appended_from_ = store_.size();
   grid_.sort(store_.cells(), store_.size(), &pool_);
   grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
   set_layer_majorants();
@@ -300,6 +301,8 @@ Engine::DecompositionStats Engine::decomposition_stats() const {
   s.migrated = migrated_;
   s.steps = migration_steps_;
   s.rebalanced = rebalanced_;
+  s.migration_seconds = migration_seconds_;
+  s.gather_seconds = gather_seconds_;
   if (ranks_) s.bounds = ranks_->bounds();
   return s;
 }

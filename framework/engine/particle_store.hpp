@@ -191,21 +191,22 @@ class ParticleStore {
     id_[i] = m.id, cell_[i] = m.cell, key_[i] = m.key;
     if (!species_.empty()) species_[i] = m.species;
   }
-  // Removes every particle for which leaves(i) is true, handing it to send(i, migrant) first, and
-  // closes the gaps in order (the kept particles keep their relative order). Returns how many left.
+  // Removes every particle for which leaves(i) is true, handing it to send(migrant) first; the
+  // last particles fill the places left (so the order of the others is not kept: a decomposed
+  // slab puts its layers' member lists in key order afterwards). Returns how many left.
   template <class Leaves, class Send>
   std::size_t remove_if(Leaves&& leaves, Send&& send) {
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < n_; ++i) {
-      if (leaves(i)) {
-        send(i, migrant(i));
+    std::size_t n = n_;
+    for (std::size_t i = 0; i < n;) {
+      if (!leaves(i)) {
+        ++i;
         continue;
       }
-      if (k != i) move(i, k);
-      ++k;
+      send(migrant(i));
+      if (i != --n) move(n, i);  // the last into the place; place i is looked at again
     }
-    const std::size_t left = n_ - k;
-    resize(k);
+    const std::size_t left = n_ - n;
+    resize(n);
     return left;
   }
   // Appends `in` after the last particle. Returns whether the arrays moved in memory (their

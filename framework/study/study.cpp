@@ -105,7 +105,10 @@ void describe_decomposition(const Engine& engine, int ranks) {
   const double per_step = s.steps ? static_cast<double>(s.migrated) / static_cast<double>(s.steps) : 0.0;
   std::cerr << "gdsmc: decomposed over " << ranks << " ranks (layers " << blocks << " at the end; "
             << s.rebalanced << " rebalancings): " << fmt("%.4g", per_step) << " particles changed rank per step ("
-            << bytes_text(per_step * sizeof(Migrant)) << " per step)\n";
+            << bytes_text(per_step * sizeof(Migrant)) << " per step); rank 0: "
+            << fmt("%.3g s migrating (%.1f %% of the steps), %.3g s gathering", s.migration_seconds,
+                   100.0 * s.migration_seconds / std::max(engine.wall_seconds(), 1e-300), s.gather_seconds)
+            << "\n";
 }
 
 // Runs `run` (study index `index`), telling `report` its progress about every `interval` seconds.
