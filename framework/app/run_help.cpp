@@ -79,8 +79,8 @@ layers (particles and collision candidates) every 16 steps. The output is the sa
 single-process run at any K, thread count and block boundaries; rank 0 gathers the particles for
 the forcings that act on them, the diagnostics' samples, the checkpoints and the output, so it
 holds every particle then (about N x 64 bytes). Checkpoints resume at any K, with or without
---decompose. Not yet decomposed (refused, by name): homogeneous systems, mixtures, plugin
-attributes per particle, system.layers sized from the density profile. A failure on any rank
+--decompose. Not decomposed (refused, by name): homogeneous systems (one collision cell), more
+ranks than layers, plugins that declare per-particle attributes. A failure on any rank
 ends the job (MPI_Abort) with that rank's message. See docs/scaling.md.
 )";
 

@@ -212,6 +212,7 @@ class CellGrid {
   mutable std::vector<double> shared_;  // a decomposed slab's layers' moments, 10 per layer
   // Every layer's cell moments, sums and largest peculiar speed from its owner (exchange_).
   void share_layers(std::vector<CellMoments>& cells) const;
+  void share_mixture_layers(std::vector<CellMoments>& cells) const;  // mixture_moments.cpp
   // A mixture's (mixture_moments.cpp): the masses, and per piece and species the sums of its passes.
   const double* species_mass_ = nullptr;
   std::size_t species_count_ = 1;

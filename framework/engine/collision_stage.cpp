@@ -430,22 +430,29 @@ CollisionStage::Totals CollisionStage::run(const CollisionRule& rule, const Part
 }
 
 // Each layer's step from its owner: candidates, accepted, exceeded, largest rate, energy change,
-// missed collisions, remainder, majorant ratio, then the rule's tallies.
+// missed collisions, remainder, majorant ratio, the rule's tallies, then a mixture's ratio and
+// remainder of every pair class.
 void CollisionStage::share_layers(std::size_t layers) {
-  const std::size_t per = 8 + tally_count_;
+  const std::size_t classes = species_ > 1 ? class_count() : 0, per = 8 + tally_count_ + 2 * classes;
   shared_.resize(per * layers);
   for (std::size_t c = 0; c < layers; ++c) {
     double* v = shared_.data() + per * c;
     for (int k = 0; k < 3; ++k) v[k] = static_cast<double>(counts_[3 * c + k]);  // below 2^53: exact
     v[3] = max_rate_[c], v[4] = energy_[c], v[5] = missed_[c], v[6] = remainder_[c], v[7] = ratio_[c];
     std::copy(cell_tallies_.data() + c * tally_count_, cell_tallies_.data() + (c + 1) * tally_count_, v + 8);
+    double* w = v + 8 + tally_count_;
+    for (std::size_t k = 0; k < classes; ++k)
+      w[2 * k] = class_ratio_[c * classes + k], w[2 * k + 1] = class_remainder_[c * classes + k];
   }
   exchange_->share(shared_.data(), per);
   for (std::size_t c = 0; c < layers; ++c) {
     const double* v = shared_.data() + per * c;
     for (int k = 0; k < 3; ++k) counts_[3 * c + k] = static_cast<std::uint64_t>(v[k]);
     max_rate_[c] = v[3], energy_[c] = v[4], missed_[c] = v[5], remainder_[c] = v[6], ratio_[c] = v[7];
-    std::copy(v + 8, v + per, cell_tallies_.data() + c * tally_count_);
+    std::copy(v + 8, v + 8 + tally_count_, cell_tallies_.data() + c * tally_count_);
+    const double* w = v + 8 + tally_count_;
+    for (std::size_t k = 0; k < classes; ++k)
+      class_ratio_[c * classes + k] = w[2 * k], class_remainder_[c * classes + k] = w[2 * k + 1];
   }
 }
 

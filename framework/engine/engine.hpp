@@ -134,7 +134,7 @@ class Engine {
   // keeps the particles of its block of layers. Every rank then calls run() (and output() on rank
   // 0); the output and the checkpoints rank 0 writes have the bits of the single-process run.
   // Throws std::runtime_error naming what a decomposed run does not serve yet (a homogeneous system,
-  // a mixture, plugin attributes, layers sized from the density profile, more ranks than layers).
+  // plugin attributes, more ranks than layers).
   void decompose(Decomposition& ranks);
   // Why `pipeline` cannot be decomposed over `ranks` ranks, or "" when it can (what decompose()
   // refuses but for plugin attributes, which need the plugin objects): before anything runs.

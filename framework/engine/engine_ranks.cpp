@@ -16,7 +16,6 @@ namespace gdsmc::host {
 
 std::string Engine::why_not_decomposed(const Pipeline& p, int ranks) {
   if (p.geometry != Geometry::slab) return "a homogeneous system has one collision cell, nothing to split into layers";
-  if (p.species.size() > 1) return "a mixture (system.species) is not decomposed yet";
   if (p.layers < static_cast<std::size_t>(ranks))
     return fmt("%d ranks for %zu layers (system.layers): a rank needs at least one layer", ranks, p.layers);
   return "";
@@ -44,6 +43,7 @@ void Engine::decompose(Decomposition& ranks) {
   if (ranks.root()) {
     whole_grid_.slab(system_.particles, grid_.count(), system_.box[1], system_.cross_section());
     if (!grid_.uniform()) whole_grid_.set_edges(grid_.edges());
+    whole_grid_.set_species(species_mass(), system_.species_count);
   }
   store_.enable_keys();  // the storage order now is the single-process run's
   keep_own_layers();
@@ -184,39 +184,46 @@ void Engine::rebalance() {
 // The mover's tallies of every rank, added exactly (fixed point: integers), on every rank; then
 // their values, which are those of the single-process run (its blocks add the same integers).
 void Engine::merge_tally(StreamingTally& tally) const {
-  constexpr std::size_t kWords = 3, kPerSide = 1 + 4 * kWords, kAll = 2 * kPerSide + kWords;
-  std::uint64_t mine[kAll];
+  constexpr std::size_t kWords = 3, kPerSide = 1 + 4 * kWords;
+  // The two sides, a mixture's sides per species, then the body force's work.
+  const std::size_t species = species_mass() ? system_.species_count : 0, sides = 2 + 2 * species;
+  const std::size_t per_rank = sides * kPerSide + kWords;
+  const auto side = [&](ExactStreamingTally& t, std::size_t k) -> ExactBoundaryTally& {
+    return k < 2 ? t.sides[k] : t.species_sides[(k - 2) / species * StreamingTally::kMaxSpecies + (k - 2) % species];
+  };
+  std::vector<std::uint64_t>& all = merged_words_;
+  all.resize(per_rank * (1 + static_cast<std::size_t>(ranks_->size())));
+  std::uint64_t* mine = all.data() + per_rank * static_cast<std::size_t>(ranks_->size());
   const auto put = [](std::uint64_t* at, const FixedPointSum& sum) {
     const FixedPointSum::Words w = sum.words();
     std::copy(w.begin(), w.end(), at);
   };
-  for (std::size_t s = 0; s < 2; ++s) {
-    const ExactBoundaryTally& t = tally.exact.sides[s];
-    std::uint64_t* at = mine + s * kPerSide;
+  for (std::size_t k = 0; k < sides; ++k) {
+    const ExactBoundaryTally& t = side(tally.exact, k);
+    std::uint64_t* at = mine + k * kPerSide;
     at[0] = t.hits;
     for (std::size_t a = 0; a < 3; ++a) put(at + 1 + a * kWords, t.momentum[a]);
     put(at + 1 + 3 * kWords, t.energy);
   }
-  put(mine + 2 * kPerSide, tally.exact.acceleration_energy);
-  std::vector<std::uint64_t>& all = merged_words_;
-  all.resize(kAll * static_cast<std::size_t>(ranks_->size()));
-  ranks_->all_blocks(mine, sizeof mine, all.data());
+  put(mine + sides * kPerSide, tally.exact.acceleration_energy);
+  ranks_->all_blocks(mine, per_rank * sizeof(std::uint64_t), all.data());
   const auto get = [](const std::uint64_t* at) { return FixedPointSum::from_words({at[0], at[1], at[2]}); };
   ExactStreamingTally sum;
   for (int r = 0; r < ranks_->size(); ++r) {
-    const std::uint64_t* v = all.data() + kAll * static_cast<std::size_t>(r);
+    const std::uint64_t* v = all.data() + per_rank * static_cast<std::size_t>(r);
     ExactStreamingTally part;
-    for (std::size_t s = 0; s < 2; ++s) {
-      const std::uint64_t* at = v + s * kPerSide;
-      part.sides[s].hits = at[0];
-      for (std::size_t a = 0; a < 3; ++a) part.sides[s].momentum[a] = get(at + 1 + a * kWords);
-      part.sides[s].energy = get(at + 1 + 3 * kWords);
+    for (std::size_t k = 0; k < sides; ++k) {
+      const std::uint64_t* at = v + k * kPerSide;
+      ExactBoundaryTally& t = side(part, k);
+      t.hits = at[0];
+      for (std::size_t a = 0; a < 3; ++a) t.momentum[a] = get(at + 1 + a * kWords);
+      t.energy = get(at + 1 + 3 * kWords);
     }
-    part.acceleration_energy = get(v + 2 * kPerSide);
+    part.acceleration_energy = get(v + sides * kPerSide);
     sum += part;
   }
   tally.exact = sum;
-  tally.to_values(mover_->tally_units(), 0);
+  tally.to_values(mover_->tally_units(), species);
 }
 
 void Engine::gather_whole() {

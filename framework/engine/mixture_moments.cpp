@@ -99,34 +99,67 @@ void CellGrid::mixture_cell_moments(const ParticleSpan& p, double mean_density, 
       energy[c] += species_mass_[s] * t.c2;
     }
   }
-  double weighted_t = 0, gsum[3] = {0, 0, 0}, gmass = 0;
+  std::vector<double>& cell_mass = mixture_mass_;  // per cell: sum m_i
+  cell_mass.assign(layers_, 0.0);
   for (std::size_t c = 0; c < layers_; ++c) {
     const std::uint32_t n = members_count(c);
     CellMoments& cm = cells[c];
     cm = CellMoments{};
     cm.count = n;
     cm.number_density = slab_ ? n / cell_volume(c) : mean_density;  // n_I = N_I / (A delta y), Eq. 4.4
-    double mass = 0;
     for (std::size_t s = 0; s < K; ++s) {
       SpeciesCellMoments& sc = species_cells_[c * K + s];
       sc.temperature = sc.count >= 2 ? species_mass_[s] * sc.temperature / (3.0 * sc.count) : 0.0;
       sc.speed_max = std::sqrt(sc.speed_max);
-      mass += species_mass_[s] * sc.count;
+      cell_mass[c] += species_mass_[s] * sc.count;
     }
-    for (int a = 0; a < 3; ++a) {
-      cm.mean_velocity[a] = u[3 * c + a];  // barycentric u_I
-      gsum[a] += mass * u[3 * c + a];
-    }
-    gmass += mass;
+    for (int a = 0; a < 3; ++a) cm.mean_velocity[a] = u[3 * c + a];  // barycentric u_I
     if (n >= 2) cm.temperature = energy[c] / (3.0 * n);  // T_I = sum m_i V_i^2 / 3 N_I
-    weighted_t += n * cm.temperature;
+  }
+  if (exchange_ && slab_) share_mixture_layers(cells);
+  double weighted_t = 0, gsum[3] = {0, 0, 0}, gmass = 0;
+  std::size_t count = 0;
+  for (std::size_t c = 0; c < layers_; ++c) {
+    const CellMoments& cm = cells[c];
+    for (int a = 0; a < 3; ++a) gsum[a] += cell_mass[c] * cm.mean_velocity[a];
+    gmass += cell_mass[c];
+    weighted_t += cm.count * cm.temperature;
+    count += cm.count;
   }
   global = CellMoments{};
-  global.count = p.count;
+  global.count = count;
   global.number_density = mean_density;
-  if (p.count == 0) return;
+  if (count == 0) return;
   for (int a = 0; a < 3; ++a) global.mean_velocity[a] = gmass > 0 ? gsum[a] / gmass : 0.0;
-  global.temperature = weighted_t / static_cast<double>(p.count);  // T-bar, Eq. 4.8
+  global.temperature = weighted_t / static_cast<double>(count);  // T-bar, Eq. 4.8
+}
+
+// A decomposed slab: every layer's moments, its species' moments and its mass from the owner.
+void CellGrid::share_mixture_layers(std::vector<CellMoments>& cells) const {
+  const std::size_t K = species_count_, per = 7 + 3 * K;
+  shared_.resize(per * layers_);
+  for (std::size_t c = 0; c < layers_; ++c) {
+    double* v = shared_.data() + per * c;
+    const CellMoments& m = cells[c];
+    const double head[7] = {static_cast<double>(m.count), m.number_density, m.mean_velocity[0], m.mean_velocity[1],
+                            m.mean_velocity[2], m.temperature, mixture_mass_[c]};
+    std::copy(head, head + 7, v);
+    for (std::size_t s = 0; s < K; ++s) {
+      const SpeciesCellMoments& sc = species_cells_[c * K + s];
+      v[7 + 3 * s] = sc.count, v[8 + 3 * s] = sc.temperature, v[9 + 3 * s] = sc.speed_max;
+    }
+  }
+  exchange_->share(shared_.data(), per);
+  for (std::size_t c = 0; c < layers_; ++c) {
+    const double* v = shared_.data() + per * c;
+    CellMoments& m = cells[c];
+    m.count = static_cast<std::size_t>(v[0]);  // below 2^53: exact
+    m.number_density = v[1];
+    for (int a = 0; a < 3; ++a) m.mean_velocity[a] = v[2 + a];
+    m.temperature = v[5];
+    mixture_mass_[c] = v[6];
+    for (std::size_t s = 0; s < K; ++s) species_cells_[c * K + s] = {v[7 + 3 * s], v[8 + 3 * s], v[9 + 3 * s]};
+  }
 }
 
 void CellGrid::mixture_sampled_moments(const ParticleSpan& p, SampledMoments& out, WorkPool* pool,

@@ -4,7 +4,7 @@
 // (oversubscribed on this 2-core machine), with 1 or 2 threads per rank: a channel between a
 // diffuse and a Maxwell wall driven by a body force, a Lees-Edwards slab, and a hot slab of thin
 // blocks whose particles cross between ranks every step, a gas settling under gravity whose blocks
-// are rebalanced, and layers sized from the density profile. A decomposed job interrupted at 2 ranks
+// are rebalanced, layers sized from the density profile, and a mixture. A decomposed job interrupted at 2 ranks
 // resumes at 3 to the same bits. Skipped when the host was built without MPI or no mpirun was found.
 #include <gtest/gtest.h>
 
@@ -109,8 +109,8 @@ TEST(MpiSlab, AChannelWithADiffuseAndAMaxwellWallAndABodyForceHasTheSerialBitsAt
 TEST(MpiSlab, ALeesEdwardsSlabHasTheSerialBitsAtTwoAndThreeRanks) {
   if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
   expect_decomposed_runs_give_the_serial_bits(
-      "run:\n  seed: 5\n  particles: 12000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
-      "  stop: {collisions_per_particle: 4}\n  moments_every: 4\n  sample_every: 4\n  record_every: 40\n"
+      "run:\n  seed: 5\n  particles: 8000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 3}\n  moments_every: 4\n  sample_every: 4\n  record_every: 40\n"
       "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 30\n"
       "initial_state: {plugin: maxwellian}\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
       "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 4}\n"
@@ -135,6 +135,25 @@ TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
   // mean |v_y| dt / block = sqrt(2 T / pi m) 0.1 tau0 / (Ly / 3): of 6000 particles, about 1/4 cross
   // a block boundary in a step; 40 steps.
   EXPECT_GT(migrated_per_step(err), 500.0) << err;
+}
+
+// A mixture of two species in a channel: species columns migrate, and each pair class's majorant
+// and remainder and each species' layer moments come from the layer's owner.
+TEST(MpiSlab, AMixtureChannelHasTheSerialBitsAtTwoAndThreeRanks) {
+  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  const std::string yaml =
+      "run:\n  seed: 12\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 3}\n"
+      "  sample_every: 2\n  record_every: 20\n"
+      "system:\n  mean_free_path: 10\n  temperature: 1.0\n  domain: slab\n  box: {y: {value: 200, unit: sigma}}\n"
+      "  layers: 40\n  species:\n    - {name: light, mass: 1, diameter: 1, fraction: 0.5}\n"
+      "    - {name: heavy, mass: 3, diameter: 1.5, fraction: 0.5}\n"
+      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+      "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 0.005, unit: reduced}}\n"
+      "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
+      "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.7}\n"
+      "diagnostics: [species_moments, energy_balance, wall_fluxes]\n"
+      "output: {file: out.h5, particles: true}\n";
+  expect_decomposed_runs_give_the_serial_bits(yaml, 40, {{2, 1}, {3, 1}});
 }
 
 // Layers sized from the density profile at the end of the transient (system.layers): rank 0 sets
