@@ -50,7 +50,7 @@ gdsmc validate PIPELINE.yaml [options]
   --resume               also check that the checkpoint beside the output belongs to this
                          pipeline, gdsmc and plugins, read every file of it as run --resume
                          would, and say how many runs it holds
-  --decompose            accepted as run takes it (the pipeline is checked alike)
+  --decompose            also refuse what run --decompose would not split over the ranks
   -h, --help             the help of `validate`
 
 gdsmc plugins [NAME | FILE.so]... [options]

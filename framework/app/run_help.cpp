@@ -116,6 +116,8 @@ Options (those of `run`, so that a run's command line can be checked by changing
   --resume               also check that the checkpoint beside the output belongs to this
                          pipeline, gdsmc and plugins, and read every file of it as run --resume
                          would (checksums, each run's state); say how many runs it holds
+  --decompose            also refuse what `run --decompose` would not split over the ranks
+                         (a homogeneous system, more ranks than layers)
   -h, --help             this text
 )";
 

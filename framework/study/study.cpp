@@ -103,7 +103,7 @@ void describe_decomposition(const Engine& engine, int ranks) {
   for (std::size_t r = 0; r + 1 < s.bounds.size(); ++r)
     blocks += (r ? ", " : "") + std::to_string(s.bounds[r]) + "-" + std::to_string(s.bounds[r + 1] - 1);
   const double per_step = s.steps ? static_cast<double>(s.migrated) / static_cast<double>(s.steps) : 0.0;
-  std::cerr << "gdsmc: decomposed over " << ranks << " ranks (layers " << blocks << " at the end; "
+  std::cerr << "gdsmc: decomposed over " << ranks << (ranks == 1 ? " rank" : " ranks") << " (layers " << blocks << " at the end; "
             << s.rebalanced << " rebalancings): " << fmt("%.4g", per_step) << " particles changed rank per step ("
             << bytes_text(per_step * sizeof(Migrant)) << " per step); rank 0: "
             << fmt("%.3g s migrating (%.1f %% of the steps), %.3g s gathering", s.migration_seconds,

@@ -5,6 +5,7 @@
 // naming it. The runs over several ranks are tests/framework/study/mpi_slab_test.cpp.
 #include <gtest/gtest.h>
 
+#include "support/mpi.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -20,15 +21,8 @@ void expect_the_serial_bits(const std::string& yaml, std::size_t min_entries) {
   const ProcessResult one =
       run_gdsmc({"run", pipeline.string(), "-o", "one.h5", "--threads", "2", "--decompose"}, dir.path(), 300);
   ASSERT_EQ(one.exit_code, 0) << one.describe();
-  EXPECT_TRUE(contains(one.err, "decomposed over 1 ranks")) << one.err;
-  const auto expected = h5::contents(dir / "serial.h5"), got = h5::contents(dir / "one.h5");
-  EXPECT_GE(expected.size(), min_entries);
-  ASSERT_EQ(got.size(), expected.size());
-  for (const auto& [key, bytes] : expected) {
-    const auto it = got.find(key);
-    ASSERT_NE(it, got.end()) << key;
-    EXPECT_TRUE(it->second == bytes) << key << " differs between the run and its decomposition over one rank";
-  }
+  EXPECT_TRUE(contains(one.err, "decomposed over 1 rank (")) << one.err;
+  expect_same_contents(dir / "serial.h5", dir / "one.h5", min_entries);
 }
 
 // The bracketed diagnostics (the default run.sampling) sample before the collision stage on steps

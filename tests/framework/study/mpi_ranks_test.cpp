@@ -13,43 +13,13 @@
 #include <csignal>
 #include <thread>
 
+#include "support/mpi.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace gdsmc::test;
 
-// The arguments of mpirun for `ranks` ranks of gdsmc on this (two-core, root-run) machine.
-std::vector<std::string> mpirun_args(int ranks, const std::vector<std::string>& gdsmc_args) {
-  std::vector<std::string> a{"-np", std::to_string(ranks), "--oversubscribe", "--allow-run-as-root",
-                             executable().string()};
-  a.insert(a.end(), gdsmc_args.begin(), gdsmc_args.end());
-  return a;
-}
-
-// Why the MPI tests cannot run here ("" when they can).
-std::string why_not() {
-  if (std::string(GDSMC_MPIEXEC).empty()) return "no mpirun was found when the build was configured";
-  const ShellResult version = shell(executable().string() + " --version");
-  if (!contains(version.out, "with MPI")) return "the host was built without MPI: " + version.out;
-  return "";
-}
-
-ProcessResult mpirun(int ranks, const std::vector<std::string>& gdsmc_args, const fs::path& cwd) {
-  Process p(mpirun_args(ranks, gdsmc_args), cwd, {}, GDSMC_MPIEXEC);
-  return p.wait(300);
-}
-
-void expect_same_contents(const fs::path& expected_file, const fs::path& got_file, std::size_t min_entries) {
-  const auto expected = h5::contents(expected_file), got = h5::contents(got_file);
-  EXPECT_GE(expected.size(), min_entries);
-  ASSERT_EQ(got.size(), expected.size());
-  for (const auto& [key, bytes] : expected) {
-    const auto it = got.find(key);
-    ASSERT_NE(it, got.end()) << key << " missing from the MPI run's file";
-    EXPECT_TRUE(it->second == bytes) << key << " differs between the serial and the MPI run";
-  }
-}
 
 std::size_t count_lines(const std::string& text, const std::string& prefix) { return lines_starting(text, prefix).size(); }
 std::size_t occurrences(const std::string& text, const std::string& part) {
@@ -73,7 +43,7 @@ void expect_two_ranks_give_the_serial_bits(const std::string& yaml, std::size_t 
 }
 
 TEST(Mpi, ASweepWithRealizationsOverTwoRanksIsTheSameBitsAsTheSerialRun) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   expect_two_ranks_give_the_serial_bits(
       "run:\n  seed: 7\n  particles: 3000\n  time_step: {value: 0.02, unit: tau0}\n"
       "  stop: {collisions_per_particle: 4}\n  record_every: 10\n  realizations: 3\n"
@@ -87,7 +57,7 @@ TEST(Mpi, ASweepWithRealizationsOverTwoRanksIsTheSameBitsAsTheSerialRun) {
 }
 
 TEST(Mpi, ASlabBetweenWallsWithItsParticlesOverTwoRanksIsTheSameBitsAsTheSerialRun) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   // Two cases of one realization each: case 1 runs on rank 1, whose final particles cross to rank 0.
   expect_two_ranks_give_the_serial_bits(
       "run:\n  seed: 11\n  particles: 6000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 3}\n"
@@ -105,7 +75,7 @@ TEST(Mpi, ASlabBetweenWallsWithItsParticlesOverTwoRanksIsTheSameBitsAsTheSerialR
 }
 
 TEST(Mpi, AJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   TempDir dir;
   const fs::path pipeline = dir.write(
       "pipeline.yaml",
@@ -159,7 +129,7 @@ TEST(Mpi, AJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
 }
 
 TEST(Mpi, ARunThatThrowsOnRankOneEndsTheJobWithExitOneItsMessageAndNoOutput) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   TempDir dir;
   // Case 0 runs on rank 0 and is fine; case 1 runs on rank 1, whose diagnostic throws as the run ends.
   const fs::path pipeline = dir.write(
@@ -254,22 +224,22 @@ void expect_a_dead_rank_is_named(int dying, const std::string& signal, int ranks
 }
 
 TEST(Mpi, ARankKilledMidRunEndsTheJobNamingTheRankAndItsRunWithNoOutput) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   expect_a_dead_rank_is_named(1, "KILL", 3, false);
 }
 
 TEST(Mpi, ARankThatCrashesMidRunEndsTheJobNamingItAndKeepsTheCheckpoint) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   expect_a_dead_rank_is_named(1, "SEGV", 2, true);
 }
 
 TEST(Mpi, RankZeroKilledMidRunIsNamedByARankOnItsHostWhichRemovesItsTemporaryFile) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   expect_a_dead_rank_is_named(0, "KILL", 3, true);
 }
 
 TEST(Mpi, ValidateUnderMpirunChecksOnceAndABadPipelineIsReportedOnce) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   TempDir dir;
   const fs::path good = dir.write("good.yaml", kSmallHcsPipeline);
   ProcessResult r = mpirun(2, {"validate", good.string()}, dir.path());

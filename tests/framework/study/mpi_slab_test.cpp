@@ -13,41 +13,12 @@
 #include <regex>
 #include <thread>
 
+#include "support/mpi.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace gdsmc::test;
-
-std::vector<std::string> mpirun_args(int ranks, const std::vector<std::string>& gdsmc_args) {
-  std::vector<std::string> a{"-np", std::to_string(ranks), "--oversubscribe", "--allow-run-as-root",
-                             executable().string()};
-  a.insert(a.end(), gdsmc_args.begin(), gdsmc_args.end());
-  return a;
-}
-
-std::string why_not() {
-  if (std::string(GDSMC_MPIEXEC).empty()) return "no mpirun was found when the build was configured";
-  const ShellResult version = shell(executable().string() + " --version");
-  if (!contains(version.out, "with MPI")) return "the host was built without MPI: " + version.out;
-  return "";
-}
-
-ProcessResult mpirun(int ranks, const std::vector<std::string>& gdsmc_args, const fs::path& cwd) {
-  Process p(mpirun_args(ranks, gdsmc_args), cwd, {}, GDSMC_MPIEXEC);
-  return p.wait(300);
-}
-
-void expect_same_contents(const fs::path& expected_file, const fs::path& got_file, std::size_t min_entries) {
-  const auto expected = h5::contents(expected_file), got = h5::contents(got_file);
-  EXPECT_GE(expected.size(), min_entries);
-  ASSERT_EQ(got.size(), expected.size());
-  for (const auto& [key, bytes] : expected) {
-    const auto it = got.find(key);
-    ASSERT_NE(it, got.end()) << key << " missing from the decomposed run's file";
-    EXPECT_TRUE(it->second == bytes) << key << " differs between the single-process and the decomposed run";
-  }
-}
 
 // The rebalancings of the blocks, as rank 0 reports them (-1: no report).
 int rebalancings(const std::string& err) {
@@ -102,12 +73,12 @@ const char* const kChannel =
     "output: {file: out.h5, particles: true}\n";
 
 TEST(MpiSlab, AChannelWithADiffuseAndAMaxwellWallAndABodyForceHasTheSerialBitsAtTwoAndThreeRanks) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   expect_decomposed_runs_give_the_serial_bits(kChannel, 60, {{2, 1}, {3, 1}, {2, 2}});
 }
 
 TEST(MpiSlab, ALeesEdwardsSlabHasTheSerialBitsAtTwoAndThreeRanks) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   expect_decomposed_runs_give_the_serial_bits(
       "run:\n  seed: 5\n  particles: 8000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
       "  stop: {collisions_per_particle: 3}\n  moments_every: 4\n  sample_every: 4\n  record_every: 40\n"
@@ -123,7 +94,7 @@ TEST(MpiSlab, ALeesEdwardsSlabHasTheSerialBitsAtTwoAndThreeRanks) {
 // Three layers a rank and a gas so hot for its step that a particle flies about half a block per
 // step: particles cross between ranks at every step (and across the Lees-Edwards seam).
 TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   const std::string err = expect_decomposed_runs_give_the_serial_bits(
       "run:\n  seed: 8\n  particles: 6000\n  time_step: {value: 0.1, unit: tau0}\n  stop: {time: 4}\n"
       "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 1.0}\n  layers: 9\n"
@@ -140,7 +111,7 @@ TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
 // A mixture of two species in a channel: species columns migrate, and each pair class's majorant
 // and remainder and each species' layer moments come from the layer's owner.
 TEST(MpiSlab, AMixtureChannelHasTheSerialBitsAtTwoAndThreeRanks) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   const std::string yaml =
       "run:\n  seed: 12\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 3}\n"
       "  sample_every: 2\n  record_every: 20\n"
@@ -159,7 +130,7 @@ TEST(MpiSlab, AMixtureChannelHasTheSerialBitsAtTwoAndThreeRanks) {
 // Layers sized from the density profile at the end of the transient (system.layers): rank 0 sets
 // them on the gathered particles, and every rank takes its new layers.
 TEST(MpiSlab, LayersSizedFromTheDensityProfileHaveTheSerialBits) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   std::string yaml = kChannel;
   yaml.replace(yaml.find("  layers: 40\n"), 13, "  layers: {mean_free_paths: 0.5, after: 2}\n");
   const std::string err = expect_decomposed_runs_give_the_serial_bits(yaml, 60, {{2, 1}, {3, 1}});
@@ -169,7 +140,7 @@ TEST(MpiSlab, LayersSizedFromTheDensityProfileHaveTheSerialBits) {
 // A gas settling under an acceleration along y piles up at the top wall: the blocks, equal in
 // particles at the start, are moved to follow the cost, and the bits stay the serial ones.
 TEST(MpiSlab, BlocksRebalancedAsAGasSettlesKeepTheSerialBits) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   const std::string err = expect_decomposed_runs_give_the_serial_bits(
       "run:\n  seed: 21\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 6}\n"
       "  record_every: 50\n"
@@ -184,7 +155,7 @@ TEST(MpiSlab, BlocksRebalancedAsAGasSettlesKeepTheSerialBits) {
 }
 
 TEST(MpiSlab, ADecomposedJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
-  if (const std::string why = why_not(); !why.empty()) GTEST_SKIP() << why;
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   TempDir dir;
   std::string yaml = kChannel;
   yaml.replace(yaml.find("stop: {time: 4}"), 15, "stop: {time: 40}\n  checkpoint: {every: {collisions_per_particle: 0.2}}");
