@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "output/output_path.hpp"
 #include "study/ranks.hpp"
 
 #ifdef GDSMC_WITH_MPI
@@ -165,6 +166,7 @@ class SlabRanks final : public Decomposition {
 std::unique_ptr<Decomposition> slab_ranks() { return std::make_unique<SlabRanks>(); }
 
 void abort_job(int status) {
+  remove_live_temporaries_from_signal_handler();  // this rank's temporary output and lock (rank 0's)
 #ifdef GDSMC_WITH_MPI
   if (job::size() > 1) MPI_Abort(MPI_COMM_WORLD, status);
 #endif

@@ -12,8 +12,9 @@ namespace gdsmc::host::job {
 // The ranks of this job (job::Session must be alive). Main thread only (MPI_THREAD_FUNNELED).
 std::unique_ptr<Decomposition> slab_ranks();
 
-// Ends every rank of the job with `status` (MPI_Abort): a decomposed run whose rank failed cannot
-// go on, and the other ranks would wait for it in their next collective. Without MPI: exit(status).
+// Ends every rank of the job with `status` (MPI_Abort), after removing this rank's temporary output
+// file and lock (rank 0's): a decomposed run whose rank failed cannot go on, and the other ranks
+// would wait for it in their next collective. Without MPI: exit(status).
 [[noreturn]] void abort_job(int status);
 
 }  // namespace gdsmc::host::job

@@ -154,6 +154,24 @@ TEST(MpiSlab, BlocksRebalancedAsAGasSettlesKeepTheSerialBits) {
   EXPECT_GE(rebalancings(err), 1) << err;
 }
 
+// A plugin that throws on one rank (a diagnostic's finish(), on rank 0 which runs the diagnostics)
+// ends the job at once: exit status not 0, that rank's message, and nothing left in the directory.
+TEST(MpiSlab, ARunThatThrowsOnARankEndsTheJobWithItsMessageAndNoOutput) {
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir;
+  std::string yaml = kChannel;
+  yaml.replace(yaml.find("  - energy_balance\n"), 19, "  - energy_balance\n  - failing_finish\n");
+  const fs::path pipeline = dir.write("pipeline.yaml", yaml);
+  const ProcessResult r = mpirun(2, {"run", pipeline.string(), "--threads", "1", "--decompose", "--plugin-path",
+                                     test_plugin("failing_finish").string()},
+                                 dir.path());
+  EXPECT_NE(r.exit_code, 0) << r.describe();
+  EXPECT_TRUE(contains(r.err, "gdsmc: rank 0 of 2: error: ")) << r.err;
+  EXPECT_TRUE(contains(r.err, "deliberate failure at the end of the run")) << r.err;
+  EXPECT_EQ(dir.entries_except({"pipeline.yaml"}), std::vector<std::string>{})
+      << "no output file, no temporary file, no lock is left";
+}
+
 TEST(MpiSlab, ADecomposedJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
   if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
   TempDir dir;
