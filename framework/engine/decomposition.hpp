@@ -61,7 +61,7 @@ class Decomposition : public LayerExchange {
   // rank sent here, in rank order.
   virtual void exchange(const std::vector<std::vector<Migrant>>& outgoing, std::vector<Migrant>& incoming) const = 0;
   // Rank 0 receives every rank's `mine`, in rank order, into `all`, and how many each sent into
-  // `counts`; the other ranks only send.
+  // `counts`; the other ranks only send (their `counts` hold their own count, for scatter()).
   virtual void gather(const std::vector<Migrant>& mine, std::vector<Migrant>& all, std::vector<std::size_t>& counts) const = 0;
   // The reverse of gather: rank 0 sends each rank its `counts[r]` migrants of `all` (in rank
   // order) into `mine`.

@@ -127,6 +127,7 @@ class SlabRanks final : public Decomposition {
       total += static_cast<std::size_t>(counts_[r]);
       counts[r] = static_cast<std::size_t>(counts_[r]);
     }
+    counts[static_cast<std::size_t>(rank_)] = mine.size();  // MPI_Gather told rank 0 alone
     if (root()) all.resize(total);
     check(MPI_Gatherv(mine.data(), count, migrant_, root() ? all.data() : nullptr, counts_.data(), displs_.data(), migrant_,
                       0, MPI_COMM_WORLD), "MPI_Gatherv (particles)");

@@ -4,7 +4,8 @@
 // (oversubscribed on this 2-core machine), with 1 or 2 threads per rank: a channel between a
 // diffuse and a Maxwell wall driven by a body force, a Lees-Edwards slab, and a hot slab of thin
 // blocks whose particles cross between ranks every step, a gas settling under gravity whose blocks
-// are rebalanced, layers sized from the density profile, and a mixture. A decomposed job interrupted at 2 ranks
+// are rebalanced, layers sized from the density profile, a mixture, and a forcing that acts on the
+// particles. A decomposed job interrupted at 2 ranks
 // resumes at 3 to the same bits. Skipped when the host was built without MPI or no mpirun was found.
 #include <gtest/gtest.h>
 
@@ -106,6 +107,22 @@ TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
   // mean |v_y| dt / block = sqrt(2 T / pi m) 0.1 tau0 / (Ly / 3): of 6000 particles, about 1/4 cross
   // a block boundary in a step; 40 steps.
   EXPECT_GT(migrated_per_step(err), 500.0) << err;
+}
+
+// A forcing that acts on the particles (the drag of the equivalent elastic model): rank 0 applies it
+// to the gathered particles and sends each rank its particles back.
+TEST(MpiSlab, AForcingThatActsOnTheParticlesHasTheSerialBitsAtTwoRanks) {
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
+  expect_decomposed_runs_give_the_serial_bits(
+      "run:\n  seed: 9\n  particles: 6000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+      "  stop: {collisions_per_particle: 1.5}\n  record_every: 40\n"
+      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
+      "initial_state: {plugin: maxwellian}\n"
+      "collision: {plugin: equivalent_elastic_hard_spheres, alpha: 0.8}\nforcings: [{plugin: drag}]\n"
+      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 2}\n"
+      "diagnostics: [slab_averages, energy_balance]\n"
+      "output: {file: out.h5, particles: true}\n",
+      20, {{2, 1}});
 }
 
 // A mixture of two species in a channel: species columns migrate, and each pair class's majorant
