@@ -467,7 +467,9 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   auto write_state = [&] {
     if (!ranks_) return checkpoints->write(*this);
     gather_whole();
-    if (ranks_->root()) on_whole_serial([&] { checkpoints->write(*this); });
+    if (!ranks_->root()) return;
+    whole_grid_.set_species_cell_values(grid_.species_cell_values());  // a mixture's majorant scales (save())
+    on_whole_serial([&] { checkpoints->write(*this); });
   };
   auto write_checkpoint = [&] {
     wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();

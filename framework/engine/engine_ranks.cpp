@@ -157,7 +157,7 @@ std::vector<double> Engine::layer_costs() {
 }
 
 // At a reordering: new block boundaries when the costliest rank would gain more than 10 %; the
-// layers that change rank move whole, in key order (the keys are layer-major just after renumbering).
+// layers that change rank move whole, and their member lists are put back in key order.
 void Engine::rebalance() {
   const std::vector<double> cost = layer_costs();
   const std::vector<std::uint32_t> before = ranks_->bounds();

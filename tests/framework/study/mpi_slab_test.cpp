@@ -109,6 +109,20 @@ TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
   EXPECT_GT(migrated_per_step(err), 500.0) << err;
 }
 
+// The channel with two species: light (m = 1, sigma = 1) and heavy (m = 3, sigma = 1.5).
+const char* const kMixtureChannel =
+    "run:\n  seed: 12\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 3}\n"
+    "  sample_every: 2\n  record_every: 20\n"
+    "system:\n  mean_free_path: 10\n  temperature: 1.0\n  domain: slab\n  box: {y: {value: 200, unit: sigma}}\n"
+    "  layers: 40\n  species:\n    - {name: light, mass: 1, diameter: 1, fraction: 0.5}\n"
+    "    - {name: heavy, mass: 3, diameter: 1.5, fraction: 0.5}\n"
+    "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
+    "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 0.005, unit: reduced}}\n"
+    "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
+    "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.7}\n"
+    "diagnostics: [species_moments, energy_balance, wall_fluxes]\n"
+    "output: {file: out.h5, particles: true}\n";
+
 // A forcing that acts on the particles (the drag of the equivalent elastic model): rank 0 applies it
 // to the gathered particles and sends each rank its particles back.
 TEST(MpiSlab, AForcingThatActsOnTheParticlesHasTheSerialBitsAtTwoRanks) {
@@ -129,19 +143,7 @@ TEST(MpiSlab, AForcingThatActsOnTheParticlesHasTheSerialBitsAtTwoRanks) {
 // and remainder and each species' layer moments come from the layer's owner.
 TEST(MpiSlab, AMixtureChannelHasTheSerialBitsAtTwoAndThreeRanks) {
   if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
-  const std::string yaml =
-      "run:\n  seed: 12\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 3}\n"
-      "  sample_every: 2\n  record_every: 20\n"
-      "system:\n  mean_free_path: 10\n  temperature: 1.0\n  domain: slab\n  box: {y: {value: 200, unit: sigma}}\n"
-      "  layers: 40\n  species:\n    - {name: light, mass: 1, diameter: 1, fraction: 0.5}\n"
-      "    - {name: heavy, mass: 3, diameter: 1.5, fraction: 0.5}\n"
-      "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
-      "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 0.005, unit: reduced}}\n"
-      "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
-      "  y_max: {plugin: maxwell_wall, temperature: 1.0, accommodation: 0.7}\n"
-      "diagnostics: [species_moments, energy_balance, wall_fluxes]\n"
-      "output: {file: out.h5, particles: true}\n";
-  expect_decomposed_runs_give_the_serial_bits(yaml, 40, {{2, 1}, {3, 1}});
+  expect_decomposed_runs_give_the_serial_bits(kMixtureChannel, 40, {{2, 1}, {3, 1}});
 }
 
 // Layers sized from the density profile at the end of the transient (system.layers): rank 0 sets
@@ -189,11 +191,12 @@ TEST(MpiSlab, ARunThatThrowsOnARankEndsTheJobWithItsMessageAndNoOutput) {
       << "no output file, no temporary file, no lock is left";
 }
 
-TEST(MpiSlab, ADecomposedJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
-  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
+// `yaml` (without run.checkpoint) run serially, and decomposed at 2 ranks, SIGTERMed once a state
+// is saved, resumed at 3: the same file.
+void expect_an_interrupted_decomposed_job_to_resume(std::string yaml, const std::string& stop, std::size_t min_entries) {
   TempDir dir;
-  std::string yaml = kChannel;
-  yaml.replace(yaml.find("stop: {time: 4}"), 15, "stop: {time: 40}\n  checkpoint: {every: {collisions_per_particle: 0.2}}");
+  yaml.replace(yaml.find(stop), stop.size(),
+               "stop: {time: 40}\n  checkpoint: {every: {collisions_per_particle: 0.2}}");
   const fs::path pipeline = dir.write("pipeline.yaml", yaml);
   const ProcessResult serial =
       run_gdsmc({"run", pipeline.string(), "-o", "serial.h5", "--threads", "1", "--quiet"}, dir.path(), 300);
@@ -214,7 +217,19 @@ TEST(MpiSlab, ADecomposedJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialB
       mpirun(3, {"run", pipeline.string(), "-o", "out.h5", "--threads", "1", "--resume", "--decompose"}, dir.path());
   ASSERT_EQ(resumed.exit_code, 0) << resumed.describe();
   EXPECT_TRUE(contains(resumed.err, "gdsmc: resuming from ")) << resumed.err;
-  expect_same_contents(dir / "serial.h5", dir / "out.h5", 60);
+  expect_same_contents(dir / "serial.h5", dir / "out.h5", min_entries);
+}
+
+TEST(MpiSlab, ADecomposedJobInterruptedAtTwoRanksResumesAtThreeRanksToTheSerialBits) {
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
+  expect_an_interrupted_decomposed_job_to_resume(kChannel, "stop: {time: 4}", 60);
+}
+
+// A mixture's state holds its species' layer moments (the majorants' scales): rank 0 writes the
+// shared ones.
+TEST(MpiSlab, AnInterruptedDecomposedMixtureResumesToTheSerialBits) {
+  if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
+  expect_an_interrupted_decomposed_job_to_resume(kMixtureChannel, "stop: {time: 3}", 40);
 }
 
 }  // namespace
