@@ -463,14 +463,7 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
   double next_checkpoint_s = checkpointing && checkpoints->every_collisions_per_particle > 0
                                  ? ctx_.collisions_per_particle() + checkpoints->every_collisions_per_particle
                                  : -1;
-  // Decomposed, rank 0 writes the state with every particle gathered (the other ranks send theirs).
-  auto write_state = [&] {
-    if (!ranks_) return checkpoints->write(*this);
-    gather_whole();
-    if (!ranks_->root()) return;
-    whole_grid_.set_species_cell_values(grid_.species_cell_values());  // a mixture's majorant scales (save())
-    on_whole_serial([&] { checkpoints->write(*this); });
-  };
+  auto write_state = [&] { write_checkpoint_state(*checkpoints); };
   auto write_checkpoint = [&] {
     wall_seconds_ = earlier_seconds + std::chrono::duration<double>(clock::now() - start).count();
     write_state();
@@ -524,6 +517,16 @@ void Engine::run(const std::function<void(const Progress&)>& report, double inte
     last.final = true;
     report(last);
   }
+}
+
+// The run's state through `checkpoints`: decomposed, rank 0 writes it with every particle gathered
+// (the other ranks send theirs) and the layers' shared moments.
+void Engine::write_checkpoint_state(const CheckpointSchedule& checkpoints) {
+  if (!ranks_) return checkpoints.write(*this);
+  gather_whole();
+  if (!ranks_->root()) return;
+  whole_grid_.set_species_cell_values(grid_.species_cell_values());  // a mixture's majorant scales (save())
+  on_whole_serial([&] { checkpoints.write(*this); });
 }
 
 // After the last step: the last record, the diagnostics' finish and the summary's layer widths and

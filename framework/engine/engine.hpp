@@ -181,6 +181,7 @@ class Engine {
   void collide(double dt);
   void sample_and_record(bool force_record);
   void finish_diagnostics();
+  void write_checkpoint_state(const CheckpointSchedule& checkpoints);
   // The bracketed diagnostics' samples just before or just after the collision stage (SamplePhase).
   void sample_bracketed(SamplePhase phase);
   std::string energy_balance_text();

@@ -39,6 +39,7 @@ class ParticleStore {
     cell_.clear();
     if (positions) cell_.assign(n, 0u);
     species_.clear();
+    mixture_ = false;
     specs_ = attributes;
     check_attributes(specs_);
     data_.assign(specs_.size(), {});
@@ -52,11 +53,12 @@ class ParticleStore {
   // ... (counts sum to the particle count); called right after allocate(), in identity order.
   void set_species(const std::vector<std::size_t>& counts) {
     species_.assign(n_, 0u);
+    mixture_ = true;
     std::size_t i = 0;
     for (std::size_t s = 0; s < counts.size(); ++s)
       for (std::size_t k = 0; k < counts[s] && i < n_; ++k) species_[i++] = static_cast<std::uint32_t>(s);
   }
-  bool has_species() const { return !species_.empty(); }
+  bool has_species() const { return mixture_; }
   // Throws unless every attribute has components and the names are unique.
   static void check_attributes(const std::vector<AttributeSpec>& specs) {
     for (std::size_t a = 0; a < specs.size(); ++a) {
@@ -75,7 +77,7 @@ class ParticleStore {
     s.y = y_.empty() ? nullptr : y_.data();
     s.z = z_.empty() ? nullptr : z_.data();
     s.vx = vx_.data(); s.vy = vy_.data(); s.vz = vz_.data();
-    s.species = species_.empty() ? nullptr : species_.data();
+    s.species = !mixture_ ? nullptr : species_.data();
     s.attribute_count = specs_.size();
     s.attribute_specs = specs_.data();
     s.attribute_data = pointers_.data();
@@ -125,7 +127,7 @@ class ParticleStore {
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
       if (!v->empty()) apply64(v->data());
     apply32(id_.data());
-    if (!species_.empty()) apply32(species_.data());
+    if (mixture_) apply32(species_.data());
     if (!key_.empty()) apply32(key_.data());
     for (std::size_t a = 0; a < specs_.size(); ++a)
       for (int c = 0; c < specs_[a].components; ++c) apply64(data_[a].data() + c * n_);
@@ -135,7 +137,7 @@ class ParticleStore {
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_})
       if (!v->empty()) std::swap((*v)[i], (*v)[j]);
     std::swap(id_[i], id_[j]);
-    if (!species_.empty()) std::swap(species_[i], species_[j]);
+    if (mixture_) std::swap(species_[i], species_[j]);
     if (!key_.empty()) std::swap(key_[i], key_[j]);
     if (!cell_.empty()) std::swap(cell_[i], cell_[j]);
     for (std::size_t a = 0; a < specs_.size(); ++a)
@@ -155,7 +157,7 @@ class ParticleStore {
     write("particles.vy", vy_);
     write("particles.vz", vz_);
     for (std::size_t a = 0; a < specs_.size(); ++a) write("particles.attribute." + specs_[a].name, data_[a]);
-    if (!species_.empty()) write("particles.species", species_);  // a mixture's only
+    if (mixture_) write("particles.species", species_);  // a mixture's only
   }
   void load(StateReader& in) {
     in.read("particles.id", id_.data(), id_.size());
@@ -165,7 +167,7 @@ class ParticleStore {
       in.read(name, v->data(), v->size());
     for (std::size_t a = 0; a < specs_.size(); ++a)
       in.read("particles.attribute." + specs_[a].name, data_[a].data(), data_[a].size());
-    if (!species_.empty()) in.read("particles.species", species_.data(), species_.size());
+    if (mixture_) in.read("particles.species", species_.data(), species_.size());
   }
   // The layer of every particle, written by the mover (the span shows it read-only to plugins).
   std::uint32_t* cells() { return cell_.data(); }
@@ -184,12 +186,12 @@ class ParticleStore {
   std::uint32_t* keys() { return key_.empty() ? nullptr : key_.data(); }
   // Particle i as a migrant (a store with keys and without attributes), and back into place i.
   Migrant migrant(std::size_t i) const {
-    return {x_[i], y_[i], z_[i], vx_[i], vy_[i], vz_[i], id_[i], species_.empty() ? 0u : species_[i], cell_[i], key_[i]};
+    return {x_[i], y_[i], z_[i], vx_[i], vy_[i], vz_[i], id_[i], !mixture_ ? 0u : species_[i], cell_[i], key_[i]};
   }
   void set(std::size_t i, const Migrant& m) {
     x_[i] = m.x, y_[i] = m.y, z_[i] = m.z, vx_[i] = m.vx, vy_[i] = m.vy, vz_[i] = m.vz;
     id_[i] = m.id, cell_[i] = m.cell, key_[i] = m.key;
-    if (!species_.empty()) species_[i] = m.species;
+    if (mixture_) species_[i] = m.species;
   }
   // Removes every particle for which leaves(i) is true, handing it to send(migrant) first; the
   // last particles fill the places left (so the order of the others is not kept: a decomposed
@@ -226,7 +228,7 @@ class ParticleStore {
       if (!v->empty() || n_ == 0) v->resize(n);
     id_.resize(n);
     cell_.resize(n);
-    if (!species_.empty()) species_.resize(n);
+    if (mixture_) species_.resize(n);
     if (!key_.empty() || n_ == 0) key_.resize(n);
     n_ = n;
   }
@@ -235,8 +237,8 @@ class ParticleStore {
     n_ = 0;
     for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->clear();
     id_.clear(), cell_.clear(), key_.clear(), species_.clear();
+    mixture_ = species;
     resize(n);
-    if (species) species_.assign(n, 0u);
   }
 
  private:
@@ -245,12 +247,13 @@ class ParticleStore {
     x_[to] = x_[from], y_[to] = y_[from], z_[to] = z_[from];
     vx_[to] = vx_[from], vy_[to] = vy_[from], vz_[to] = vz_[from];
     id_[to] = id_[from], cell_[to] = cell_[from], key_[to] = key_[from];
-    if (!species_.empty()) species_[to] = species_[from];
+    if (mixture_) species_[to] = species_[from];
   }
   std::size_t n_ = 0;
   ParticleArray<std::uint32_t> id_;
   ParticleArray<std::uint32_t> cell_;
   ParticleArray<std::uint32_t> species_;  // a mixture's species per particle; empty with one species
+  bool mixture_ = false;                  // species_ is kept (set_species): a store of 0 particles may hold none
   ParticleArray<double> x_, y_, z_, vx_, vy_, vz_;
   std::vector<AttributeSpec> specs_;
   std::vector<ParticleArray<double>> data_;
