@@ -149,9 +149,7 @@ int prepare(const Options& o, bool run_it, LoadedPipeline& loaded, std::vector<S
       std::vector<std::string> refused;
       for (const auto& c : cases)
         if (const std::string why = Engine::why_not_decomposed(c.pipeline, job::size()); !why.empty())
-          refused.push_back(p.file.string() + ": --decompose: " + (c.label.empty() ? "" : "case " + c.label + ": ") +
-                            why + "; run it without --decompose (one process, or an ensemble over the ranks: "
-                            "docs/cluster.md)");
+          refused.push_back(p.file.string() + ": " + (c.label.empty() ? "" : "case " + c.label + ": ") + why);
       if (!refused.empty()) {
         print_errors(refused);
         return 1;

@@ -115,7 +115,6 @@ void CellGrid::sort(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
 }
 
 void CellGrid::count_blocks(const std::uint32_t* cell, std::size_t n, WorkPool* pool) {
-  if (members_.size() < n) members_.resize(n);
   std::uint32_t* const counts = block_counts(n);
   for_pieces(pool, sort_blocks(n), [&](std::size_t b) {
     std::uint32_t* count = counts + b * layers_;

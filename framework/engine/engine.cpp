@@ -398,7 +398,7 @@ std::string Engine::velocity_culprits(bool temperature) const {
 void Engine::sample_bracketed(SamplePhase phase) {
   const std::uint64_t next = ctx_.step + 1;
   if (ranks_) {  // on rank 0, with every particle in the single-process order
-    if (!gather_due(next, true)) return;
+    if (!diagnostics_.bracketed_due_at(next)) return;
     gather_whole();
     if (ranks_->root()) on_whole_serial([&] { sample_bracketed(phase); });
     return;
@@ -417,7 +417,7 @@ void Engine::sample_bracketed(SamplePhase phase) {
 
 void Engine::sample_and_record(bool force_record) {
   if (ranks_) {  // on rank 0, with every particle in the single-process order; its steady flag to all
-    if (!force_record && !gather_due(ctx_.step, false)) return;
+    if (!force_record && !diagnostics_.due_at(ctx_.step)) return;
     gather_whole();
     if (ranks_->root()) on_whole_serial([&] { sample_and_record(force_record); });
     broadcast_steady();

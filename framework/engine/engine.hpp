@@ -136,8 +136,9 @@ class Engine {
   // Throws std::runtime_error naming what a decomposed run does not serve yet (a homogeneous system,
   // plugin attributes, more ranks than layers).
   void decompose(Decomposition& ranks);
-  // Why `pipeline` cannot be decomposed over `ranks` ranks, or "" when it can (what decompose()
-  // refuses but for plugin attributes, which need the plugin objects): before anything runs.
+  // Why `pipeline` cannot be decomposed over `ranks` ranks ("--decompose: ...", the refusal's
+  // message), or "" when it can (what decompose() refuses but for plugin attributes, which need the
+  // plugin objects): before anything runs.
   static std::string why_not_decomposed(const Pipeline& pipeline, int ranks);
   bool decomposed() const { return ranks_ != nullptr; }
   // Of a decomposed run: particles that changed rank after streaming, summed over the steps and
@@ -282,7 +283,7 @@ class Engine {
   void merge_tally(StreamingTally& tally) const;
   void renumber_keys();
   void rebalance();
-  std::vector<double> layer_costs();
+  std::vector<double> layer_costs();  // right after renumber_keys (rebalance)
   // Rank 0: every rank's particles in whole_, in key order, its grid sorted (every rank calls it).
   void gather_whole();
   // After gather_whole, rank 0 runs f as the single-process run would: whole_ and its grid as the
@@ -308,9 +309,6 @@ class Engine {
   }
   // After a stage rank 0 ran on whole_ that changed velocities (forcings): every rank's back.
   void return_whole();
-  // Whether the diagnostics sample or record after step `step` (or the bracketed ones, `bracketed`),
-  // from the pipeline alone: the same answer on every rank.
-  bool gather_due(std::uint64_t step, bool bracketed) const;
   // Every rank's flags (interrupt, checkpoint due) or'ed, on every rank.
   bool any_rank(bool flag) const;
   void broadcast_steady();

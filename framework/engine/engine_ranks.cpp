@@ -14,22 +14,26 @@
 
 namespace gdsmc::host {
 
+namespace {
+// What a refusal of --decompose says, after why.
+std::string refused(const std::string& why) {
+  return "--decompose: " + why + "; run it without --decompose (one process, or an ensemble over the ranks: "
+         "docs/cluster.md)";
+}
+}  // namespace
+
 std::string Engine::why_not_decomposed(const Pipeline& p, int ranks) {
-  if (p.geometry != Geometry::slab) return "a homogeneous system has one collision cell, nothing to split into layers";
+  if (p.geometry != Geometry::slab) return refused("a homogeneous system has one collision cell, nothing to split into layers");
   if (p.layers < static_cast<std::size_t>(ranks))
-    return fmt("%d ranks for %zu layers (system.layers): a rank needs at least one layer", ranks, p.layers);
+    return refused(fmt("%d ranks for %zu layers (system.layers): a rank needs at least one layer", ranks, p.layers));
   return "";
 }
 
 void Engine::decompose(Decomposition& ranks) {
-  const auto refuse = [&](const std::string& why) {
-    throw std::runtime_error("--decompose: " + why + "; run it without --decompose (one process, or an ensemble over "
-                             "the ranks: docs/cluster.md)");
-  };
-  if (const std::string why = why_not_decomposed(pipeline_, ranks.size()); !why.empty()) refuse(why);
+  if (const std::string why = why_not_decomposed(pipeline_, ranks.size()); !why.empty()) throw std::runtime_error(why);
   if (!store_.attribute_specs().empty())
-    refuse("per-particle plugin attributes ('" + store_.attribute_specs().front().name +
-           "') do not travel between ranks yet");
+    throw std::runtime_error(refused("per-particle plugin attributes ('" + store_.attribute_specs().front().name +
+                                     "') do not travel between ranks yet"));
   ranks_ = &ranks;
   if (ranks.size() == 1) {
     ranks.set_bounds({0u, static_cast<std::uint32_t>(grid_.count())});
@@ -136,7 +140,8 @@ void Engine::renumber_keys() {
 
 // Each layer's cost: its particles (flight, sort, moments) and the candidates it tested since the
 // last reordering (collisions), weighed by rank 0's measured seconds per particle moved and per
-// candidate. The same on every rank (the collision counts are shared by their owners).
+// candidate. The same on every rank (the collision counts are shared by their owners, and the
+// particle counts were, by renumber_keys just before, into layer_values_).
 std::vector<double> Engine::layer_costs() {
   double weight = 0;  // seconds per candidate over seconds per particle and step
   if (ranks_->root()) {
@@ -148,9 +153,6 @@ std::vector<double> Engine::layer_costs() {
   ranks_->broadcast(&weight, sizeof weight);
   std::vector<double> cost;
   collisions_.take_candidates(cost);
-  layer_values_.assign(grid_.count(), 0.0);
-  for (std::size_t c = ranks_->first_layer(); c < ranks_->end_layer(); ++c) layer_values_[c] = grid_.members_count(c);
-  ranks_->share(layer_values_.data(), 1);
   for (std::size_t c = 0; c < cost.size(); ++c)
     cost[c] = layer_values_[c] * static_cast<double>(kReorderEvery) + weight * cost[c];
   return cost;
@@ -285,10 +287,6 @@ void Engine::set_layers_decomposed() {
   grid_.cell_moments(store_.span(), system_.number_density, cells_, global_, &pool_);
   set_layer_majorants();
   sampled_step_ = static_cast<std::uint64_t>(-1);
-}
-
-bool Engine::gather_due(std::uint64_t step, bool bracketed) const {
-  return bracketed ? diagnostics_.bracketed_due_at(step) : diagnostics_.due_at(step);
 }
 
 bool Engine::any_rank(bool flag) const {

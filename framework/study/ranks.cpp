@@ -18,11 +18,7 @@
 
 #include <gdsmc/state.hpp>
 
-#ifdef GDSMC_WITH_MPI
-#define OMPI_SKIP_MPICXX 1  // the C API alone (the deprecated C++ bindings need another library)
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
+#include "study/mpi_api.hpp"
 
 namespace gdsmc::host::job {
 

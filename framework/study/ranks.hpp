@@ -1,6 +1,7 @@
 // The ranks of an MPI job (`mpirun -np K gdsmc run`, `srun --mpi=pmix gdsmc run`): a study's runs
 // spread over them by expected cost, each finished run's results sent to rank 0, which reduces and
-// writes them exactly as the serial study does (docs/cluster.md). Only ranks.cpp includes mpi.h.
+// writes them exactly as the serial study does (docs/cluster.md). Only ranks.cpp and
+// slab_ranks.cpp include mpi.h.
 // Built without MPI (-DGDSMC_WITH_MPI=OFF), or started without a launcher, the job is this process
 // alone (rank 0 of 1) and nothing here communicates: MPI is not even initialised.
 #pragma once

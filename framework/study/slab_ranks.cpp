@@ -9,11 +9,7 @@
 #include "output/output_path.hpp"
 #include "study/ranks.hpp"
 
-#ifdef GDSMC_WITH_MPI
-#define OMPI_SKIP_MPICXX 1  // the C API alone (the deprecated C++ bindings need another library)
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
+#include "study/mpi_api.hpp"
 
 namespace gdsmc::host::job {
 

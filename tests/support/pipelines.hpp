@@ -30,6 +30,18 @@ diagnostics: [temperature]
 output: {file: out.h5}
 )";
 
+// A Lees-Edwards slab whose forcing acts on the particles (the drag of the equivalent elastic model,
+// 000 Eq. 4.12), small enough for a decomposed run to take seconds.
+inline const std::string kDragSlabPipeline =
+    "run:\n  seed: 9\n  particles: 6000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
+    "  stop: {collisions_per_particle: 1.5}\n  record_every: 40\n"
+    "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
+    "initial_state: {plugin: maxwellian}\n"
+    "collision: {plugin: equivalent_elastic_hard_spheres, alpha: 0.8}\nforcings: [{plugin: drag}]\n"
+    "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 2}\n"
+    "diagnostics: [slab_averages, energy_balance]\n"
+    "output: {file: out.h5, particles: true}\n";
+
 // A small valid pipeline (a homogeneous cooling state of 1000 particles to s = 5); the tests change
 // it with --set or the arguments.
 inline std::string small_pipeline(const std::string& run_extra = "", const std::string& stop = "{collisions_per_particle: 5}",

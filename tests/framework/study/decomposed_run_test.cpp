@@ -44,14 +44,7 @@ TEST(DecomposedRun, ALeesEdwardsSlabWithBracketedSamplingHasTheSerialBitsOnOneRa
 // gathered particles, whose velocities go back to their ranks.
 TEST(DecomposedRun, AForcingThatActsOnTheParticlesHasTheSerialBitsOnOneRank) {
   expect_the_serial_bits(
-      "run:\n  seed: 9\n  particles: 8000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
-      "  stop: {collisions_per_particle: 2}\n  record_every: 40\n"
-      "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 20\n"
-      "initial_state: {plugin: maxwellian}\n"
-      "collision: {plugin: equivalent_elastic_hard_spheres, alpha: 0.8}\nforcings: [{plugin: drag}]\n"
-      "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 2}\n"
-      "diagnostics: [slab_averages, energy_balance]\n"
-      "output: {file: out.h5, particles: true}\n",
+      kDragSlabPipeline,
       20);
 }
 
