@@ -13,10 +13,11 @@ struct DiagnosticRun {
 // Feed a fresh diagnostic a fixed sequence of states (optionally with the particles permuted)
 // the way the engine does: begin, sample every state, record every other one, finish.
 // The diagnostic's streams come from `streams` (the harness's factory, or another seed's), its
-// shared moments from the host's CellGrid::sampled_moments, as in the engine (the MomentsPart `parts`).
+// shared moments from the host's CellGrid::sampled_moments, as in the engine (the MomentsPart `parts`);
+// `no_particles`: an empty span, as a decomposed run hands a diagnostic that reads none.
 DiagnosticRun run_diagnostic(Harness& h, const std::vector<Snapshot>& states, const std::vector<StepContext>& ctxs,
                              const std::vector<std::uint32_t>* perm, const StreamFactory& streams,
-                             std::uint32_t parts = moments_all) {
+                             std::uint32_t parts = moments_known, bool no_particles = false) {
   DiagnosticRun r;
   r.out = std::make_unique<DiagnosticOutput>(h.use->instance_name, &r.summary);
   r.out->set_bins(bin_centres_lambda0(h.sys));  // as the engine does
@@ -29,7 +30,7 @@ DiagnosticRun run_diagnostic(Harness& h, const std::vector<Snapshot>& states, co
     h.ctx = ctxs[k];
     h.sample_moments(parts);
     h.plugin_streams_for(StreamPurpose::diagnostic, &streams);
-    d->sample(h.ctx, h.span());
+    d->sample(h.ctx, no_particles ? ParticleSpan{} : h.span());
     h.ctx.moments = nullptr;
     if (k % 2 == 0 || k + 1 == states.size()) {
       r.out->begin_record(h.ctx.time_in_tau0(), h.ctx.collisions_per_particle());
@@ -163,18 +164,21 @@ Result check_diagnostic_order(const Subject& s) {
 }
 
 // A diagnostic that declares the parts of the sampled moments it reads (MomentsRead) gives the same
-// output, bit for bit, when the host measures only those parts (the others NaN) as when it measures all.
+// output, bit for bit, when the host measures only those parts (the others NaN) as when it measures all;
+// one that declares it reads no particle, the same again on an empty span.
 Result check_diagnostic_moments_read(const Subject& s) {
   auto d = diagnostic_states(s, 500);
   const auto object = d.h->fresh_subject();
   const auto* read = static_cast<const MomentsRead*>(object->extension(moments_read_id));
   if (!read) return pass("offers no moments_read extension: the host measures every part of the sampled moments for it");
-  const std::uint32_t parts = read->parts & moments_all;
+  const std::uint32_t parts = read->parts & moments_known;
   auto names = [](std::uint32_t bits) {
     std::vector<std::string> n;
     if (bits & moments_means) n.push_back("means (local.mean, cell_mean_velocity)");
     if (bits & moments_energy) n.push_back("kinetic_energy");
     if (bits & moments_peculiar) n.push_back("peculiar moments (local.second, temperature, fourth, sixth)");
+    if (bits & moments_cells) n.push_back("cells");
+    if (bits & (moments_bins | moments_bin_heat)) n.push_back((bits & moments_bin_heat) ? "bin sums with |v|^2 v" : "bin sums");
     return n.empty() ? std::string("none") : join(n, ", ");
   };
   const StreamFactory same = d.h->factory;
@@ -183,9 +187,20 @@ Result check_diagnostic_moments_read(const Subject& s) {
   const std::string diff = compare_outputs(*all.out, *declared.out, 0, 0);
   if (!diff.empty())
     return fail("it declares that it reads " + names(parts) + " of ctx.moments, but with only those measured (" +
-                names(moments_all & ~parts) + " NaN) its output changes: " + diff +
+                names(moments_known & ~parts) + " NaN or nullptr) its output changes: " + diff +
                 "; declare every part its sample reads (MomentsRead, plugin.hpp)");
-  return pass("reads " + names(parts) + " of ctx.moments: with only those measured its output is the same to the bit");
+  const bool no_particles = read->version >= 2 && read->particles == 0;
+  if (no_particles) {
+    const DiagnosticRun empty = run_diagnostic(*d.h, d.states, d.ctxs, nullptr, same, parts, true);
+    const std::string by_span = compare_outputs(*declared.out, *empty.out, 0, 0);
+    if (!by_span.empty())
+      return fail("it declares that its sample reads no particle (MomentsRead::particles = 0), but on an empty span its "
+                  "output changes: " + by_span + "; a decomposed run hands it none: declare particles = 1 "
+                  "(offer_moments_read<Parts>) if it reads them");
+  }
+  return pass("reads " + names(parts) + " of ctx.moments" + (no_particles ? " and no particle" : "") +
+              ": with only those measured" + (no_particles ? ", and on an empty span," : "") +
+              " its output is the same to the bit");
 }
 
 }  // namespace gdsmc::host::conformance

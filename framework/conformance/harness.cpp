@@ -92,6 +92,7 @@ std::unique_ptr<Harness> make_harness(const Subject& s, const Assignment& a, std
   } else {
     h->grid.homogeneous(n, h->sys.volume);
   }
+  h->grid.set_sampling_system(&h->sys);  // the bins of SampledMoments::bin_sums
   h->factory = StreamFactory(s.cfg.seed, 0);
 
   StepContext& ctx = h->ctx;
@@ -165,6 +166,7 @@ std::unique_ptr<SlabHarness> make_slab(const Subject& s, const Assignment& a, st
   sample_maxwellian(sys, h->span(), SlabHarness::kTemperature,
                     StreamFactory::standalone_streams(s.cfg.seed, StreamPurpose::host, 0));
   h->grid.slab(n, sys.cells, sys.box[1], sys.cross_section());
+  h->grid.set_sampling_system(&sys);
   h->grid.assign_and_sort(h->span().y.data, h->particles.cells(), n);
   h->factory = StreamFactory(s.cfg.seed, 0);
   return h;

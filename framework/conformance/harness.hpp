@@ -70,7 +70,7 @@ struct Harness {
   void update_moments() { grid.cell_moments(span(), sys.number_density, cells, global); }
   // The shared sampled moments (StepContext::moments) of the current state: the MomentsPart
   // `parts`, the others NaN, as the engine measures them.
-  void sample_moments(std::uint32_t parts = moments_all) {
+  void sample_moments(std::uint32_t parts = moments_known) {
     grid.sampled_moments(span(), sys.number_density, moments, nullptr, nullptr, parts);
     ctx.moments = &moments;
   }

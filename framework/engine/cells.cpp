@@ -461,8 +461,12 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
   out.number_density = mean_density;
   VelocityMoments& m = out.local;
   m.count = p.count;
-  if (p.count == 0) return;
-  measure_moments(p, out, pool, conserved_mean, parts);
+  if (p.count == 0 && !exchange_) return;  // a decomposed rank may hold none, and still shares
+  // The cells' fresh temperatures are the layers' peculiar sums.
+  const bool cells = (parts & moments_cells) && !species_mass_;
+  measure_moments(p, out, pool, conserved_mean, parts | (cells ? moments_means | moments_peculiar : 0u));
+  if (cells) fresh_cells(out, mean_density);
+  if (parts & (moments_bins | moments_bin_heat)) bin_sums(p, out, pool, (parts & moments_bin_heat) != 0);
   // The parts not asked for: NaN, so that a diagnostic that reads one it did not declare shows it.
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   if (!(parts & moments_means)) {
@@ -504,6 +508,7 @@ void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkP
       ps.s[0] = sums[k].x, ps.s[1] = sums[k].y, ps.s[2] = sums[k].z, ps.v2 = sums[k].v2;
     }
   });
+  if (exchange_) share_sampled_means();
   double* u = scratch_mean_.data();
   std::fill(u, u + 3 * layers_, 0.0);
   double g[3] = {0, 0, 0}, v2 = 0;
@@ -516,12 +521,15 @@ void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkP
     }
     v2 += pieces_[k].v2;
   }
+  double total = exchange_ ? 0.0 : static_cast<double>(p.count);  // a decomposed slab: every rank's
   for (std::size_t c = 0; c < layers_; ++c) {
-    const std::uint32_t n = members_count(c);
+    const double n = layer_count(c);
+    if (exchange_) total += n;
     const double inv_n = n ? 1.0 / n : 0.0;
     for (int a = 0; a < 3; ++a) u[3 * c + a] *= inv_n;
   }
-  const double inv = 1.0 / static_cast<double>(p.count);
+  m.count = static_cast<std::size_t>(total);
+  const double inv = 1.0 / total;
   for (int a = 0; a < 3; ++a) m.mean[a] = g[a] * inv;
   out.kinetic_energy = 0.5 * v2;  // 004 Eq. A1 (m = 1)
   out.cell_mean_velocity = u;
@@ -539,6 +547,7 @@ void CellGrid::measure_moments(const ParticleSpan& p, SampledMoments& out, WorkP
     }
     pieces_[k].peculiar = sums;
   });
+  if (exchange_) share_peculiar_sums();
   PeculiarSums sums;
   for (std::size_t k = 0; k < pieces; ++k) sums.merge(pieces_[k].peculiar);
   sums.finish(m, inv);  // T is T-bar (000 Eq. 4.8) in a slab, T (Eq. 4.15) in a homogeneous system

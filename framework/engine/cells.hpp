@@ -174,6 +174,9 @@ class CellGrid {
   // without moments_peculiar the second pass is not made, without any part neither is.
   void sampled_moments(const ParticleSpan& p, double mean_density, SampledMoments& out, WorkPool* pool = nullptr,
                        const double* conserved_mean = nullptr, std::uint32_t parts = moments_all) const;
+  // The sampling bins of SampledMoments::bin_sums (moments_bins): the system's bin count and its
+  // layers' edges, read at each sampled_moments (nullptr: no bin sums).
+  void set_sampling_system(const SystemInfo* system) { system_ = system; }
   // How far the mean may have moved from `conserved_mean`, as |u - u'|^2 / (3 T), before the one
   // pass is discarded for two: the fourth and sixth moments around u' differ from those around u
   // by a relative O(|u - u'| / sqrt(T)), here at most ~1e-10.
@@ -208,6 +211,21 @@ class CellGrid {
     PeculiarSums peculiar;
   };
   mutable std::vector<PieceSums> pieces_;
+  // sampled_moments' parts of SDK 6.6 and a decomposed slab's shares of them (sampled_sums.cpp).
+  const SystemInfo* system_ = nullptr;
+  mutable std::vector<double> layer_counts_;           // decomposed: every layer's count, from its owner
+  mutable std::vector<CellMoments> sampled_cells_;     // moments_cells
+  mutable std::vector<double> bin_pieces_, bin_sums_;  // each piece's sums in its bins; their fold
+  double layer_count(std::size_t c) const { return exchange_ ? layer_counts_[c] : members_count(c); }
+  // After the first pass: every layer's count, sums of v and of v^2 (pieces_) from its owner.
+  void share_sampled_means() const;
+  // After the second: every layer's peculiar sums from its owner.
+  void share_peculiar_sums() const;
+  // out.cells from the layers' counts, means and peculiar sums of the passes just made.
+  void fresh_cells(SampledMoments& out, double mean_density) const;
+  // out.bin_sums: each piece's particles summed in its bins (a layer's few), in storage order,
+  // then the pieces' sums added in piece order.
+  void bin_sums(const ParticleSpan& p, SampledMoments& out, WorkPool* pool, bool heat) const;
   const LayerExchange* exchange_ = nullptr;
   mutable std::vector<double> shared_;  // a decomposed slab's layers' moments, 10 per layer
   // Every layer's cell moments, sums and largest peculiar speed from its owner (exchange_).

@@ -33,6 +33,7 @@ std::uint32_t DiagnosticSlots::begin(const Pipeline& p, const SystemInfo& system
       slot.bracketed = p.sampling_bracketed && !sample_alone && slot.object->extension(bracketed_sampling_id) != nullptr;
       const auto* read = static_cast<const MomentsRead*>(slot.object->extension(moments_read_id));
       parts |= read ? read->parts : static_cast<std::uint32_t>(moments_all);
+      slot.reads_particles = !read || read->version < 2 || read->particles != 0;
     } catch (const std::exception& e) {
       throw std::runtime_error(where_text(*slot.use) + ": " + e.what());
     }
@@ -58,6 +59,18 @@ bool DiagnosticSlots::due_at(std::uint64_t step) const {
 
 bool DiagnosticSlots::bracketed_due_at(std::uint64_t step) const {
   return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) { return slot.bracketed && slot.due_at(step); });
+}
+
+bool DiagnosticSlots::samples_particles_at(std::uint64_t step, bool force_record) const {
+  return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) {
+    return slot.reads_particles && slot.last_record_step != step && (force_record || slot.samples_at(step)) &&
+           slot.bracketed_step != step;  // as sample_and_record decides
+  });
+}
+
+bool DiagnosticSlots::bracketed_particles_at(std::uint64_t step) const {
+  return std::any_of(slots_.begin(), slots_.end(),
+                     [&](const Slot& slot) { return slot.reads_particles && slot.bracketed && slot.samples_at(step); });
 }
 
 void DiagnosticSlots::sample_bracketed(StepContext& ctx, const ParticleSpan& span, const StreamFactory& streams,

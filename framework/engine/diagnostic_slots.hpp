@@ -34,6 +34,11 @@ class DiagnosticSlots {
   // slots have done: true whenever samples_at (bracketed_at) is, on every rank of a decomposed run.
   bool due_at(std::uint64_t step) const;
   bool bracketed_due_at(std::uint64_t step) const;
+  // Whether sample_and_record (sample_bracketed) will hand the particles to some diagnostic whose
+  // sample() reads them (MomentsRead::particles), from what the slots have done: rank 0 of a
+  // decomposed run, which drives them, tells the others whether to gather the particles.
+  bool samples_particles_at(std::uint64_t step, bool force_record) const;
+  bool bracketed_particles_at(std::uint64_t step) const;
   // The bracketed diagnostics' samples of the state now, just before or just after the collision
   // stage of the step that ctx.step is (already advanced to the step after).
   void sample_bracketed(StepContext& ctx, const ParticleSpan& span, const StreamFactory& streams,
@@ -59,6 +64,7 @@ class DiagnosticSlots {
     std::uint64_t samples = 0;
     std::uint64_t last_record_step = static_cast<std::uint64_t>(-1);
     bool bracketed = false;  // sampled on both sides of the collision stage (BracketedSampling, run.sampling)
+    bool reads_particles = true;  // MomentsRead::particles
     std::uint64_t bracketed_step = static_cast<std::uint64_t>(-1);  // the step of its last bracketed pair
     // Whether it samples (or records) after step `step`, unless forced to record.
     bool samples_at(std::uint64_t step) const { return last_record_step != step && due_at(step); }

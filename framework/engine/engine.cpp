@@ -77,6 +77,7 @@ void Engine::measure_sampled_moments() {
   grid_.sampled_moments(store_.span(), system_.number_density, sampled_, &pool_,
                         moments_follow_collisions_ ? global_.mean_velocity : nullptr, moments_parts_);
   sampled_step_ = ctx_.step;
+  sampled_parts_ = moments_parts_;
 }
 
 // dt = c tau0, or c tau0 sqrt(T0/T) so that it follows the mean free time (000 Sec. IV.B; in a
@@ -397,34 +398,43 @@ std::string Engine::velocity_culprits(bool temperature) const {
 // those of the state now (measured afresh for the next use after the collisions).
 void Engine::sample_bracketed(SamplePhase phase) {
   const std::uint64_t next = ctx_.step + 1;
-  if (ranks_) {  // on rank 0, with every particle in the single-process order
-    if (!diagnostics_.bracketed_due_at(next)) return;
-    gather_whole();
+  if (ranks_ && !diagnostics_.bracketed_due_at(next)) return;
+  if (ranks_ && !samples_locally(root_says(diagnostics_.bracketed_particles_at(next)))) {
+    gather_whole();  // on rank 0, with every particle in the single-process order
     if (ranks_->root()) on_whole_serial([&] { sample_bracketed(phase); });
     return;
   }
-  if (!diagnostics_.bracketed_at(next)) return;
+  if (!ranks_ && !diagnostics_.bracketed_at(next)) return;
   const std::uint64_t step = ctx_.step;
   const double time = ctx_.time;
   ctx_.step = next;
   ctx_.time += ctx_.dt;
-  measure_sampled_moments();
-  diagnostics_.sample_bracketed(ctx_, store_.span(), streams_, sampled_, phase);
+  measure_sampled_moments();  // every rank's share of the moments of a decomposed slab
+  if (!ranks_ || ranks_->root()) diagnostics_.sample_bracketed(ctx_, diagnostic_span(), streams_, sampled_, phase);
   ctx_.step = step;
   ctx_.time = time;
   sampled_step_ = static_cast<std::uint64_t>(-1);  // the collisions and forcings still to come change the state
 }
 
 void Engine::sample_and_record(bool force_record) {
-  if (ranks_) {  // on rank 0, with every particle in the single-process order; its steady flag to all
+  if (ranks_) {  // rank 0 samples and records; its steady flag to all
     if (!force_record && !diagnostics_.due_at(ctx_.step)) return;
-    gather_whole();
-    if (ranks_->root()) on_whole_serial([&] { sample_and_record(force_record); });
-    broadcast_steady();
+    if (samples_locally(root_says(diagnostics_.samples_particles_at(ctx_.step, force_record)))) {
+      measure_sampled_moments();  // every rank's share (rank 0's cache of a gathered sample is its own)
+      if (ranks_->root()) {
+        const auto moments = [&]() -> const SampledMoments& { return sampled_; };
+        if (const auto steady = diagnostics_.sample_and_record(ctx_, ParticleSpan{}, streams_, force_record, moments))
+          steady_ = *steady;
+      }
+    } else {
+      gather_whole();  // on rank 0, with every particle in the single-process order
+      if (ranks_->root()) on_whole_serial([&] { sample_and_record(force_record); });
+    }
+    steady_ = root_says(steady_);
     return;
   }
   const auto moments = [&]() -> const SampledMoments& {
-    if (sampled_step_ != ctx_.step) measure_sampled_moments();
+    if (!sampled_fresh()) measure_sampled_moments();
     return sampled_;
   };
   if (const auto steady = diagnostics_.sample_and_record(ctx_, store_.span(), streams_, force_record, moments))
@@ -530,9 +540,10 @@ void Engine::write_checkpoint_state(const CheckpointSchedule& checkpoints) {
 }
 
 // After the last step: the last record, the diagnostics' finish and the summary's layer widths and
-// energy balance (decomposed: rank 0, with the particles of the last record gathered).
+// energy balance (decomposed: rank 0, with the last state's particles gathered for them and the output).
 void Engine::finish_diagnostics() {
   sample_and_record(true);
+  if (ranks_) gather_whole();
   if (layers_.enabled()) summary_.push_back(layers_.widths_text(ctx_.time_in_tau0()));
   const auto finish = [&] {
     diagnostics_.finish(ctx_);

@@ -149,6 +149,9 @@ class Engine {
     // This rank's wall seconds in the migrations (collectives included: the wait for the slowest
     // rank's flight shows here) and in gathering the particles for rank 0.
     double migration_seconds = 0, gather_seconds = 0;
+    // The gathers of every particle to rank 0: for the diagnostics that read particles (none for
+    // those that read only ctx, MomentsRead::particles), forcings, checkpoints and the end.
+    std::uint64_t gathers = 0;
   };
   DecompositionStats decomposition_stats() const;
 
@@ -174,6 +177,11 @@ class Engine {
   void write_species(CaseOutput& out) const;
   void permute_by_layer();
   void measure_sampled_moments();
+  // A decomposed slab's sampled step needs no gather of the particles to rank 0 when no diagnostic
+  // due reads them (`particles_due`) and the moments it shares are one species' (engine_ranks.cpp).
+  bool samples_locally(bool particles_due) const { return !particles_due && !species_mass(); }
+  // The particles the diagnostics are handed: none in a decomposed slab (samples_locally).
+  ParticleSpan diagnostic_span() { return ranks_ ? ParticleSpan{} : store_.span(); }
   double time_step() const;
   void apply_forcings(const std::vector<std::pair<Forcing*, std::uint32_t>>& forcings);
   void stream(double dt);
@@ -219,6 +227,8 @@ class Engine {
   CellMoments global_;
   SampledMoments sampled_;
   std::uint64_t sampled_step_ = static_cast<std::uint64_t>(-1);  // the step sampled_ was measured at
+  std::uint32_t sampled_parts_ = 0;                               // and its MomentsPart bits
+  bool sampled_fresh() const { return sampled_step_ == ctx_.step && (moments_parts_ & ~sampled_parts_) == 0; }
   std::uint32_t moments_parts_ = moments_all;  // the MomentsPart bits sampled_ measures (begin_diagnostics)
   // A homogeneous system without forcings: only collisions change velocities, so between passes
   // the mean stays and T follows their declared energy (update_moments).
@@ -272,6 +282,7 @@ class Engine {
   mutable std::vector<std::uint64_t> merged_words_;  // every rank's exact tallies (merge_tally)
   std::uint64_t migrated_ = 0, migration_steps_ = 0, rebalanced_ = 0;
   double migration_seconds_ = 0, gather_seconds_ = 0;
+  std::uint64_t gathers_ = 0;
   void sort_members_by_key();
   // The end of the transient of system.layers: rank 0 sets the edges from its profile on the
   // gathered particles and reorders them (as the single-process run does); every rank then takes
@@ -311,7 +322,9 @@ class Engine {
   void return_whole();
   // Every rank's flags (interrupt, checkpoint due) or'ed, on every rank.
   bool any_rank(bool flag) const;
-  void broadcast_steady();
+  // Rank 0's `value` on every rank: what rank 0 alone knows (the steady flag, whether the diagnostics
+  // it drives will read the particles).
+  bool root_says(bool value) const;
 };
 
 }  // namespace gdsmc::host

@@ -48,6 +48,7 @@ void Engine::decompose(Decomposition& ranks) {
     whole_grid_.slab(system_.particles, grid_.count(), system_.box[1], system_.cross_section());
     if (!grid_.uniform()) whole_grid_.set_edges(grid_.edges());
     whole_grid_.set_species(species_mass(), system_.species_count);
+    whole_grid_.set_sampling_system(&system_);
   }
   store_.enable_keys();  // the storage order now is the single-process run's
   keep_own_layers();
@@ -230,6 +231,7 @@ void Engine::merge_tally(StreamingTally& tally) const {
 
 void Engine::gather_whole() {
   const auto start = std::chrono::steady_clock::now();
+  ++gathers_;
   const std::size_t n = store_.size();
   if (packed_.capacity() < n) packed_.reserve(n + n / 8);  // headroom: the count moves with migration
   packed_.resize(n);
@@ -295,10 +297,10 @@ bool Engine::any_rank(bool flag) const {
   return v != 0;
 }
 
-void Engine::broadcast_steady() {
-  std::uint8_t s = steady_ ? 1 : 0;
-  ranks_->broadcast(&s, 1);
-  steady_ = s != 0;
+bool Engine::root_says(bool value) const {
+  std::uint8_t v = value ? 1 : 0;
+  ranks_->broadcast(&v, 1);
+  return v != 0;
 }
 
 Engine::DecompositionStats Engine::decomposition_stats() const {
@@ -308,6 +310,7 @@ Engine::DecompositionStats Engine::decomposition_stats() const {
   s.rebalanced = rebalanced_;
   s.migration_seconds = migration_seconds_;
   s.gather_seconds = gather_seconds_;
+  s.gathers = gathers_;
   if (ranks_) s.bounds = ranks_->bounds();
   return s;
 }

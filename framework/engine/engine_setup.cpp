@@ -89,6 +89,7 @@ Engine::Engine(const Pipeline& p, std::uint32_t realization, Setup setup, unsign
       grid_.homogeneous(system_.particles, system_.volume);
     }
     grid_.set_species(species_mass(), system_.species_count);
+    grid_.set_sampling_system(&system_);
     checked_collision_.bind(store_.span());
     if (setup == Setup::full) generate_initial_state();
   }
@@ -248,6 +249,7 @@ void Engine::generate_initial_state() {
   grid_.cell_moments(span, system_.number_density, cells_, global_, &pool_);
   grid_.sampled_moments(span, system_.number_density, sampled_, &pool_);
   sampled_step_ = ctx_.step;
+  sampled_parts_ = moments_all;
   initial_energy_ = sampled_.kinetic_energy;
   if (!(global_.temperature > 0) || !std::isfinite(global_.temperature))
     throw std::runtime_error(where_text(pipeline_.initial_state) + " produced a state with temperature " +

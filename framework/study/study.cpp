@@ -106,8 +106,9 @@ void describe_decomposition(const Engine& engine, int ranks) {
   std::cerr << "gdsmc: decomposed over " << ranks << (ranks == 1 ? " rank" : " ranks") << " (layers " << blocks << " at the end; "
             << s.rebalanced << " rebalancings): " << fmt("%.4g", per_step) << " particles changed rank per step ("
             << bytes_text(per_step * sizeof(Migrant)) << " per step); rank 0: "
-            << fmt("%.3g s migrating (%.1f %% of the steps), %.3g s gathering", s.migration_seconds,
-                   100.0 * s.migration_seconds / std::max(engine.wall_seconds(), 1e-300), s.gather_seconds)
+            << fmt("%.3g s migrating (%.1f %% of the steps), %.3g s in %llu gather(s) of every particle", s.migration_seconds,
+                   100.0 * s.migration_seconds / std::max(engine.wall_seconds(), 1e-300), s.gather_seconds,
+                   static_cast<unsigned long long>(s.gathers))
             << "\n";
 }
 

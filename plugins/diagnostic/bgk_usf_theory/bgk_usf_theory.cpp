@@ -43,7 +43,7 @@ struct BgkSteady {
 class BgkUsfTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "bgk_usf_theory";
-  static constexpr const char* version = "1.3.1";
+  static constexpr const char* version = "1.3.2";
   static constexpr const char* summary =
       "BGK-like kinetic model of USF (refs. [4, 7] of paper 000): steady a*, stresses, a2, a3 and the transient";
   static constexpr const char* documentation =
@@ -245,7 +245,11 @@ class BgkUsfTheory final : public gdsmc::Diagnostic {
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Reads the host's moments and no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);
+  }
  private:
   static constexpr int kSeries = 9;
   static constexpr int kMeasured = 9;

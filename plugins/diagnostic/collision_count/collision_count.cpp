@@ -6,7 +6,7 @@ namespace {
 class CollisionCount final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "collision_count";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.2.1";
   static constexpr const char* summary = "Collisions per particle s(t), acceptance ratio, majorant exceedances";
   static constexpr const char* documentation =
       "s(t) = (accepted collisions up to t) / N is the internal clock of paper 000 (text after\n"
@@ -29,7 +29,7 @@ class CollisionCount final : public gdsmc::Diagnostic {
   // Right in a mixture (gdsmc.species): counts know no mass.
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_species(id)) return e;
-    return gdsmc::offer_moments_read<0>(id);
+    return gdsmc::offer_moments_read<0, gdsmc::reads_no_particles>(id);  // no particle
   }
   void record(const gdsmc::StepContext& ctx, gdsmc::OutputSink& out) override {
     const auto collisions = static_cast<double>(ctx.collisions), candidates = static_cast<double>(ctx.candidates);

@@ -13,7 +13,7 @@ namespace {
 class CoolingRate final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cooling_rate";
-  static constexpr const char* version = "1.3.1";
+  static constexpr const char* version = "1.3.2";
   static constexpr const char* summary = "Cooling rate zeta from the collisional energy loss, beside zeta0 (Eqs. 2.9, 2.16)";
   static constexpr const char* documentation =
       "Between consecutive samples the host's running sum of the kinetic-energy change declared by\n"
@@ -178,6 +178,10 @@ class CoolingRate final : public gdsmc::Diagnostic {
     per_window_.load(in, "per_window");
   }
 
+  // Reads the host's moments and no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);
+  }
  private:
   double alpha_ = 1, N_ = 1, lambda0_ = 1, tau0_ = 1, zeta0_tau_ = 0;
   std::size_t ids_[5] = {};

@@ -7,7 +7,7 @@ namespace {
 class Cumulants final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "cumulants";
-  static constexpr const char* version = "1.4.0";
+  static constexpr const char* version = "1.4.1";
   static constexpr const char* summary = "Cumulants a2 and a3 of the velocity distribution";
   static constexpr const char* documentation =
       "a2 = (m^2 / 15 T^2) <V^4> - 1 and a3 = -(m^3 / 105 T^3) <V^6> + 1 + 3 a2\n"
@@ -37,7 +37,8 @@ class Cumulants final : public gdsmc::Diagnostic {
   // Runs in a mixture (gdsmc.species): it reads only the host's mass-weighted moments.
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_species(id)) return e;
-    return gdsmc::offer_bracketed_sampling(id);
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);  // no particle
   }
  private:
   gdsmc::WindowAverage window_;

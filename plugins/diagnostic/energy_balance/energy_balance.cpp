@@ -14,7 +14,7 @@ namespace {
 class EnergyBalance final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "energy_balance";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary =
       "Kinetic energy E(t) per particle and its balance E - E0 = sum of the energy ledger [T0]";
   static constexpr const char* documentation =
@@ -103,7 +103,7 @@ class EnergyBalance final : public gdsmc::Diagnostic {
   // Right in a mixture (gdsmc.species): the mass-weighted energy and the ledger.
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_species(id)) return e;
-    return gdsmc::offer_moments_read<gdsmc::moments_energy>(id);
+    return gdsmc::offer_moments_read<gdsmc::moments_energy, gdsmc::reads_no_particles>(id);  // no particle
   }
 
  private:

@@ -81,7 +81,7 @@ class PlateauFit {
 class EnskogShearViscosity final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "enskog_shear_viscosity";
-  static constexpr const char* version = "1.4.1";
+  static constexpr const char* version = "1.4.2";
   static constexpr const char* summary =
       "Modified USF (002): kinetic + collisional P_ij, eta(t) = -P_xy/a, Kn(t), c(t)/c0, first-Sonine eta and the NS plateau";
   static constexpr const char* documentation =
@@ -356,7 +356,11 @@ class EnskogShearViscosity final : public gdsmc::Diagnostic {
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Reads the host's moments and no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);
+  }
  private:
   static constexpr int kFitted = 4;
   static constexpr int kFittedColumns[kFitted] = {kEtaKRatio, kEtaRatio, kEtaK, kEta};

@@ -54,7 +54,7 @@ double zeta_ratio_bilinear(double a2, double a3) {
 class HcsTheory final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "hcs_theory";
-  static constexpr const char* version = "1.3.1";
+  static constexpr const char* version = "1.3.2";
   static constexpr const char* summary =
       "Haff's law, first- and second-Sonine a2, a3 of the HCS and the cooling rate's cumulant expansion, beside the measured T, a2, a3";
   static constexpr const char* documentation =
@@ -198,6 +198,10 @@ class HcsTheory final : public gdsmc::Diagnostic {
     window_.load(in);
   }
 
+  // Reads the host's moments and no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);
+  }
  private:
   double alpha_ = 1, a2_theory_ = 0, t0_ = 1, tau0_ = 1, zeta0_tau0_ = 0;
   double a2_second_ = 0, a3_second_ = 0, zeta_ratio_second_ = 1, tail_rate_ = 0;

@@ -10,7 +10,7 @@ namespace {
 class LocalEquilibriumClock final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "local_equilibrium_clock";
-  static constexpr const char* version = "1.2.1";
+  static constexpr const char* version = "1.2.2";
   static constexpr const char* summary =
       "s0(t) = (beta/sqrt(pi)) int dt/tau(T) (Eq. 3.13; layer sum of Eq. 3.11 in a slab) beside the measured s(t), and s/s0";
   static constexpr const char* documentation =
@@ -102,6 +102,10 @@ class LocalEquilibriumClock final : public gdsmc::Diagnostic {
     window_.load(in);
   }
 
+  // Reads the host's moments and no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);
+  }
  private:
   bool use_board_;
   double beta_ = 1, lambda0_ = 1;

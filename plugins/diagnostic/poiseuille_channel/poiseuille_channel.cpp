@@ -30,7 +30,7 @@ constexpr std::size_t kMaxBatches = 64;
 class PoiseuilleChannel final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "poiseuille_channel";
-  static constexpr const char* version = "1.9.1";
+  static constexpr const char* version = "1.10.0";
   static constexpr const char* summary =
       "Granular Poiseuille flow (004): steady profiles once E(t) settles, slip, bimodality, N1, N2, chi, Q, balances";
   static constexpr const char* documentation = kDocumentation;
@@ -124,10 +124,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
     id_q_ = out.series("Q_record", "1", "flow rate of Eq. 40 over the record's samples");
   }
 
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
-    const double e = ctx.moments->kinetic_energy / static_cast<double>(p.count);
-    double sum_vx = 0;
-    for (std::size_t i = 0; i < p.count; ++i) sum_vx += p.vx[i];
+  // From the host's moments and sums in every bin (SampledMoments::bin_sums); no particle is read.
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
+    const gdsmc::SampledMoments& m = *ctx.moments;
+    const double e = m.kinetic_energy / static_cast<double>(m.local.count);
+    const double sum_vx = m.local.mean[0] * static_cast<double>(m.local.count);  // of the layers' sums: not of the bins
     record_e_ += e;
     record_vx_ += sum_vx;
     record_t_ += ctx.time_in_tau0();  // the record's time is the mean of its samples', as the host's
@@ -142,7 +143,7 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
       have_last_ = false;
     }
     // Accumulate into the open batch (the last filled_ slot).
-    batches_[filled_ - 1].add_sample(sys_, p);
+    batches_[filled_ - 1].append_sample(m);
     double* x = &extras_[(filled_ - 1) * kExtra];
     x[eSumVx] += sum_vx;
     const Ledger now = ledger(ctx);
@@ -160,8 +161,9 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
     const double ns = static_cast<double>(record_samples_);
     const double e = record_samples_ ? record_e_ / ns / t_wall_ : std::nan("");
-    const double q = record_samples_ ? record_vx_ / (ns * static_cast<double>(sys_.particles)) / (u_ref() * a_hat())
-                                     : std::nan("");
+    const double scale = u_ref() * a_hat();  // 0 without a body force: Q undefined (NaN), not +-inf
+    const double q = record_samples_ && scale != 0 ? record_vx_ / (ns * static_cast<double>(sys_.particles)) / scale
+                                                   : std::nan("");
     out.append(id_e_, e);
     out.append(id_steady_, steady_ ? 1.0 : 0.0);
     out.append(id_q_, q);
@@ -294,10 +296,11 @@ class PoiseuilleChannel final : public gdsmc::Diagnostic {
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  // Reads only the kinetic energy of the host's sampled moments (MomentsRead).
+  // Reads the mean, the kinetic energy and the bin sums of the host's sampled moments, no particle (MomentsRead).
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
-    return gdsmc::offer_moments_read<gdsmc::moments_energy>(id);
+    return gdsmc::offer_moments_read<gdsmc::moments_means | gdsmc::moments_energy | gdsmc::moments_bins,
+                                     gdsmc::reads_no_particles>(id);
   }
  private:
   struct Ledger {

@@ -7,7 +7,7 @@ namespace {
 class PressureTensor final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "pressure_tensor";
-  static constexpr const char* version = "1.4.0";
+  static constexpr const char* version = "1.4.1";
   static constexpr const char* summary = "Kinetic pressure tensor P_ij / (n0 T0) of the whole system";
   static constexpr const char* documentation =
       "P = (m / Omega) sum_i V_i V_i with Omega = N / n the system volume and V_i the velocity\n"
@@ -51,7 +51,8 @@ class PressureTensor final : public gdsmc::Diagnostic {
   // Right in a mixture (gdsmc.species): it reads only the host's mass-weighted moments.
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_species(id)) return e;
-    return gdsmc::offer_bracketed_sampling(id);
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);  // no particle
   }
  private:
   gdsmc::WindowAverage window_;

@@ -46,7 +46,7 @@ constexpr ProfileColumn kColumns[kProf] = {
 class Profiles final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "profiles";
-  static constexpr const char* version = "1.4.0";
+  static constexpr const char* version = "1.5.0";
   static constexpr const char* summary =
       "Profiles along y per sampling bin: n, u, T, P_ij, q_x, q_y, N1, N2, Kn (window averages)";
   static constexpr const char* documentation =
@@ -54,8 +54,9 @@ class Profiles final : public gdsmc::Diagnostic {
       "volume V_bin = dy Lx Lz. Each record is the window average since the previous record in the\n"
       "sense of paper 004 Eq. (13): over the N_t samples of the window,\n"
       "  <psi>_y = (1 / (N_t V_bin)) sum_t sum_{i in bin} psi(v_i(t)),\n"
-      "accumulated as the sums of 1, v_a, v_a v_b and |v|^2 v_a per bin (particle-index order; the\n"
-      "toolkit's gdsmc::BinSums, gdsmc/physics/bins.hpp). At the record, with N_b the count summed over the window and u taken from the same window:\n"
+      "accumulated as the sums of 1, v_a, v_a v_b and |v|^2 v_a per bin (the host's sums of each\n"
+      "sample, SampledMoments::bin_sums, added into the toolkit's gdsmc::BinSums, gdsmc/physics/bins.hpp;\n"
+      "no particle is read, so a decomposed run gathers none for it). At the record, with N_b the count summed over the window and u taken from the same window:\n"
       "  n(y) = N_b / (N_t V_bin)                                   (004 Eq. 14, per unit mass)\n"
       "  u(y) = sum v / N_b                                          (004 Eq. 15)\n"
       "  P_ab(y) = (m / (N_t V_bin)) sum (v_a - u_a)(v_b - u_b)      (004 Eq. 31, 000 Eq. 4.7)\n"
@@ -115,12 +116,13 @@ class Profiles final : public gdsmc::Diagnostic {
 
   // With fourier_law the steady sums take every record window wholly in ctx.in_average_window at its
   // record (appended), and the samples of the one window that straddles its start from a second sum.
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
+  // The host's sums of the state in every bin (SampledMoments::bin_sums) are one sample.
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
     if (fourier_law_ && ctx.in_average_window && !window_in_average_) {
       if (acc_.samples() == 0) window_in_average_ = true;
-      else straddle_.add_sample(*ctx.system, p);
+      else straddle_.append_sample(*ctx.moments);
     }
-    acc_.add_sample(*ctx.system, p);
+    acc_.append_sample(*ctx.moments);
   }
 
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override {
@@ -156,10 +158,10 @@ class Profiles final : public gdsmc::Diagnostic {
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  // Reads nothing of the host's sampled moments (MomentsRead).
+  // Reads the host's bin sums with their third moments, and no particle (MomentsRead).
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
-    return gdsmc::offer_moments_read<0>(id);
+    return gdsmc::offer_moments_read<gdsmc::moments_bin_heat, gdsmc::reads_no_particles>(id);
   }
  private:
   // The record-time formulas of the documentation, from one bin's moments over the window.

@@ -11,7 +11,7 @@ namespace {
 class ShearRheology final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "shear_rheology";
-  static constexpr const char* version = "1.3.1";
+  static constexpr const char* version = "1.3.2";
   static constexpr const char* summary = "USF rheology: a* = a tau_eta, -P_xy/nT, normal stress differences, eta*, Psi_1, Psi_2";
   static constexpr const char* documentation =
       "Uses the shear rate a published as 'shear_rate' (uniform_shear forcing, or a lees_edwards\n"
@@ -116,7 +116,11 @@ class ShearRheology final : public gdsmc::Diagnostic {
   }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Reads the host's moments and no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);
+  }
  private:
   double a_ = 0, lambda0_ = 1, tau0_ = 1, t0_ = 1, restitution_ = 0;
   std::vector<std::string> names_;

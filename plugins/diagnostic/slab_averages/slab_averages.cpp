@@ -14,7 +14,7 @@ namespace {
 class SlabAverages final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "slab_averages";
-  static constexpr const char* version = "1.2.0";
+  static constexpr const char* version = "1.3.0";
   static constexpr const char* summary =
       "T_bar/T0, reduced mean pressure tensor, and u_x, n, T of the central and top layers (000 Figs. 3-4)";
   static constexpr const char* documentation =
@@ -25,11 +25,11 @@ class SlabAverages final : public gdsmc::Diagnostic {
       "  P_bar = (1/M) sum_I P_I = n_bar m <V V>          (Eq. 4.9)\n"
       "  series minus_Pxy_over_nT = -P_xy / (n_bar T_bar), Pxx_minus_Pyy_over_nT = (P_xx - P_yy) /\n"
       "  (n_bar T_bar), Pyy_minus_Pzz_over_nT = (P_yy - P_zz) / (n_bar T_bar) [1] (Fig. 4).\n"
-      "Two groups of layers for Fig. 3, computed at each sample from the particles' positions (layer\n"
-      "I = floor((y + L/2) / dy), I = 0..M-1): 'centre', the layers inside |y| <= 2 dy (the four\n"
+      "Two groups of layers for Fig. 3, computed at each sample from the host's fresh moments of each\n"
+      "layer (SampledMoments::cells: N_I, u_I, T_I; no particle is read), layers I = 0..M-1 along y: 'centre', the layers inside |y| <= 2 dy (the four\n"
       "central layers when M is even), and 'top', the three top layers, L/2 - 3 dy <= y <= L/2.\n"
       "For each group G with N_G particles in its M_G layers:\n"
-      "  u_x = (1 / N_G) sum_{i in G} v_x,i                                 [sqrt(2T0/m)]\n"
+      "  u_x = (1 / N_G) sum_{I in G} N_I u_x,I  (the mean v_x of its particles)  [sqrt(2T0/m)]\n"
       "  n = N_G / (M_G A dy)  (A dy the layer volume, Eq. 4.4)           [n0]\n"
       "  T = (1 / N_G) sum_{I in G} N_I T_I  with T_I of Eq. (4.6), i.e. each layer's temperature\n"
       "      about its own mean velocity u_I (Eq. 4.5), weighted by its count   [T0]\n"
@@ -51,7 +51,6 @@ class SlabAverages final : public gdsmc::Diagnostic {
     half_ = 0.5 * sys.box[1];
     dy_ = sys.layer_width(0);
     layer_volume_ = dy_ * sys.cross_section();
-    mass_ = sys.mass;
     n0_ = sys.number_density;
     t0_ = sys.initial_temperature;
     v0_ = std::sqrt(2.0 * sys.initial_temperature / sys.mass);
@@ -69,7 +68,6 @@ class SlabAverages final : public gdsmc::Diagnostic {
       group_layers_[g] = 0;
       for (std::size_t I = 0; I < layers_; ++I) group_layers_[g] += in_group_[g][I];
     }
-    sums_.begin(layers_, false);  // indexed by layer, one sample at a time
     values_.assign(10, 0.0);
     window_.declare(out, {{"T_bar", "T0", "mean temperature T_bar = (1/N) sum_I N_I T_I (000 Eq. 4.8)"},
                           {"minus_Pxy_over_nT", "1", "-P_bar_xy / (n_bar T_bar), P_bar of 000 Eq. (4.9)"},
@@ -83,7 +81,7 @@ class SlabAverages final : public gdsmc::Diagnostic {
                           {"top_T", "T0", "count-weighted mean of the layer temperatures T_I (000 Eq. 4.6) of the three top layers"}});
   }
 
-  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan& p) override {
+  void sample(const gdsmc::StepContext& ctx, const gdsmc::ParticleSpan&) override {
     const gdsmc::VelocityMoments& m = ctx.moments->local;
     const double T = m.temperature;
     values_[0] = T / t0_;
@@ -91,48 +89,42 @@ class SlabAverages final : public gdsmc::Diagnostic {
     values_[2] = (m.second[0][0] - m.second[1][1]) / T;
     values_[3] = (m.second[1][1] - m.second[2][2]) / T;
 
-    sums_.clear();
-    for (std::size_t i = 0; i < p.count; ++i) {
-      const std::size_t I = ctx.system->layer_of(p.y[i]);
-      if (!in_group_[kCentre][I] && !in_group_[kTop][I]) continue;
-      sums_.add(I, p.vx[i], p.vy[i], p.vz[i]);
-    }
-    sums_.end_sample();
-    using S = gdsmc::BinSums;
     for (int g : {kCentre, kTop}) {
-      double N = 0, sx = 0, peculiar = 0;  // peculiar: sum_I sum_i (v - u_I)^2 = sum_I (tr S2 - |S|^2 / N_I)
+      double N = 0, sx = 0, nt = 0;  // sum_I N_I, sum_I N_I u_x,I, sum_I N_I T_I
       for (std::size_t I = 0; I < layers_; ++I) {
-        if (!in_group_[g][I]) continue;
-        const double* s = sums_.sums(I);
-        if (s[S::kCount] == 0) continue;
-        N += s[S::kCount];
-        sx += s[S::kVx];
-        peculiar += (s[S::kVxx] + s[S::kVyy] + s[S::kVzz]) -
-                    (s[S::kVx] * s[S::kVx] + s[S::kVy] * s[S::kVy] + s[S::kVz] * s[S::kVz]) / s[S::kCount];
+        const gdsmc::CellMoments& c = ctx.moments->cells[I];
+        if (!in_group_[g][I] || c.count == 0) continue;
+        const double n = static_cast<double>(c.count);
+        N += n;
+        sx += n * c.mean_velocity[0];
+        nt += n * c.temperature;  // T_I of Eq. 4.6 (0 for a lone particle, which has no peculiar motion)
       }
       double* v = &values_[4 + 3 * static_cast<std::size_t>(g)];
       v[0] = N > 0 ? sx / N / v0_ : std::nan("");
       v[1] = N / (static_cast<double>(group_layers_[g]) * layer_volume_) / n0_;
-      v[2] = N > 0 ? mass_ * peculiar / (3.0 * N) / t0_ : std::nan("");
+      v[2] = N > 0 ? nt / N / t0_ : std::nan("");
     }
     window_.add(values_);
   }
 
   void record(const gdsmc::StepContext&, gdsmc::OutputSink& out) override { window_.commit(out); }
-  // sums_ and values_ are scratch of one sample.
+  // values_ is scratch of one sample.
   void save_state(gdsmc::StateWriter& out) const override { window_.save(out); }
   void load_state(gdsmc::StateReader& in) override { window_.load(in); }
 
   // Sampled on both sides of the collision stage (BracketedSampling): its means carry no O(dt) bias.
-  const void* extension(const char* id) const override { return gdsmc::offer_bracketed_sampling(id); }
+  // Reads the host's peculiar moments and cells, no particle (MomentsRead).
+  const void* extension(const char* id) const override {
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_peculiar | gdsmc::moments_cells, gdsmc::reads_no_particles>(id);
+  }
  private:
   enum Group : int { kCentre = 0, kTop = 1 };
 
   std::size_t layers_ = 1;
-  double half_ = 0, dy_ = 1, layer_volume_ = 1, mass_ = 1, n0_ = 1, t0_ = 1, v0_ = 1;
+  double half_ = 0, dy_ = 1, layer_volume_ = 1, n0_ = 1, t0_ = 1, v0_ = 1;
   std::vector<unsigned char> in_group_[2];  // per group, per layer: 1 if the layer belongs to it
   std::size_t group_layers_[2] = {0, 0};
-  gdsmc::BinSums sums_;          // per-layer sums of one sample (toolkit, gdsmc/physics/bins.hpp)
   std::vector<double> values_;   // one sample's values, in the order of the columns
   gdsmc::WindowAverage window_;
 };

@@ -7,7 +7,7 @@ namespace {
 class Temperature final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "temperature";
-  static constexpr const char* version = "1.5.0";
+  static constexpr const char* version = "1.5.1";
   static constexpr const char* summary = "Granular temperature T(t)/T0 and mean velocity";
   static constexpr const char* documentation =
       "T = (m / 3N) sum_i V_i^2 with V_i the velocity relative to the local flow (paper 000, Eq. 4.15):\n"
@@ -51,7 +51,8 @@ class Temperature final : public gdsmc::Diagnostic {
   // Right in a mixture (gdsmc.species): it reads only the host's mass-weighted moments.
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_species(id)) return e;
-    return gdsmc::offer_bracketed_sampling(id);
+    if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;
+    return gdsmc::offer_moments_read<gdsmc::moments_all, gdsmc::reads_no_particles>(id);  // no particle
   }
  private:
   gdsmc::WindowAverage window_;

@@ -12,7 +12,7 @@ namespace {
 class WallFluxes final : public gdsmc::Diagnostic {
  public:
   static constexpr const char* name = "wall_fluxes";
-  static constexpr const char* version = "1.3.0";
+  static constexpr const char* version = "1.3.1";
   static constexpr const char* summary =
       "Hit rate, momentum flux and energy flux given to the gas by each boundary, per unit area and time";
   static constexpr const char* documentation =
@@ -106,7 +106,7 @@ class WallFluxes final : public gdsmc::Diagnostic {
   // Right in a mixture (gdsmc.species): the host's mass-weighted tallies.
   const void* extension(const char* id) const override {
     if (const void* e = gdsmc::offer_species(id)) return e;
-    return gdsmc::offer_moments_read<0>(id);
+    return gdsmc::offer_moments_read<0, gdsmc::reads_no_particles>(id);  // no particle
   }
 
  private:

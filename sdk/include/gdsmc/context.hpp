@@ -134,6 +134,17 @@ struct SampledMoments {
   const double* cell_mean_velocity = nullptr;
   double number_density = 0;       // n-bar
   double kinetic_energy = 0;       // E = (m/2) sum_i v_i^2, laboratory velocities (004 Eq. A1)
+  // [SDK 6.6] moments_cells: every cell's fresh moments (cell_count entries, as StepContext::cells
+  // but of this state): N_I, n_I, u_I and T_I = (m / 3 N_I) sum (v - u_I)^2 (000 Eqs. 4.4-4.6; 0
+  // below 2 particles). nullptr unless some diagnostic reads them.
+  const CellMoments* cells = nullptr;
+  // [SDK 6.6] moments_bins: the sums of this state's particles in every sampling bin along y
+  // (SystemInfo::bins), bin_sum_stride values a bin in gdsmc::BinSums' order (physics/bins.hpp:
+  // 1, v_a, v_a v_b, and with moments_bin_heat |v|^2 v_a); BinSums::append_sample adds them. Each
+  // layer's particles are summed in storage order and the layers' sums added in layer order, so a
+  // decomposed run (docs/cluster.md) has the same bits. nullptr unless some diagnostic reads them.
+  const double* bin_sums = nullptr;
+  std::size_t bin_count = 0, bin_sum_stride = 0;
 };
 
 // The parts of SampledMoments (SDK 6.2): the host measures those that some diagnostic reads
@@ -142,7 +153,12 @@ enum MomentsPart : std::uint32_t {
   moments_means = 1u << 0,     // local.mean and cell_mean_velocity (local.count, number_density: always)
   moments_energy = 1u << 1,    // kinetic_energy
   moments_peculiar = 1u << 2,  // local.second, local.temperature, local.fourth, local.sixth (a2(), a3())
+  // moments_all: the parts of SDK 6.2, what a diagnostic without MomentsRead is given.
   moments_all = moments_means | moments_energy | moments_peculiar,
+  moments_cells = 1u << 3,     // [SDK 6.6] cells (each cell's fresh N_I, n_I, u_I, T_I)
+  moments_bins = 1u << 4,      // [SDK 6.6] bin_sums: 1, v_a, v_a v_b in every sampling bin
+  moments_bin_heat = 1u << 5,  // [SDK 6.6] bin_sums with |v|^2 v_a too (implies moments_bins)
+  moments_known = moments_all | moments_cells | moments_bins | moments_bin_heat,
 };
 
 // What one boundary (y_min or y_max) has exchanged with the gas since the start of the run: the

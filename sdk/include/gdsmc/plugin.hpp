@@ -96,26 +96,35 @@ inline double bracket_weight(const StepContext& ctx) { return ctx.sample_phase =
 
 // Extension "gdsmc.diagnostic.moments_read" (SDK 6.2): the parts of StepContext::moments that a
 // diagnostic's sample reads. The host measures a part only when some diagnostic of the run reads
-// it (a diagnostic that does not offer this extension reads every part): the peculiar moments are
-// a second pass over every particle, about 5 ns a particle, at every sample. A part nobody reads
-// is left NaN (cell_mean_velocity nullptr). `gdsmc conformance` (check diagnostic.moments_read)
-// runs the diagnostic on the parts it declares and on all of them and asks for the same output.
+// it (a diagnostic that does not offer this extension reads the parts of moments_all): the peculiar
+// moments are a second pass over every particle, about 5 ns a particle, at every sample. A part
+// nobody reads is left NaN (cell_mean_velocity, cells, bin_sums nullptr). `gdsmc conformance`
+// (check diagnostic.moments_read) runs the diagnostic on the parts it declares and on all of them
+// and asks for the same output.
+// Version 2 (SDK 6.6) adds `particles`: 0 when sample() reads nothing of its ParticleSpan (only
+// ctx: the moments, cells and bin sums above, the tallies). Such a diagnostic costs a decomposed
+// run (`gdsmc run --decompose`) no gather of the particles to rank 0: it is handed an empty span
+// there, and conformance (the same check) runs it on an empty span and asks for the same output.
 // A diagnostic that reads only the kinetic energy offers it with
 //   const void* extension(const char* id) const override {
 //     if (const void* e = gdsmc::offer_bracketed_sampling(id)) return e;  // if it offers that too
 //     return gdsmc::offer_moments_read<gdsmc::moments_energy>(id);
 //   }
+// and one that reads the bins' sums and no particle with offer_moments_read<gdsmc::moments_bins,
+// gdsmc::reads_no_particles>(id).
 inline constexpr const char moments_read_id[] = "gdsmc.diagnostic.moments_read";
 struct MomentsRead {
-  std::uint32_t version = 1;
+  std::uint32_t version = 2;
   std::uint32_t parts = moments_all;  // MomentsPart bits
+  std::uint32_t particles = 1;        // version >= 2: 0 when sample() reads no particle (1 otherwise)
 };
-template <std::uint32_t Parts>
-inline constexpr MomentsRead moments_read{1, Parts};
-template <std::uint32_t Parts>
+inline constexpr bool reads_no_particles = false;
+template <std::uint32_t Parts, bool ReadsParticles = true>
+inline constexpr MomentsRead moments_read{2, Parts, ReadsParticles ? 1u : 0u};
+template <std::uint32_t Parts, bool ReadsParticles = true>
 inline const void* offer_moments_read(const char* id) {
-  static_assert((Parts & ~static_cast<std::uint32_t>(moments_all)) == 0, "Parts: MomentsPart bits");
-  return std::string_view(id) == moments_read_id ? &moments_read<Parts> : nullptr;
+  static_assert((Parts & ~static_cast<std::uint32_t>(moments_known)) == 0, "Parts: MomentsPart bits");
+  return std::string_view(id) == moments_read_id ? &moments_read<Parts, ReadsParticles> : nullptr;
 }
 
 // Extension "gdsmc.species" (SDK 6.5): the plugin handles a mixture (SystemInfo::species): it

@@ -10,7 +10,7 @@
 // host-owned struct, an extension id (PluginObject::extension), a virtual appended to OutputSink.
 // A plugin built against a newer minor than the host's is refused.
 #define GDSMC_SDK_ABI_MAJOR 6
-#define GDSMC_SDK_ABI_MINOR 5
+#define GDSMC_SDK_ABI_MINOR 6
 
 #if defined(_WIN32)
 #define GDSMC_API __declspec(dllexport)

@@ -126,6 +126,10 @@ TEST(Conformance, BadPluginsFailNamingThePluginAndTheProperty) {
        "diagnostic.moments_read",
        {"conformance_undeclared_moments", "declares that it reads kinetic_energy", "series 'temperature'",
         "declare every part"}},
+      // A diagnostic that declares its sample reads no particle and sums their v_x.
+      {"conformance_hidden_particles",
+       "diagnostic.moments_read",
+       {"conformance_hidden_particles", "reads no particle", "on an empty span its output changes", "mean_vx"}},
       // A white-noise thermostat declaring half its heating rate.
       {"conformance_white_noise_half",
        "forcing.expected_energy",

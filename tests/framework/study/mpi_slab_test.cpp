@@ -35,6 +35,13 @@ double migrated_per_step(const std::string& err) {
   return std::regex_search(err, m, line) ? std::stod(m[1]) : -1.0;
 }
 
+// The gathers of every particle to rank 0, as rank 0 reports them.
+long gathers(const std::string& err) {
+  std::smatch m;
+  const std::regex line(R"( in ([0-9]+) gather\(s\) of every particle)");
+  return std::regex_search(err, m, line) ? std::stol(m[1]) : -1;
+}
+
 // The pipeline run serially (--threads 1) and over each of `ranks` ranks with `threads` threads
 // each, decomposed: the same file contents. Returns rank 0's stderr of the last job.
 std::string expect_decomposed_runs_give_the_serial_bits(const std::string& yaml, std::size_t min_entries,
@@ -64,7 +71,7 @@ const char* const kChannel =
     "run:\n  seed: 11\n  particles: 20000\n  time_step: {value: 0.02, unit: tau0}\n  stop: {time: 4}\n"
     "  sample_every: 2\n  record_every: 20\n"
     "system:\n  mean_free_path: 10\n  temperature: 1.0\n  domain: slab\n  box: {y: {value: 200, unit: sigma}}\n"
-    "  layers: 40\n"
+    "  layers: 40\n  bins: 30\n"
     "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.9}\n"
     "forcings:\n  - {plugin: body_acceleration, acceleration: {value: 0.005, unit: reduced}}\n"
     "boundaries:\n  y_min: {plugin: diffuse_wall, temperature: 1.0}\n"
@@ -75,12 +82,16 @@ const char* const kChannel =
 
 TEST(MpiSlab, AChannelWithADiffuseAndAMaxwellWallAndABodyForceHasTheSerialBitsAtTwoAndThreeRanks) {
   if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
-  expect_decomposed_runs_give_the_serial_bits(kChannel, 60, {{2, 1}, {3, 1}, {2, 2}});
+  const std::string err = expect_decomposed_runs_give_the_serial_bits(kChannel, 60, {{2, 1}, {3, 1}, {2, 2}});
+  // Its diagnostics read the host's shared moments and bin sums, no particle (MomentsRead): the
+  // particles are gathered once, for the output and the diagnostics' finish. Its 30 sampling bins
+  // cut its 40 layers, so bins straddle the blocks' boundaries.
+  EXPECT_EQ(gathers(err), 1) << err;
 }
 
 TEST(MpiSlab, ALeesEdwardsSlabHasTheSerialBitsAtTwoAndThreeRanks) {
   if (const std::string why = why_no_mpi(); !why.empty()) GTEST_SKIP() << why;
-  expect_decomposed_runs_give_the_serial_bits(
+  const std::string err = expect_decomposed_runs_give_the_serial_bits(
       "run:\n  seed: 5\n  particles: 8000\n  time_step: {value: 2.0e-3, unit: tau0, follow_temperature: true}\n"
       "  stop: {collisions_per_particle: 3}\n  moments_every: 4\n  sample_every: 4\n  record_every: 40\n"
       "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 2.5}\n  layers: 30\n"
@@ -90,6 +101,7 @@ TEST(MpiSlab, ALeesEdwardsSlabHasTheSerialBitsAtTwoAndThreeRanks) {
       "  - slab_averages\n  - shear_rheology\n  - energy_balance\n"
       "output: {file: out.h5, particles: true}\n",
       40, {{2, 1}, {3, 1}});
+  EXPECT_EQ(gathers(err), 1) << "no diagnostic here reads particles: one gather, at the end\n" << err;
 }
 
 // Three layers a rank and a gas so hot for its step that a particle flies about half a block per
@@ -101,9 +113,13 @@ TEST(MpiSlab, ParticlesCrossingBetweenRanksEveryStepKeepTheSerialBits) {
       "system:\n  density: 1.0e-3\n  temperature: 1.0\n  domain: slab\n  box: {y: 1.0}\n  layers: 9\n"
       "initial_state: maxwellian\ncollision: {plugin: inelastic_hard_spheres, alpha: 0.8}\n"
       "boundaries:\n  y: {plugin: lees_edwards, shear_rate: 1}\n"
-      "diagnostics: [slab_averages, energy_balance]\n"
+      "diagnostics: [slab_averages, energy_balance, {plugin: velocity_marginals, sample_every: 10, record_every: 20}]\n"
       "output: {file: out.h5, particles: true}\n",
       20, {{3, 1}});
+  // velocity_marginals reads the particles: they are gathered for both sides of its bracketed pairs
+  // at steps 10, 20, 30 and 40, and once at the end (the initial record is taken before the run is
+  // decomposed, while every rank holds the whole state).
+  EXPECT_EQ(gathers(err), 9) << err;
   // mean |v_y| dt / block = sqrt(2 T / pi m) 0.1 tau0 / (Ly / 3): of 6000 particles, about 1/4 cross
   // a block boundary in a step; 40 steps.
   EXPECT_GT(migrated_per_step(err), 500.0) << err;

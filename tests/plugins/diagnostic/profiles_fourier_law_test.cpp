@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/cells.hpp"
 #include "engine/particle_store.hpp"
 #include "test_support.hpp"
 
@@ -34,6 +35,8 @@ std::string pipeline_yaml(double alpha) {
 // The diagnostic as the engine holds it, with its sink and the particles it is fed.
 struct Bench : t::DiagnosticBench {
   host::ParticleStore store;
+  host::CellGrid grid;  // the host's bin sums of each sample (SampledMoments::bin_sums)
+  SampledMoments moments;
   StepContext ctx;
   double time = 0;
   Bench(const t::TempDir& dir, double alpha) : DiagnosticBench(dir, pipeline_yaml(alpha), "profiles", kBins * kPerBin) {
@@ -41,6 +44,8 @@ struct Bench : t::DiagnosticBench {
     store.allocate(kBins * kPerBin, {});
     ctx.system = &sys;
     ctx.quantities = &board;
+    grid.slab(kBins * kPerBin, sys.cells, sys.box[1], sys.cross_section());
+    grid.set_sampling_system(&sys);
   }
   // One sample of the state whose bin b has T(b) = T[b] T0 and q_y(b) = q[b] n0 T0 sqrt(2T0/m), zero
   // flow and density n0: per bin the velocities (+-s, 0, 0), (0, +-s, 0), (0, 0, +-s), (0, 2w, 0) and
@@ -59,6 +64,9 @@ struct Bench : t::DiagnosticBench {
       }
     }
     ctx.in_average_window = in_window;
+    grid.assign_and_sort(p.y.data, store.cells(), p.count);
+    grid.sampled_moments(p, sys.number_density, moments, nullptr, nullptr, moments_bin_heat);
+    ctx.moments = &moments;
     diag->sample(ctx, p);
   }
   void record() {

@@ -94,6 +94,25 @@ class BinSums {
   }
   // Count one more sample (after adding its particles with add()).
   void end_sample() { samples_ += 1.0; }
+  // One sample from the host's bin sums of the state (SampledMoments::bin_sums, SDK 6.6; a
+  // diagnostic that reads them declares moments_bins, or moments_bin_heat for third moments): each
+  // bin's sums added as one term, one more sample counted. A diagnostic that accumulates this way
+  // reads no particle, and costs a decomposed run no gather (MomentsRead::particles).
+  void append_sample(const SampledMoments& m) {
+    if (m.bin_sums && m.bin_count != bins_)
+      throw std::invalid_argument("BinSums::append_sample: sized for " + std::to_string(bins_) +
+                                  " bins; the host's bin sums have SystemInfo::bins = " + std::to_string(m.bin_count));
+    if (!m.bin_sums || m.bin_sum_stride < stride_)
+      throw std::invalid_argument(std::string("BinSums::append_sample: the host measured no bin sums") +
+                                  (m.bin_sums ? " with third moments: declare moments_bin_heat"
+                                              : ": declare moments_bins (moments_bin_heat for third moments) in MomentsRead"));
+    for (std::size_t b = 0; b < bins_; ++b) {
+      double* a = &sums_[b * stride_];
+      const double* s = m.bin_sums + b * m.bin_sum_stride;
+      for (std::size_t j = 0; j < stride_; ++j) a[j] += s[j];
+    }
+    samples_ += 1.0;
+  }
 
   // Add the sums of another part of the same samples (other particles): the sample counts must
   // agree (the order rule above).
