@@ -76,9 +76,10 @@ One slab over ranks: `mpirun -np K gdsmc run PIPELINE.yaml --decompose` splits e
 into K contiguous blocks, one per rank (threads inside each), in turn for every run of the study.
 Particles move between ranks after each flight; block boundaries follow the measured cost of the
 layers (particles and collision candidates) every 16 steps. The output is the same bits as the
-single-process run at any K, thread count and block boundaries; rank 0 gathers the particles for
-the forcings that act on them, the diagnostics' samples, the checkpoints and the output, so it
-holds every particle then (about N x 64 bytes). Checkpoints resume at any K, with or without
+single-process run at any K, thread count and block boundaries. Diagnostics that read no particle
+(SDK 6.6: profiles, poiseuille_channel, slab_averages, temperature, ...) sample from sums the ranks
+share; rank 0 gathers the particles for the samples of the others, for forcings that act on the
+particles, for checkpoints and at the end, and holds every particle then (about N x 64 bytes). Checkpoints resume at any K, with or without
 --decompose. Not decomposed (refused, by name): homogeneous systems (one collision cell), more
 ranks than layers, plugins that declare per-particle attributes. A failure on any rank
 ends the job (MPI_Abort) with that rank's message. See docs/scaling.md.
