@@ -464,7 +464,9 @@ void CellGrid::sampled_moments(const ParticleSpan& p, double mean_density, Sampl
   if (p.count == 0 && !exchange_) return;  // a decomposed rank may hold none, and still shares
   // The cells' fresh temperatures are the layers' peculiar sums.
   const bool cells = (parts & moments_cells) && !species_mass_;
-  measure_moments(p, out, pool, conserved_mean, (parts & moments_all) | (cells ? moments_means | moments_peculiar : 0u));
+  const std::uint32_t passes = (parts & moments_all) | (cells ? moments_means | moments_peculiar : 0u);
+  measure_moments(p, out, pool, conserved_mean, passes);
+  if (exchange_ && !passes) m.count = shared_count();  // local.count is every rank's
   if (cells) fresh_cells(out, mean_density);
   if (parts & (moments_bins | moments_bin_heat)) bin_sums(p, out, pool, (parts & moments_bin_heat) != 0);
   // The parts not asked for: NaN, so that a diagnostic that reads one it did not declare shows it.

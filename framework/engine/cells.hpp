@@ -219,6 +219,8 @@ class CellGrid {
   double layer_count(std::size_t c) const { return exchange_ ? layer_counts_[c] : members_count(c); }
   // After the first pass: every layer's count, sums of v and of v^2 (pieces_) from its owner.
   void share_sampled_means() const;
+  // Every rank's particles (each layer's count from its owner), without a pass over them.
+  std::size_t shared_count() const;
   // After the second: every layer's peculiar sums from its owner.
   void share_peculiar_sums() const;
   // out.cells from the layers' counts, means and peculiar sums of the passes just made.

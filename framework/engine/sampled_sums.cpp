@@ -28,6 +28,15 @@ void CellGrid::share_sampled_means() const {
   }
 }
 
+std::size_t CellGrid::shared_count() const {
+  shared_.resize(layers_);
+  for (std::size_t c = 0; c < layers_; ++c) shared_[c] = members_count(c);
+  exchange_->share(shared_.data(), 1);
+  double total = 0;
+  for (std::size_t c = 0; c < layers_; ++c) total += shared_[c];
+  return static_cast<std::size_t>(total);
+}
+
 void CellGrid::share_peculiar_sums() const {
   constexpr std::size_t kValues = 8;
   shared_.resize(kValues * layers_);
