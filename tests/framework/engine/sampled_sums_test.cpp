@@ -47,10 +47,12 @@ struct State {
   }
 };
 
-// 7 bins over 10 layers: most bins straddle two layers. Each bin's count is exact and each sum is
-// the particles' sum to round-off (another order of the same additions), third moments included.
+// 7 bins over 10 layers: most bins straddle two layers; with 1 and 3 bins most layers lie inside one
+// bin (summed without reading positions); 10 and 33 bins put a bin edge on every layer edge or
+// several bins in a layer. Each bin's count is exact and each sum is the particles' sum to
+// round-off (another order of the same additions), third moments included.
 TEST(SampledSums, TheBinSumsAreTheSumsOfTheParticlesInEachBinHoweverTheBinsCutTheLayers) {
-  for (const std::size_t bins : {7u, 10u, 33u}) {
+  for (const std::size_t bins : {1u, 3u, 7u, 10u, 33u}) {
     State s(20000, 10, bins);
     SampledMoments m;
     s.grid.sampled_moments(s.span, 1e-3, m, nullptr, nullptr, moments_bin_heat);
