@@ -8,8 +8,10 @@
 // rank keeps its particles in increasing key order, so a layer's member list is the serial one and
 // its collisions (streams keyed by layer) are the serial ones; per-layer sums are shared by their
 // owners and folded in layer order on every rank, as the serial run folds them; the mover's tallies
-// are exact integer sums (engine/fixed_sum.hpp); the diagnostics, forcings and checkpoints run on
-// rank 0 with the particles gathered into key order, which is the serial storage.
+// are exact integer sums (engine/fixed_point_sum.hpp); the sampled moments (bin sums and fresh cells
+// too) are per-layer sums as well, so the diagnostics that read no particle (SDK 6.6) run on rank 0
+// without them; those that do, forcings that act on the particles and checkpoints run on rank 0
+// with the particles gathered into key order, which is the serial storage.
 #pragma once
 #include <algorithm>
 #include <cstddef>
