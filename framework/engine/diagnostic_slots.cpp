@@ -61,10 +61,10 @@ bool DiagnosticSlots::bracketed_due_at(std::uint64_t step) const {
   return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) { return slot.bracketed && slot.due_at(step); });
 }
 
-bool DiagnosticSlots::samples_particles_at(std::uint64_t step, bool force_record) const {
+bool DiagnosticSlots::lone_sample_at(std::uint64_t step, bool force_record, bool of_particles) const {
   return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& slot) {
-    return slot.reads_particles && slot.last_record_step != step && (force_record || slot.samples_at(step)) &&
-           slot.bracketed_step != step;  // as sample_and_record decides
+    return (slot.reads_particles || !of_particles) && slot.last_record_step != step &&
+           (force_record || slot.samples_at(step)) && slot.bracketed_step != step;  // as sample_and_record decides
   });
 }
 

@@ -34,10 +34,11 @@ class DiagnosticSlots {
   // slots have done: true whenever samples_at (bracketed_at) is, on every rank of a decomposed run.
   bool due_at(std::uint64_t step) const;
   bool bracketed_due_at(std::uint64_t step) const;
-  // Whether sample_and_record (sample_bracketed) will hand the particles to some diagnostic whose
-  // sample() reads them (MomentsRead::particles), from what the slots have done: rank 0 of a
-  // decomposed run, which drives them, tells the others whether to gather the particles.
-  bool samples_particles_at(std::uint64_t step, bool force_record) const;
+  // Whether sample_and_record will take a lone sample for some diagnostic (`of_particles`: for one
+  // whose sample() reads the particles, MomentsRead::particles), and whether sample_bracketed will
+  // hand the particles to one, from what the slots have done: rank 0 of a decomposed run, which
+  // drives them, tells the others whether to measure the moments and whether to gather.
+  bool lone_sample_at(std::uint64_t step, bool force_record, bool of_particles) const;
   bool bracketed_particles_at(std::uint64_t step) const;
   // The bracketed diagnostics' samples of the state now, just before or just after the collision
   // stage of the step that ctx.step is (already advanced to the step after).

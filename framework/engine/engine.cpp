@@ -419,8 +419,10 @@ void Engine::sample_bracketed(SamplePhase phase) {
 void Engine::sample_and_record(bool force_record) {
   if (ranks_) {  // rank 0 samples and records; its steady flag to all
     if (!force_record && !diagnostics_.due_at(ctx_.step)) return;
-    if (samples_locally(root_says(diagnostics_.samples_particles_at(ctx_.step, force_record)))) {
-      measure_sampled_moments();  // every rank's share (rank 0's cache of a gathered sample is its own)
+    if (samples_locally(root_says(diagnostics_.lone_sample_at(ctx_.step, force_record, true)))) {
+      // Every rank's share of the moments, when some diagnostic samples (a bracketed one that took
+      // its pair this step only records); rank 0's cache of a gathered sample is its own.
+      if (root_says(diagnostics_.lone_sample_at(ctx_.step, force_record, false))) measure_sampled_moments();
       if (ranks_->root()) {
         const auto moments = [&]() -> const SampledMoments& { return sampled_; };
         if (const auto steady = diagnostics_.sample_and_record(ctx_, ParticleSpan{}, streams_, force_record, moments))
